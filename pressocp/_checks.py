@@ -1,0 +1,72 @@
+"""Input validation helpers: every message names the parameter and the allowed range."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+
+def finite(name: str, value: Any) -> float:
+    """Return ``value`` as a float, raising ``ValueError`` unless it is a finite real number."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a finite real number, got {value!r}") from None
+    if not math.isfinite(x):
+        raise ValueError(f"{name} must be finite (not NaN or inf), got {value!r}")
+    return x
+
+
+def positive(name: str, value: Any, unit: str = "") -> float:
+    """Finite and strictly positive: allowed range (0, inf)."""
+    x = finite(name, value)
+    if x <= 0.0:
+        raise ValueError(f"{name} must be in (0, inf){' ' + unit if unit else ''}, got {x!r}")
+    return x
+
+
+def nonnegative(name: str, value: Any, unit: str = "") -> float:
+    """Finite and >= 0: allowed range [0, inf)."""
+    x = finite(name, value)
+    if x < 0.0:
+        raise ValueError(f"{name} must be in [0, inf){' ' + unit if unit else ''}, got {x!r}")
+    return x
+
+
+def in_open_interval(name: str, value: Any, lo: float, hi: float, unit: str = "") -> float:
+    """Finite and inside the open interval (lo, hi)."""
+    x = finite(name, value)
+    if not lo < x < hi:
+        raise ValueError(f"{name} must be in ({lo:g}, {hi:g}){' ' + unit if unit else ''}, got {x!r}")
+    return x
+
+
+def finite_array(name: str, value: Any, ndim: int | None = 1) -> np.ndarray:
+    """Return ``value`` as a float array, raising ``ValueError`` on NaN/inf or a wrong dimension."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be an array of finite real numbers") from None
+    if ndim is not None and arr.ndim != ndim:
+        raise ValueError(f"{name} must be a {ndim}-D array, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} must contain only finite values (no NaN or inf)")
+    return arr
+
+
+def integer(name: str, value: Any, lo: int, hi: int) -> int:
+    """An integer in the closed range [lo, hi]."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {value!r}")
+    if not lo <= int(value) <= hi:
+        raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {value!r}")
+    return int(value)
+
+
+def choice(name: str, value: Any, allowed: tuple[str, ...]) -> str:
+    """One of a fixed set of strings."""
+    if value not in allowed:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}; got {value!r}")
+    return value

@@ -1,0 +1,323 @@
+"""Press parameters: geometry, masses, bearings (with clearance) and an optional process force.
+
+All quantities are SI. Conventions used throughout pressocp:
+
+* y points along the slide *away* from the bed; the crank axis is at the origin, the ram below it.
+* Crank angle theta = 0 at top dead centre (ram furthest from the bed, crank pin pointing away
+  from the slider); theta increases with time. The crank pin is at ``r (sin theta, cos theta)``.
+* h is the ram height above bottom dead centre, H = 2 r the stroke, ram velocity = dh/dt
+  (negative on the downstroke).
+* Motor torque is positive when it drives the crank in its direction of rotation.
+* Gravity acts along the slide toward the bed (-y).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+from . import _checks as chk
+
+#: Steel used for the Hertz contact stiffness when a bearing's stiffness is not given.
+STEEL_YOUNGS_MODULUS = 2.1e11  # Pa
+STEEL_POISSON = 0.3
+
+#: Default smoothing width as a fraction of the radial clearance (see `Bearing.smoothing`).
+SMOOTHING_FRACTION = 1e-3
+
+#: Reference penetration (m) at which the default Kelvin-Voigt damping matches the Hunt-Crossley one.
+KV_REFERENCE_PENETRATION = 1e-6
+
+LAWS = ("hunt-crossley", "kelvin-voigt")
+
+
+def hertz_internal_stiffness(
+    journal_radius: float,
+    clearance: float,
+    youngs_modulus: float = STEEL_YOUNGS_MODULUS,
+    poisson: float = STEEL_POISSON,
+) -> float:
+    """Hertz-type stiffness of a journal inside a bearing (internal cylindrical contact).
+
+    ``K = 4 / (3 (h_b + h_j)) * sqrt(R_b R_j / (R_b - R_j))`` with ``h = (1 - nu^2) / E`` for
+    both bodies of the same material and ``R_b = R_j + c``.
+
+    Parameters
+    ----------
+    journal_radius : float
+        Journal (pin) radius R_j, m.
+    clearance : float
+        Radial clearance c = R_b - R_j, m.
+    youngs_modulus, poisson : float
+        Material of journal and bearing, Pa and -.
+
+    Returns
+    -------
+    float
+        Stiffness K in N/m^1.5 (for the force law F = K delta^1.5).
+    """
+    rj = chk.positive("journal_radius", journal_radius, "m")
+    c = chk.positive("clearance", clearance, "m")
+    h = (1.0 - poisson**2) / youngs_modulus
+    rb = rj + c
+    return 4.0 / (3.0 * 2.0 * h) * math.sqrt(rb * rj / c)
+
+
+@dataclass(frozen=True)
+class Bearing:
+    """A revolute joint with radial clearance (journal in bearing).
+
+    Parameters
+    ----------
+    clearance : float
+        Radial clearance c, m; must be > 0.
+    journal_radius : float
+        Journal radius, m.
+    stiffness : float or None
+        Contact stiffness K in N/m^exponent. ``None``: the Hertz internal-contact formula
+        (`hertz_internal_stiffness`) for steel, E = 2.1e11 Pa, nu = 0.3.
+    exponent : float
+        Exponent n of the force law F = K delta^n, in [1, 3].
+    damping : float or None
+        For ``law="hunt-crossley"``: hysteresis factor chi in s/m, F = K delta^n (1 + chi delta_dot),
+        no tension. ``None`` -> 3.0 s/m (restitution 0.9 at a 0.05 m/s reference impact speed).
+        For ``law="kelvin-voigt"`` (Dubowsky impact pair, F = K delta^n + c delta_dot, no tension):
+        c in N s/m; ``None`` -> the value that equals the default Hunt-Crossley damping force at
+        a penetration of 1 um.
+    law : {"hunt-crossley", "kelvin-voigt"}
+        Contact force law.
+    smoothing : float or None
+        Width (m) of the C1 smoothing of penetration and eccentricity; must be < clearance.
+        ``None`` -> ``1e-3 * clearance``.
+    """
+
+    clearance: float = 1e-4
+    journal_radius: float = 0.04
+    stiffness: float | None = None
+    exponent: float = 1.5
+    damping: float | None = None
+    law: str = "hunt-crossley"
+    smoothing: float | None = None
+
+    def __post_init__(self) -> None:
+        c = chk.positive("clearance", self.clearance, "m")
+        chk.positive("journal_radius", self.journal_radius, "m")
+        if self.stiffness is not None:
+            chk.positive("stiffness", self.stiffness, "N/m^exponent")
+        n = chk.finite("exponent", self.exponent)
+        if not 1.0 <= n <= 3.0:
+            raise ValueError(f"exponent must be in [1, 3], got {n!r}")
+        if self.damping is not None:
+            chk.nonnegative("damping", self.damping)
+        chk.choice("law", self.law, LAWS)
+        if self.smoothing is not None:
+            s = chk.positive("smoothing", self.smoothing, "m")
+            if s >= c:
+                raise ValueError(f"smoothing must be in (0, clearance={c:g}) m, got {s!r}")
+
+    # Resolved values -------------------------------------------------------------------------
+    @property
+    def contact_stiffness(self) -> float:
+        """K in N/m^exponent (given, or Hertz for steel)."""
+        if self.stiffness is not None:
+            return float(self.stiffness)
+        return hertz_internal_stiffness(self.journal_radius, self.clearance)
+
+    @property
+    def damping_value(self) -> float:
+        """chi in s/m (Hunt-Crossley) or c in N s/m (Kelvin-Voigt)."""
+        if self.damping is not None:
+            return float(self.damping)
+        chi = 3.0
+        if self.law == "hunt-crossley":
+            return chi
+        return chi * self.contact_stiffness * KV_REFERENCE_PENETRATION**self.exponent
+
+    @property
+    def smoothing_width(self) -> float:
+        """Smoothing width in m."""
+        return float(self.smoothing) if self.smoothing is not None else SMOOTHING_FRACTION * self.clearance
+
+    @classmethod
+    def from_restitution(
+        cls,
+        restitution: float,
+        impact_speed: float,
+        *,
+        model: str = "hunt-crossley",
+        **kwargs: float,
+    ) -> "Bearing":
+        """Hunt-Crossley bearing whose hysteresis factor matches a restitution coefficient.
+
+        A smooth solver cannot store the impact speed, so chi = xi(e) / v_ref with a reference
+        impact speed v_ref (Machado et al., Mech. Mach. Theory 53, 2012).
+
+        Parameters
+        ----------
+        restitution : float
+            Coefficient of restitution e in (0, 1].
+        impact_speed : float
+            Reference impact speed v_ref, m/s, > 0.
+        model : {"hunt-crossley", "lankarani-nikravesh", "flores", "gonthier"}
+            xi(e): 3(1-e)/2, 3(1-e^2)/4, 8(1-e)/(5e), (1-e^2)/e.
+        **kwargs
+            Other `Bearing` fields.
+        """
+        e = chk.finite("restitution", restitution)
+        if not 0.0 < e <= 1.0:
+            raise ValueError(f"restitution must be in (0, 1], got {e!r}")
+        v = chk.positive("impact_speed", impact_speed, "m/s")
+        xi = {
+            "hunt-crossley": 1.5 * (1 - e),
+            "lankarani-nikravesh": 0.75 * (1 - e * e),
+            "flores": 8 * (1 - e) / (5 * e),
+            "gonthier": (1 - e * e) / e,
+        }
+        chk.choice("model", model, tuple(xi))
+        return cls(damping=xi[model] / v, law="hunt-crossley", **kwargs)
+
+
+@dataclass(frozen=True)
+class ProcessForce:
+    """Forming force on the ram over a height window on the downstroke, with smooth edges.
+
+    The force pushes the ram away from the bed (it resists the downstroke) with magnitude
+    ``force * s((h - h_bottom)/edge) * s((h_top - h)/edge) * s(-v/speed_edge)`` where
+    ``s(x) = (1 + tanh x) / 2``.
+
+    Parameters
+    ----------
+    force : float
+        Peak force, N, >= 0.
+    h_top, h_bottom : float
+        Ram heights above bottom dead centre where the window starts and ends, m.
+    edge : float
+        Smoothing length of the window edges, m.
+    speed_edge : float
+        Smoothing speed of the downstroke switch, m/s.
+    """
+
+    force: float = 0.0
+    h_top: float = 0.0127
+    h_bottom: float = 0.0
+    edge: float = 5e-4
+    speed_edge: float = 1e-3
+
+    def __post_init__(self) -> None:
+        chk.nonnegative("force", self.force, "N")
+        top = chk.finite("h_top", self.h_top)
+        bottom = chk.finite("h_bottom", self.h_bottom)
+        if bottom >= top:
+            raise ValueError(f"h_bottom must be in (-inf, h_top={top:g}) m, got {bottom!r}")
+        chk.positive("edge", self.edge, "m")
+        chk.positive("speed_edge", self.speed_edge, "m/s")
+
+
+@dataclass(frozen=True)
+class PressParams:
+    """A slider-crank press. ``PressParams()`` is the default press (stroke 0.1 m).
+
+    Parameters
+    ----------
+    crank_radius : float
+        Crank radius r, m (stroke H = 2 r).
+    rod_length : float
+        Connecting rod length l, centre to centre, m; must exceed ``crank_radius``.
+    crank_inertia : float
+        Moment of inertia about the crank axis, kg m^2 (crank, gear, reflected motor).
+    crank_mass : float
+        Crank mass, kg (enters through gravity and the crank's centre of mass).
+    crank_com : float
+        Distance of the crank's centre of mass from the axis, along the crank toward the pin, m.
+    rod_mass : float
+        Connecting rod mass (uniform rod), kg.
+    rod_inertia : float or None
+        Rod moment of inertia about its centre, kg m^2; ``None`` -> m l^2 / 12.
+    rod_youngs_modulus : float
+        Young's modulus of the rod, Pa.
+    rod_area_moment : float
+        Second moment of area of the rod section for bending, m^4.
+    slider_mass : float
+        Ram plus upper die, kg.
+    gravity : float
+        Acceleration of gravity along the slide toward the bed, m/s^2 (0 for a horizontal press).
+    crank_pin, wrist_pin : Bearing
+        The crank-pin (crank-rod) and wrist-pin (rod-slider) joints.
+    process_force : ProcessForce
+        Optional forming force on the ram (default off).
+    """
+
+    crank_radius: float = 0.05
+    rod_length: float = 0.25
+    crank_inertia: float = 0.5
+    crank_mass: float = 20.0
+    crank_com: float = 0.0
+    rod_mass: float = 3.14
+    rod_inertia: float | None = None
+    rod_youngs_modulus: float = 2.1e11
+    rod_area_moment: float = 2.13e-7
+    slider_mass: float = 150.0
+    gravity: float = 9.81
+    crank_pin: Bearing = field(default_factory=lambda: Bearing(clearance=1e-4, journal_radius=0.04))
+    wrist_pin: Bearing = field(default_factory=lambda: Bearing(clearance=1e-4, journal_radius=0.025))
+    process_force: ProcessForce = field(default_factory=ProcessForce)
+
+    def __post_init__(self) -> None:
+        r = chk.positive("crank_radius", self.crank_radius, "m")
+        l = chk.positive("rod_length", self.rod_length, "m")
+        if l <= r:
+            raise ValueError(f"rod_length must be in (crank_radius={r:g}, inf) m, got {l!r}")
+        chk.positive("crank_inertia", self.crank_inertia, "kg m^2")
+        chk.nonnegative("crank_mass", self.crank_mass, "kg")
+        chk.finite("crank_com", self.crank_com)
+        chk.positive("rod_mass", self.rod_mass, "kg")
+        if self.rod_inertia is not None:
+            chk.positive("rod_inertia", self.rod_inertia, "kg m^2")
+        chk.positive("rod_youngs_modulus", self.rod_youngs_modulus, "Pa")
+        chk.positive("rod_area_moment", self.rod_area_moment, "m^4")
+        chk.positive("slider_mass", self.slider_mass, "kg")
+        chk.nonnegative("gravity", self.gravity, "m/s^2")
+        for name in ("crank_pin", "wrist_pin"):
+            if not isinstance(getattr(self, name), Bearing):
+                raise ValueError(f"{name} must be a Bearing, got {type(getattr(self, name)).__name__}")
+        if not isinstance(self.process_force, ProcessForce):
+            raise ValueError("process_force must be a ProcessForce")
+
+    @property
+    def stroke(self) -> float:
+        """Stroke H = 2 r, m."""
+        return 2.0 * self.crank_radius
+
+    @property
+    def rod_inertia_value(self) -> float:
+        """Rod moment of inertia about its centre, kg m^2."""
+        if self.rod_inertia is not None:
+            return float(self.rod_inertia)
+        return self.rod_mass * self.rod_length**2 / 12.0
+
+    def replace(self, **changes) -> "PressParams":
+        """A copy with some fields changed (validated again)."""
+        return replace(self, **changes)
+
+    @classmethod
+    def flores(cls, clearance: float = 5e-4) -> "PressParams":
+        """The slider-crank of Flores & Ambrosio (Comput. Struct. 82, 2004), gravity neglected.
+
+        Crank 0.05 m, 0.30 kg, 1.0e-4 kg m^2 about its centre of mass (taken at mid-crank);
+        rod 0.12 m, 0.21 kg, 2.5e-4 kg m^2; slider 0.14 kg; journal radius 10 mm; the given
+        clearance at both joints (the paper puts it at the wrist pin only). Run at 5000 rpm.
+        """
+        bearing = dict(clearance=clearance, journal_radius=0.01)
+        return cls(
+            crank_radius=0.05,
+            rod_length=0.12,
+            crank_mass=0.30,
+            crank_com=0.025,
+            crank_inertia=1.0e-4 + 0.30 * 0.025**2,
+            rod_mass=0.21,
+            rod_inertia=2.5e-4,
+            slider_mass=0.14,
+            gravity=0.0,
+            crank_pin=Bearing(**bearing),
+            wrist_pin=Bearing(**bearing),
+        )
