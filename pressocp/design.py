@@ -1,0 +1,310 @@
+"""Kinematic speed design for the rigid press.
+
+* `design_speed`: a Fourier crank speed whose rigid ram velocity is constant over a working window
+  on the downstroke (a small NLP in CasADi/IPOPT: smoothest speed that keeps the ram speed within
+  a tolerance band; the least-squares error is the primary objective).
+* `speed_for_ram_motion`: the crank speed that makes the four-bar follow a given ram motion
+  (inverse kinematics, then a linear least-squares fit of the crank angle).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from . import _checks as chk
+from .params import PressParams
+from .rigid import _kinematics_function, crank_angle_at_height, rigid_kinematics
+from .speed import DEFAULT_HARMONICS, FourierSpeed, series
+
+#: The working window must leave this share of the period for the rest of the revolution.
+MAX_WINDOW_SHARE = 0.8
+#: The mean crank speed in the window may be at most this multiple of the mean speed 2 pi / T.
+MAX_WINDOW_SPEED_RATIO = 3.0
+
+
+@dataclass(frozen=True)
+class SpeedDesign:
+    """Result of `design_speed`.
+
+    Attributes
+    ----------
+    speed : FourierSpeed
+        The designed crank speed (theta0 = 0: top dead centre at t = 0).
+    t1, t2 : float
+        Times at which the ram enters and leaves the working window, s.
+    ram_speed : float
+        Target ram velocity in the window, m/s (negative).
+    window : tuple of float
+        (h1/H, h2/H) at entry and exit.
+    max_error, rms_error : float
+        Max and RMS of |v - ram_speed| / |ram_speed| on a dense grid over [t1, t2].
+    min_omega : float
+        Smallest crank speed over the period, rad/s.
+    converged : bool
+        Whether IPOPT reported success; when False, ``speed`` is the last iterate.
+    status : str
+        IPOPT return status.
+    """
+
+    speed: FourierSpeed
+    t1: float
+    t2: float
+    ram_speed: float
+    window: tuple[float, float]
+    max_error: float
+    rms_error: float
+    min_omega: float
+    converged: bool
+    status: str
+
+
+def check_window(window: Any) -> tuple[float, float]:
+    """Validate a working window (h1/H, h2/H) on the downstroke: 0 < h2 < h1 < 1."""
+    try:
+        w0, w1 = (float(x) for x in window)
+    except (TypeError, ValueError):
+        raise ValueError(f"window must be a pair (h1/H, h2/H), got {window!r}") from None
+    chk.in_open_interval("window[0] (h1/H)", w0, 0.0, 1.0)
+    chk.in_open_interval("window[1] (h2/H)", w1, 0.0, 1.0)
+    if not w1 < w0:
+        raise ValueError(f"window must be (h1/H, h2/H) with h2/H < h1/H on the downstroke, got {window!r}")
+    return w0, w1
+
+
+def ram_speed_range(params: PressParams, period: float, window: tuple[float, float]) -> tuple[float, float]:
+    """Reachable ram speeds (m/s, negative) for a window and a period.
+
+    The window must take at most `MAX_WINDOW_SHARE` of the period (slow limit) and the crank may
+    turn through it at most `MAX_WINDOW_SPEED_RATIO` times faster than its mean speed (fast limit).
+
+    Returns
+    -------
+    (fastest, slowest) : tuple of float
+        The allowed range is fastest <= ram_speed <= slowest < 0.
+    """
+    w0, w1 = window
+    dh = (w0 - w1) * params.stroke
+    th0, th1 = crank_angle_at_height(params, np.array([w0, w1]) * params.stroke, "down")
+    fastest = MAX_WINDOW_SPEED_RATIO * (2 * np.pi / period) * dh / (th1 - th0)
+    slowest = dh / (MAX_WINDOW_SHARE * period)
+    return -fastest, -slowest
+
+
+def _window_trajectory(params: PressParams, period: float, ram_speed: float, window, n: int = 2000):
+    """A smooth crank-angle trajectory with the exact window motion: the design's initial guess.
+
+    Inside the window theta follows the inverse kinematics of h = h1 + v (t - t1); outside, a
+    cubic Hermite segment joins the window's exit to its entry one revolution later.
+    Returns (t1, t, theta) with theta(0) = 0.
+    """
+    H = params.stroke
+    w0, w1 = window
+    tau = (w0 - w1) * H / abs(ram_speed)
+    s = np.linspace(0.0, tau, n)
+    th_w = crank_angle_at_height(params, w0 * H + ram_speed * s, "down")
+    dth = lambda h: ram_speed / rigid_kinematics(params, crank_angle_at_height(params, h, "down"), 1.0)["ram_velocity"]
+    om0, om1 = dth(w0 * H), dth(w1 * H)
+    # Hermite from (tau, th_w[-1], om1) to (period, th_w[0] + 2 pi, om0)
+    d = period - tau
+    u = np.linspace(0.0, 1.0, n)[1:-1]
+    p0, p1 = th_w[-1], th_w[0] + 2 * np.pi
+    h00, h10, h01, h11 = 2 * u**3 - 3 * u**2 + 1, u**3 - 2 * u**2 + u, -2 * u**3 + 3 * u**2, u**3 - u**2
+    th_o = h00 * p0 + h10 * d * om1 + h01 * p1 + h11 * d * om0
+    t_local = np.concatenate([s, tau + u * d])
+    th_local = np.concatenate([th_w, th_o])
+    # shift time so that theta passes 2 pi (top dead centre) at t = 0
+    t_tdc = np.interp(2 * np.pi, th_local, t_local)
+    t = np.mod(t_local - t_tdc, period)
+    theta = np.mod(th_local, 2 * np.pi)
+    order = np.argsort(t)
+    return float(np.mod(-t_tdc, period)), t[order], np.unwrap(theta[order])
+
+
+def design_speed(
+    params: PressParams,
+    period: float = 1.0,
+    ram_speed: float = -0.1,
+    window: tuple[float, float] = (0.7, 0.3),
+    n_harmonics: int = DEFAULT_HARMONICS,
+    tolerance: float = 0.005,
+    omega_min: float | None = None,
+    samples: int = 200,
+    smoothing_weight: float = 1e-6,
+) -> SpeedDesign:
+    """Fourier crank speed that holds a constant rigid ram speed over a working window.
+
+    The window starts when the ram passes ``window[0]*H`` on the downstroke (time t1) and ends at
+    ``window[1]*H`` (time t2 = t1 + (h1 - h2)/|v|). IPOPT minimises the mean squared relative ram
+    speed error on the window plus ``smoothing_weight`` times the normalised integral of the
+    squared crank acceleration, subject to |v/ram_speed - 1| <= tolerance at the samples and
+    omega >= omega_min over the period; the mean speed is 2 pi/T by construction.
+
+    Parameters
+    ----------
+    params : PressParams
+        The press.
+    period : float
+        Cycle time T, s.
+    ram_speed : float
+        Ram velocity in the window, m/s; negative (downstroke), within `ram_speed_range`.
+    window : (float, float)
+        (h1/H, h2/H) with 0 < h2 < h1 < 1.
+    n_harmonics : int
+        Number of harmonics, 1..50.
+    tolerance : float
+        Allowed relative ram speed deviation at the samples, in (0, 0.5).
+    omega_min : float, optional
+        Lower bound of the crank speed, rad/s; default 5 % of the mean speed.
+    samples : int
+        Samples in the window (the period has 4x as many for the speed bound), 10..5000.
+    smoothing_weight : float
+        Weight of the smoothness term, >= 0.
+
+    Returns
+    -------
+    SpeedDesign
+    """
+    T = chk.positive("period", period, "s")
+    v = chk.finite("ram_speed", ram_speed)
+    w0, w1 = check_window(window)
+    n = chk.integer("n_harmonics", n_harmonics, 1, 50)
+    tol = chk.in_open_interval("tolerance", tolerance, 0.0, 0.5)
+    m = chk.integer("samples", samples, 10, 5000)
+    mu = chk.nonnegative("smoothing_weight", smoothing_weight)
+    wbar = 2 * np.pi / T
+    wmin = 0.05 * wbar if omega_min is None else chk.in_open_interval("omega_min", omega_min, 0.0, wbar, "rad/s")
+    if v >= 0:
+        raise ValueError(f"ram_speed must be negative (downstroke, dh/dt < 0), got {v!r} m/s")
+    fastest, slowest = ram_speed_range(params, T, (w0, w1))
+    if not fastest <= v <= slowest:
+        raise ValueError(
+            f"ram_speed must be in [{fastest:.4g}, {slowest:.4g}] m/s for period={T:g} s and window="
+            f"({w0:g}, {w1:g}) (the window may take at most {MAX_WINDOW_SHARE:.0%} of the period and the "
+            f"crank may cross it at most {MAX_WINDOW_SPEED_RATIO:g}x faster than its mean speed), got {v!r}"
+        )
+    H = params.stroke
+    tau = (w0 - w1) * H / abs(v)
+
+    # initial guess: fit of an exact-window trajectory
+    t1_0, t_g, th_g = _window_trajectory(params, T, v, (w0, w1))
+    guess = _fit_theta(t_g, th_g, T, n)
+
+    # NLP
+    c = ca.SX.sym("c", 2 * n)
+    t1 = ca.SX.sym("t1")
+    ts = ca.SX.sym("t")
+    th, om, al = series(ts, c[:n], c[n:], T)
+    kin = _kinematics_function(params)(theta=th, omega=om, alpha=al)
+    h, hd = kin["ram_height"], kin["ram_velocity"]
+    f = ca.Function("f", [ts, c], [h, hd, om, th])
+    s = np.linspace(0.0, 1.0, m)
+    tw = t1 + tau * ca.DM(s).T
+    _, vw, _, _ = f.map(m)(tw, ca.repmat(c, 1, m))
+    tp = np.linspace(0.0, T, 4 * m, endpoint=False)
+    _, _, wp, _ = f.map(4 * m)(ca.DM(tp).T, ca.repmat(c, 1, 4 * m))
+    h1, _, _, th1 = f(t1, c)
+    k = 2 * np.pi * np.arange(1, n + 1) / T
+    smooth = (T / 2) * ca.sumsqr(ca.vertcat(k, k) * c) * T / wbar**2  # int alpha^2 dt, normalised
+    err = vw.T / v - 1
+    nlp = {"x": ca.vertcat(c, t1), "f": ca.sumsqr(err) / m + mu * smooth,
+           "g": ca.vertcat(err, wp.T, h1 / H - w0, th1)}
+    lbg = np.concatenate([-tol * np.ones(m), wmin * np.ones(4 * m), [0.0, 0.0]])
+    ubg = np.concatenate([tol * np.ones(m), np.inf * np.ones(4 * m), [0.0, np.pi]])
+    solver = ca.nlpsol("design", "ipopt", nlp, {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False,
+                                                  "ipopt.max_iter": 500, "ipopt.tol": 1e-10})
+    sol = solver(x0=np.concatenate([guess.coefficients, [t1_0]]), lbg=lbg, ubg=ubg,
+                 lbx=np.concatenate([-np.inf * np.ones(2 * n), [0.0]]),
+                 ubx=np.concatenate([np.inf * np.ones(2 * n), [T - tau]]))
+    stats = solver.stats()
+    x = np.asarray(sol["x"]).ravel()
+    speed = FourierSpeed(T, x[:n], x[n : 2 * n])
+    t1v = float(x[-1])
+    max_err, rms_err = window_error(params, speed, t1v, t1v + tau, v)
+    return SpeedDesign(
+        speed=speed, t1=t1v, t2=t1v + tau, ram_speed=v, window=(w0, w1), max_error=max_err,
+        rms_error=rms_err, min_omega=speed.min_speed(), converged=bool(stats["success"]),
+        status=str(stats["return_status"]),
+    )
+
+
+def window_error(params: PressParams, speed: FourierSpeed, t1: float, t2: float, ram_speed: float,
+                 n: int = 4001) -> tuple[float, float]:
+    """Max and RMS relative rigid ram speed error on a dense grid over [t1, t2]."""
+    t = np.linspace(t1, t2, n)
+    th, om, al = speed.evaluate(t)
+    vr = rigid_kinematics(params, th, om, al)["ram_velocity"]
+    e = np.abs(vr / ram_speed - 1)
+    return float(e.max()), float(np.sqrt(np.mean(e**2)))
+
+
+def _fit_theta(t: np.ndarray, theta: np.ndarray, period: float, n: int) -> FourierSpeed:
+    """Least-squares fit of a crank-angle history theta(t) by a Fourier speed (mean 2 pi/T, theta0 free)."""
+    k = 2 * np.pi * np.arange(1, n + 1) / period
+    S, C = np.sin(np.outer(t, k)), np.cos(np.outer(t, k))
+    basis = np.hstack([np.ones((t.size, 1)), S / k, (1 - C) / k])
+    coef = np.linalg.lstsq(basis, theta - 2 * np.pi / period * t, rcond=None)[0]
+    return FourierSpeed(period, coef[1 : n + 1], coef[n + 1 :], theta0=coef[0])
+
+
+def speed_for_ram_motion(
+    params: PressParams,
+    t: Any,
+    h: Any,
+    period: float | None = None,
+    n_harmonics: int = DEFAULT_HARMONICS,
+) -> FourierSpeed:
+    """Crank speed that makes the four-bar follow a given periodic ram motion.
+
+    The ram heights are inverted to crank angles (downstroke where h falls, upstroke where it
+    rises, continuous through the dead centres), and the crank-angle history is fitted in the
+    least-squares sense by a Fourier speed with mean 2 pi / T (no differentiation of the data).
+
+    Parameters
+    ----------
+    params : PressParams
+        The four-bar press.
+    t : array-like
+        Sample times over one period, s, increasing.
+    h : array-like
+        Ram height above bottom dead centre at those times, m, within [0, H]; one full stroke
+        (one top and one bottom dead centre) per period.
+    period : float, optional
+        Period T, s; default ``t[-1] - t[0]``.
+    n_harmonics : int
+        Number of harmonics, 1..200.
+
+    Returns
+    -------
+    FourierSpeed
+        With theta0 fitted (the crank angle at t = 0).
+    """
+    t = chk.finite_array("t", t)
+    h = chk.finite_array("h", h)
+    if t.shape != h.shape:
+        raise ValueError(f"t and h must have the same length, got {t.size} and {h.size}")
+    n = chk.integer("n_harmonics", n_harmonics, 1, 200)
+    if t.size < 2 * n + 1:
+        raise ValueError(f"need at least 2*n_harmonics+1={2 * n + 1} samples, got {t.size}")
+    if np.any(np.diff(t) <= 0):
+        raise ValueError("t must be strictly increasing")
+    T = chk.positive("period", t[-1] - t[0] if period is None else period, "s")
+    Hs = params.stroke
+    if np.any(h < -1e-9 * Hs) or np.any(h > Hs * (1 + 1e-9)):
+        raise ValueError(f"h must be within [0, {Hs:g}] m (the stroke of the four-bar)")
+    # Branch from the sign of a centred difference (periodic neighbours when the samples close the
+    # period): falling -> downstroke. At a sample next to a dead centre this picks the right side.
+    closed = np.isclose(t[-1] - t[0], T, rtol=1e-9, atol=0.0)
+    core = h[:-1] if closed else h
+    fwd, bwd = np.roll(core, -1), np.roll(core, 1)
+    if not closed:
+        fwd[-1], bwd[0] = core[-1], core[0]
+    falling = fwd - bwd < 0
+    down = np.append(falling, falling[0]) if closed else falling
+    th_down = crank_angle_at_height(params, np.clip(h, 0, Hs), "down")
+    theta = np.where(down, th_down, 2 * np.pi - th_down)
+    theta = np.unwrap(theta)
+    return _fit_theta(t, theta, T, n)

@@ -1,0 +1,97 @@
+"""Rigid speed design and the inverse 'speed for a ram motion'."""
+
+import numpy as np
+import pytest
+
+from pressocp import FourierSpeed, PressParams, rigid_kinematics
+from pressocp.design import design_speed, ram_speed_range, speed_for_ram_motion
+
+
+def exact_height(p, theta):
+    r, l = p.crank_radius, p.rod_length
+    return r * np.cos(theta) - np.sqrt(l**2 - (r * np.sin(theta)) ** 2) + r + l
+
+
+@pytest.fixture(scope="module")
+def default_design():
+    return design_speed(PressParams())
+
+
+def test_default_design_holds_ram_speed(default_design):
+    d, p = default_design, PressParams()
+    assert d.converged, d.status
+    # independent check on a dense grid with the hand-written kinematics
+    t = np.linspace(d.t1, d.t2, 5001)
+    dt = 1e-6
+    v = (exact_height(p, d.speed.theta(t + dt)) - exact_height(p, d.speed.theta(t - dt))) / (2 * dt)
+    assert np.max(np.abs(v / -0.1 - 1)) < 0.01
+    assert d.max_error < 0.01 and d.rms_error <= d.max_error
+    # the window sits where asked: h(t1) = 0.7 H and h(t2) = 0.3 H on the downstroke
+    assert exact_height(p, d.speed.theta(d.t1)) == pytest.approx(0.07, abs=1e-6)
+    assert exact_height(p, d.speed.theta(d.t2)) == pytest.approx(0.03, abs=2e-4)
+    assert 0 < d.speed.theta(d.t1) < d.speed.theta(d.t2) < np.pi
+
+
+def test_default_design_no_crank_reversal(default_design):
+    t = np.linspace(0, 1, 20001)
+    assert np.min(default_design.speed.omega(t)) > 0
+    assert default_design.min_omega > 0
+
+
+def test_design_other_speed_and_harmonics():
+    d = design_speed(PressParams(), period=0.8, ram_speed=-0.2, window=(0.6, 0.2), n_harmonics=10)
+    assert d.converged and d.max_error < 0.01 and d.speed.n_harmonics == 10
+    assert d.t2 - d.t1 == pytest.approx(0.04 / 0.2)
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(ram_speed=0.1), "ram_speed must be negative"),
+        (dict(ram_speed=-0.001), r"ram_speed must be in \[-"),
+        (dict(ram_speed=-50.0), r"ram_speed must be in \[-"),
+        (dict(ram_speed=float("nan")), "ram_speed"),
+        (dict(window=(0.3, 0.7)), "window"),
+        (dict(window=(1.2, 0.3)), r"window\[0\]"),
+        (dict(window=(0.7, 0.0)), r"window\[1\]"),
+        (dict(window=(0.7,)), "window"),
+        (dict(period=0.0), "period"),
+        (dict(period=-1.0), "period"),
+        (dict(n_harmonics=0), "n_harmonics"),
+    ],
+)
+def test_design_bad_input(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        design_speed(PressParams(), **kwargs)
+
+
+def test_reachable_range_is_consistent():
+    fast, slow = ram_speed_range(PressParams(), 1.0, (0.7, 0.3))
+    assert fast < slow < 0
+    assert slow == pytest.approx(-0.04 / 0.8)
+
+
+def test_speed_for_ram_motion_recovers_known_speed():
+    p = PressParams()
+    true = FourierSpeed(1.2, [0.8, -0.3, 0.1, 0.05], [0.4, 0.2, -0.1, 0.02], theta0=0.4)
+    t = np.linspace(0, 1.2, 1201)
+    h = exact_height(p, true.theta(t))
+    fit = speed_for_ram_motion(p, t, h, n_harmonics=4)
+    assert np.allclose(fit.a, true.a, atol=1e-6) and np.allclose(fit.b, true.b, atol=1e-6)
+    assert fit.theta0 == pytest.approx(0.4, abs=1e-7)
+    # more harmonics than the data: the extra ones stay ~0
+    fit15 = speed_for_ram_motion(p, t, h)
+    assert np.max(np.abs(fit15.coefficients[[*range(4, 15), *range(19, 30)]])) < 1e-6
+
+
+def test_speed_for_ram_motion_bad_input():
+    p = PressParams()
+    t = np.linspace(0, 1, 101)
+    with pytest.raises(ValueError, match="h must be within"):
+        speed_for_ram_motion(p, t, np.full(101, 0.2))
+    with pytest.raises(ValueError, match="same length"):
+        speed_for_ram_motion(p, t, np.zeros(50))
+    with pytest.raises(ValueError, match="increasing"):
+        speed_for_ram_motion(p, t[::-1], np.zeros(101))
+    with pytest.raises(ValueError, match="h must contain only finite"):
+        speed_for_ram_motion(p, t, np.full(101, np.nan))

@@ -1,0 +1,111 @@
+"""PressParams / Bearing validation and derived values."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pressocp import Bearing, PressParams, ProcessForce, hertz_internal_stiffness
+
+
+def test_default_press_values():
+    p = PressParams()
+    assert p.stroke == pytest.approx(0.1)
+    # 40 x 40 mm steel rod, 0.25 m: mass and area moment
+    assert p.rod_mass == pytest.approx(0.04 * 0.04 * 0.25 * 7850, rel=1e-3)
+    assert p.rod_area_moment == pytest.approx(0.04**4 / 12, rel=2e-3)
+    assert p.rod_inertia_value == pytest.approx(3.14 * 0.25**2 / 12)
+
+
+def test_hertz_stiffness_reference():
+    # benchmarks.md section 3: steel, Rb = 10.5 mm, Rj = 10 mm, E = 207 GPa -> K = 6.95e10 N/m^1.5
+    K = hertz_internal_stiffness(0.010, 0.0005, youngs_modulus=207e9, poisson=0.3)
+    assert K == pytest.approx(6.95e10, rel=2e-3)
+    # default crank pin (R 40 mm, c 0.1 mm, E = 2.1e11): 6.16e11 (prototype findings)
+    assert PressParams().crank_pin.contact_stiffness == pytest.approx(6.16e11, rel=2e-3)
+    assert PressParams().wrist_pin.contact_stiffness == pytest.approx(3.85e11, rel=3e-3)
+
+
+def test_bearing_defaults_and_restitution():
+    b = Bearing(clearance=2e-4)
+    assert b.smoothing_width == pytest.approx(2e-7)
+    assert b.damping_value == pytest.approx(3.0)
+    hc = Bearing.from_restitution(0.9, 0.05)
+    assert hc.damping_value == pytest.approx(3 * (1 - 0.9) / (2 * 0.05))
+    ln = Bearing.from_restitution(0.8, 0.1, model="lankarani-nikravesh")
+    assert ln.damping_value == pytest.approx(0.75 * (1 - 0.64) / 0.1)
+    kv = Bearing(law="kelvin-voigt")
+    assert kv.damping_value == pytest.approx(3.0 * kv.contact_stiffness * 1e-6**1.5)
+
+
+@pytest.mark.parametrize(
+    "kwargs, field",
+    [
+        (dict(rod_length=0.05), "rod_length"),
+        (dict(rod_length=0.01), "rod_length"),
+        (dict(crank_radius=0.0), "crank_radius"),
+        (dict(crank_radius=-0.05), "crank_radius"),
+        (dict(slider_mass=0.0), "slider_mass"),
+        (dict(rod_mass=-1.0), "rod_mass"),
+        (dict(crank_inertia=0.0), "crank_inertia"),
+        (dict(gravity=float("nan")), "gravity"),
+        (dict(rod_youngs_modulus=float("inf")), "rod_youngs_modulus"),
+        (dict(crank_com=float("nan")), "crank_com"),
+    ],
+)
+def test_bad_press_params(kwargs, field):
+    with pytest.raises(ValueError, match=field):
+        PressParams(**kwargs)
+
+
+def test_bad_press_params_message_names_range():
+    with pytest.raises(ValueError, match=r"rod_length must be in \(crank_radius=0.05, inf\)"):
+        PressParams(rod_length=0.04)
+
+
+@pytest.mark.parametrize(
+    "kwargs, field",
+    [
+        (dict(clearance=0.0), "clearance"),
+        (dict(clearance=-1e-4), "clearance"),
+        (dict(clearance=1e-4, smoothing=1e-4), "smoothing"),
+        (dict(clearance=1e-4, smoothing=2e-4), "smoothing"),
+        (dict(journal_radius=float("nan")), "journal_radius"),
+        (dict(exponent=0.5), "exponent"),
+        (dict(law="elastic"), "law"),
+        (dict(damping=-1.0), "damping"),
+        (dict(stiffness=float("inf")), "stiffness"),
+    ],
+)
+def test_bad_bearing(kwargs, field):
+    with pytest.raises(ValueError, match=field):
+        Bearing(**kwargs)
+
+
+def test_bad_process_force():
+    with pytest.raises(ValueError, match="h_bottom"):
+        ProcessForce(force=1e3, h_top=0.01, h_bottom=0.02)
+    with pytest.raises(ValueError, match="restitution"):
+        Bearing.from_restitution(1.5, 0.1)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    field=st.sampled_from(["crank_radius", "rod_length", "crank_inertia", "rod_mass", "slider_mass",
+                           "rod_youngs_modulus", "rod_area_moment"]),
+    value=st.one_of(st.just(float("nan")), st.just(float("inf")), st.just(-float("inf")),
+                    st.floats(max_value=0.0, allow_nan=False)),
+)
+def test_fuzz_nonpositive_or_nonfinite_rejected(field, value):
+    with pytest.raises(ValueError, match=field):
+        PressParams(**{field: value})
+
+
+@settings(max_examples=40, deadline=None)
+@given(r=st.floats(0.01, 0.5), ratio=st.floats(1.01, 10.0))
+def test_fuzz_valid_geometry_accepted(r, ratio):
+    p = PressParams(crank_radius=r, rod_length=r * ratio)
+    assert math.isclose(p.stroke, 2 * r)
+    assert np.isfinite(p.rod_inertia_value)
