@@ -48,6 +48,11 @@ class SimResult:
         Transverse deflection of the rod at midspan, m (zeros for a rigid rod).
     stats : dict
         Solver statistics (wall_time in s, steps, ...), empty for closed-form results.
+    energy : dict
+        Work and energy bookkeeping of a simulation, J (motor, contact and process work;
+        kinetic and potential energy at start and end).
+    states : ndarray
+        Physical (unscaled) model states over time, shape (nx, len(t)).
     """
 
     t: np.ndarray
@@ -64,6 +69,8 @@ class SimResult:
     wrist_pin_eccentricity: np.ndarray
     rod_midspan_deflection: np.ndarray
     stats: dict = field(default_factory=dict)
+    energy: dict = field(default_factory=dict)
+    states: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
 
     def __post_init__(self) -> None:
         for f in fields(self):

@@ -1,0 +1,345 @@
+"""The press as a CasADi DAE: rigid crank (prescribed speed), rigid or flexible rod, slider,
+journal-bearing contact in the joints that have clearance.
+
+Coordinates
+-----------
+The full coordinate set is ``Q = [theta, x_S, e_A (2), e_B (2), w (2N)]``: crank angle, slider
+position across the slide, the eccentricities of the crank-pin and wrist-pin journals (bearing
+centre in the rod minus journal centre) and the rod's elastic DOFs (`pressocp.beam`). The slider
+position along the slide follows from the rod-length closure, so no index-3 constraint is left.
+
+* *Free* coordinates: the eccentricities of the joints with clearance and the elastic DOFs.
+  They are the DAE states (with their rates), scaled by the clearance and reference sizes.
+* *Locked* coordinates: theta (prescribed by the Fourier speed), x_S = 0 (ideal guide) and the
+  eccentricities of ideal joints (zero). The Lagrange equation rows of locked coordinates give
+  their reactions: the motor torque, the guide's normal force and the ideal pin forces.
+
+CasADi derives the mass matrix and the velocity and potential forces from the kinetic and
+potential energies (`pressocp.mechanics.lagrangian`); contact forces enter as generalised forces
+through the Jacobian of the eccentricities.
+
+The DAE (semi-explicit, for IDAS) is ``x = [q/s_q, qd/s_v]``, ``z = qdd_free``,
+``ode = [qd/s_q, z/s_v]``, ``alg = M_ff z - (F_f - M_fl qdd_locked)``; the explicit ODE used by
+CVODES and the baselines eliminates z by a symbolic solve.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+
+from . import _checks as chk
+from . import beam
+from . import mechanics as mech
+from .contact import contact_force
+from .params import PressParams
+from .speed import DEFAULT_HARMONICS, FourierSpeed, series
+
+JOINTS = ("crank_pin", "wrist_pin")
+RODS = ("rigid", "flexible")
+
+#: Reference speed of the eccentricity rates for state scaling: s_v = s_q * VELOCITY_SCALE_RATE.
+VELOCITY_SCALE_RATE = 1.0e3  # 1/s
+#: Scale of the elastic transverse displacements (m) and slopes (rad).
+ELASTIC_SCALE = (1e-5, 1e-4)
+
+OUTPUT_NAMES = (
+    "theta", "omega", "torque", "ram_height", "ram_velocity", "ram_acceleration", "slider_normal_force",
+    "crank_pin_force", "wrist_pin_force", "crank_pin_eccentricity", "wrist_pin_eccentricity",
+    "rod_midspan_deflection",
+)
+#: Power terms integrated as quadratures: motor power, contact power F*d|e|/dt, its elastic part,
+#: power of the process force on the ram.
+QUADRATURE_NAMES = ("motor_work", "contact_work", "contact_elastic_work", "process_work")
+
+
+@dataclass
+class PressModel:
+    """A press model as a symbolic DAE plus its output and energy functions.
+
+    Attributes
+    ----------
+    params : PressParams
+        The press.
+    rod : str
+        ``"rigid"`` or ``"flexible"``.
+    clearance : tuple of str
+        Joints with clearance.
+    n_elements : int
+        Rod elements (flexible rod).
+    n_harmonics : int
+        Harmonics of the Fourier speed carried in p.
+    t, x, z, p : ca.SX
+        Time, scaled differential states, algebraic states (free accelerations) and parameters
+        ``p = [a (n), b (n), period, theta0]``.
+    ode, alg, quad : ca.SX
+        Right-hand sides: dx/dt, the algebraic residual, the quadrature integrands (`QUADRATURE_NAMES`).
+    ode_explicit : ca.SX
+        dx/dt with z eliminated (for CVODES and the baselines).
+    state_names : list of str
+        Names of the (unscaled) states.
+    x_scale : ndarray
+        x = x_physical / x_scale.
+    outputs : ca.Function
+        (t, x, p) -> the outputs named in `OUTPUT_NAMES`.
+    energy : ca.Function
+        (t, x, p) -> (kinetic, potential) energy, J.
+    x0 : ndarray
+        Consistent scaled initial state: journals centred, no elastic deformation, no rates.
+    """
+
+    params: PressParams
+    rod: str
+    clearance: tuple[str, ...]
+    n_elements: int
+    n_harmonics: int
+    t: ca.SX
+    x: ca.SX
+    z: ca.SX
+    p: ca.SX
+    ode: ca.SX
+    alg: ca.SX
+    quad: ca.SX
+    ode_explicit: ca.SX
+    state_names: list[str]
+    x_scale: np.ndarray
+    outputs: ca.Function
+    energy: ca.Function
+    x0: np.ndarray = field(repr=False)
+
+    @property
+    def nx(self) -> int:
+        """Number of differential states."""
+        return int(self.x.numel())
+
+    @property
+    def is_rigid(self) -> bool:
+        """True when the model has no states (ideal joints, rigid rod)."""
+        return self.nx == 0
+
+    def parameters(self, speed: FourierSpeed) -> np.ndarray:
+        """The parameter vector p for a speed (harmonics padded with zeros)."""
+        n = self.n_harmonics
+        if speed.n_harmonics > n:
+            raise ValueError(f"speed has {speed.n_harmonics} harmonics; this model carries at most n_harmonics={n}")
+        a, b = np.zeros(n), np.zeros(n)
+        a[: speed.n_harmonics], b[: speed.n_harmonics] = speed.a, speed.b
+        return np.concatenate([a, b, [speed.period, speed.theta0]])
+
+    def dae(self, explicit: bool = False) -> dict:
+        """The DAE dict for `casadi.integrator` (with the quadratures)."""
+        if explicit:
+            return {"t": self.t, "x": self.x, "p": self.p, "ode": self.ode_explicit, "quad": self.quad}
+        return {"t": self.t, "x": self.x, "z": self.z, "p": self.p, "ode": self.ode, "alg": self.alg,
+                "quad": self.quad}
+
+    def z0(self, x: np.ndarray, p: np.ndarray, t: float = 0.0) -> np.ndarray:
+        """Consistent algebraic state (free accelerations) for a state."""
+        f = ca.Function("zexp", [self.t, self.x, self.p], [self._z_explicit])
+        return np.asarray(f(t, x, p)).ravel()
+
+    _z_explicit: ca.SX = field(default=None, repr=False)
+
+
+def _rod_kinematics(params: PressParams, theta, xs, eA, eB):
+    """Bearing centres, slider position and rod frame from the coordinates."""
+    l = params.rod_length
+    A_rod = mech.crank_pin(params, theta) + eA  # big-end bearing centre
+    dx = A_rod[0] - xs - eB[0]
+    ys = A_rod[1] - eB[1] - ca.sqrt(l**2 - dx**2)  # slider pin on the slide
+    S = ca.vertcat(xs, ys)
+    B_rod = S + eB  # small-end bearing centre
+    d = (A_rod - B_rod) / l  # unit vector from B to A
+    normal = ca.vertcat(-d[1], d[0])  # rod's transverse direction
+    return A_rod, B_rod, S, d, normal
+
+
+def build_model(
+    params: PressParams,
+    rod: str = "rigid",
+    clearance: tuple[str, ...] | list[str] = JOINTS,
+    n_elements: int = 4,
+    n_harmonics: int = DEFAULT_HARMONICS,
+) -> PressModel:
+    """Build the press DAE.
+
+    Parameters
+    ----------
+    params : PressParams
+        The press; its bearings give clearance, contact law, stiffness, damping and smoothing.
+    rod : {"rigid", "flexible"}
+        Rigid connecting rod, or an Euler-Bernoulli rod (Hermite elements, chord frame, axially
+        rigid) whose midspan deflection is an output.
+    clearance : sequence of {"crank_pin", "wrist_pin"}
+        Joints with clearance; the others are ideal. ``rod="rigid", clearance=()`` is the rigid press.
+    n_elements : int
+        Elements of the flexible rod, 1..64.
+    n_harmonics : int
+        Harmonics of the Fourier speed in p, 1..50.
+
+    Returns
+    -------
+    PressModel
+    """
+    chk.choice("rod", rod, RODS)
+    if isinstance(clearance, str):
+        clearance = (clearance,)
+    clearance = tuple(clearance)
+    for j in clearance:
+        chk.choice("clearance joint", j, JOINTS)
+    if len(set(clearance)) != len(clearance):
+        raise ValueError(f"clearance names a joint twice: {clearance!r}")
+    ne = chk.integer("n_elements", n_elements, 1, 64)
+    nh = chk.integer("n_harmonics", n_harmonics, 1, 50)
+    flexible = rod == "flexible"
+    P = params
+    l, g = P.rod_length, P.gravity
+
+    # --- coordinates --------------------------------------------------------------------------
+    t = ca.SX.sym("t")
+    p = ca.SX.sym("p", 2 * nh + 2)
+    a, b, period, theta0 = p[:nh], p[nh : 2 * nh], p[2 * nh], p[2 * nh + 1]
+    theta_t, omega_t, alpha_t = series(t, a, b, period, theta0)
+    nw = 2 * ne if flexible else 0
+    Q = ca.SX.sym("Q", 6 + nw)
+    Qd = ca.SX.sym("Qd", 6 + nw)
+    theta, xs, eA, eB, w = Q[0], Q[1], Q[2:4], Q[4:6], Q[6:]
+    names = ["theta", "x_slider", "crank_pin_ex", "crank_pin_ey", "wrist_pin_ex", "wrist_pin_ey"]
+    if flexible:  # beam DOF order: w'_0, w_1, w'_1, ..., w_{N-1}, w'_{N-1}, w'_N
+        names += ["w'_0"] + [n for i in range(1, ne) for n in (f"w_{i}", f"w'_{i}")] + [f"w'_{ne}"]
+    free = []
+    scale = []
+    for j, sl in (("crank_pin", (2, 3)), ("wrist_pin", (4, 5))):
+        if j in clearance:
+            free += list(sl)
+            scale += [getattr(P, j).clearance] * 2
+    if flexible:
+        for k in range(nw):
+            free.append(6 + k)
+            scale.append(ELASTIC_SCALE[1] if names[6 + k].startswith("w'") else ELASTIC_SCALE[0])
+    locked = [i for i in range(6 + nw) if i not in free]
+    nf = len(free)
+
+    # --- energies -----------------------------------------------------------------------------
+    A_rod, B_rod, S, d, normal = _rod_kinematics(P, theta, xs, eA, eB)
+
+    def rate(expr):
+        return ca.jtimes(expr, Q, Qd)
+
+    T_c, V_c = mech.crank_energy(P, theta, Qd[0])
+    T_s, V_s = mech.body_energy(P.slider_mass, 0.0, g, S, rate(S), 0)
+    phi = ca.atan2(d[0], d[1])  # rod angle: A - B = l (sin phi, cos phi)
+    if flexible:
+        rho_a = P.rod_mass / l
+        T_r = 0.0
+        V_r = 0.0
+        for xi, wgt, wx, _, w2 in beam.quadrature_points(l, ne, w):
+            r = A_rod - xi * d + wx * normal
+            v = rate(r)
+            T_r += 0.5 * rho_a * wgt * ca.dot(v, v)
+            V_r += rho_a * wgt * g * r[1] + 0.5 * P.rod_youngs_modulus * P.rod_area_moment * wgt * w2**2
+        # a rod inertia other than m l^2/12 is kept as a rigid-body correction
+        T_r += 0.5 * (P.rod_inertia_value - P.rod_mass * l**2 / 12) * rate(phi) ** 2
+        midspan = beam.deflection_at(l, ne, w, 0.5 * l)
+    else:
+        G = 0.5 * (A_rod + B_rod)
+        T_r, V_r = mech.body_energy(P.rod_mass, P.rod_inertia_value, g, G, rate(G), rate(phi))
+        midspan = ca.SX(0)
+    lag = mech.lagrangian(T_c + T_r + T_s, V_c + V_r + V_s, Q, Qd)
+
+    # --- applied forces: contact and process --------------------------------------------------
+    F_gen = lag.Q
+    contacts = {}
+    for j, e in (("crank_pin", eA), ("wrist_pin", eB)):
+        if j in clearance:
+            cf = contact_force(getattr(P, j), e, rate(e))
+            contacts[j] = cf
+            F_gen = F_gen + ca.jacobian(e, Q).T @ cf.vector_on_bearing
+    h = S[1] + P.crank_radius + l
+    hd = rate(h)
+    f_proc = mech.process_force(P, h, hd)
+    F_gen = F_gen + ca.jacobian(S[1], Q).T @ f_proc
+
+    # --- split free / locked, solve accelerations, reactions ----------------------------------
+    M = lag.M
+    Mff, Mfl = M[free, free], M[free, locked]
+    Mlf, Mll = M[locked, free], M[locked, locked]
+    # locked values: theta(t) and its rates; x_S and ideal eccentricities zero
+    q_locked = ca.vertcat(theta_t, ca.SX.zeros(len(locked) - 1))
+    qd_locked = ca.vertcat(omega_t, ca.SX.zeros(len(locked) - 1))
+    qdd_locked = ca.vertcat(alpha_t, ca.SX.zeros(len(locked) - 1))
+    s_q = np.array(scale)
+    s_v = s_q * VELOCITY_SCALE_RATE
+    x = ca.SX.sym("x", 2 * nf)
+    z = ca.SX.sym("z", nf)
+    q_free, qd_free = x[:nf] * s_q, x[nf:] * s_v
+
+    def assemble(free_vals, locked_vals):
+        out = [None] * (6 + nw)
+        for k, i in enumerate(free):
+            out[i] = free_vals[k]
+        for k, i in enumerate(locked):
+            out[i] = locked_vals[k]
+        return ca.vertcat(*out)
+
+    Q_val = assemble(ca.vertsplit(q_free), ca.vertsplit(q_locked))
+    Qd_val = assemble(ca.vertsplit(qd_free), ca.vertsplit(qd_locked))
+
+    def at_state(exprs):
+        return ca.substitute(exprs, [Q, Qd], [Q_val, Qd_val])
+
+    Ff, Fl = F_gen[free], F_gen[locked]
+    rhs = Ff - Mfl @ qdd_locked
+    Mff_v, rhs_v = at_state([Mff, rhs]) if nf else (ca.SX(0, 0), ca.SX(0, 1))
+    qdd_free_expl = ca.solve(Mff_v, rhs_v) if nf else ca.SX(0, 1)
+
+    def reactions(qdd_free):
+        lam = Mlf @ qdd_free + Mll @ qdd_locked - Fl if nf else Mll @ qdd_locked - Fl
+        return at_state([lam])[0]
+
+    lam_expl = reactions(qdd_free_expl)
+    idx = {i: k for k, i in enumerate(locked)}
+    torque = lam_expl[idx[0]]
+    normal_force = lam_expl[idx[1]]
+
+    def pin_force(j, sl):
+        if j in contacts:
+            return at_state([contacts[j].force])[0]
+        return ca.norm_2(lam_expl[[idx[sl[0]], idx[sl[1]]]])
+
+    def ecc(j):
+        return at_state([contacts[j].eccentricity_ratio])[0] if j in contacts else ca.SX(0)
+
+    # ram acceleration: d/dt of h_dot along the motion
+    Qdd_expl = assemble(ca.vertsplit(qdd_free_expl), ca.vertsplit(qdd_locked))
+    Qdd_sym = ca.SX.sym("Qdd_all", 6 + nw)
+    hdd = ca.jtimes(hd, Q, Qd) + ca.jtimes(hd, Qd, Qdd_sym)
+    hdd = ca.substitute(at_state([hdd])[0], Qdd_sym, Qdd_expl)
+
+    out_exprs = [
+        theta_t, omega_t, torque, at_state([h])[0], at_state([hd])[0], hdd, normal_force,
+        pin_force("crank_pin", (2, 3)), pin_force("wrist_pin", (4, 5)), ecc("crank_pin"), ecc("wrist_pin"),
+        at_state([midspan])[0],
+    ]
+    outputs = ca.Function("outputs", [t, x, p], out_exprs, ["t", "x", "p"], list(OUTPUT_NAMES))
+    energy = ca.Function("energy", [t, x, p], at_state([lag.T, lag.V]), ["t", "x", "p"], ["kinetic", "potential"])
+
+    # --- quadratures: motor, contact and process power ----------------------------------------
+    contact_power = sum((at_state([cf.force * cf.penetration_rate])[0] for cf in contacts.values()), ca.SX(0))
+    elastic_power = sum((at_state([cf.elastic_force * cf.penetration_rate])[0] for cf in contacts.values()), ca.SX(0))
+    quad = ca.vertcat(torque * omega_t, contact_power, elastic_power, at_state([f_proc * hd])[0])
+
+    # --- DAE ----------------------------------------------------------------------------------
+    ode = ca.vertcat(qd_free / s_q, z / s_v) if nf else ca.SX(0, 1)
+    alg = Mff_v @ z - rhs_v if nf else ca.SX(0, 1)
+    ode_expl = ca.vertcat(qd_free / s_q, qdd_free_expl / s_v) if nf else ca.SX(0, 1)
+    state_names = [names[i] for i in free] + [names[i] + "_dot" for i in free]
+    x_scale = np.concatenate([s_q, s_v]) if nf else np.zeros(0)
+
+    return PressModel(
+        params=P, rod=rod, clearance=clearance, n_elements=ne, n_harmonics=nh, t=t, x=x, z=z, p=p,
+        ode=ode, alg=alg, quad=quad, ode_explicit=ode_expl, state_names=state_names, x_scale=x_scale,
+        outputs=outputs, energy=energy, x0=np.zeros(2 * nf), _z_explicit=qdd_free_expl,
+    )

@@ -1,0 +1,264 @@
+"""Time simulation of a `PressModel`: SUNDIALS (IDAS, CVODES), CasADi fixed-step methods and
+scipy baselines on the same equations, with an optional periodic steady state.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from . import _checks as chk
+from .model import OUTPUT_NAMES, QUADRATURE_NAMES, PressModel
+from .result import SimResult
+from .speed import FourierSpeed
+
+METHODS = ("idas", "cvodes", "collocation", "rk", "scipy-radau", "scipy-bdf")
+#: Default output samples per cycle (impacts last a fraction of a millisecond at T = 1 s).
+OUTPUTS_PER_CYCLE = 4000
+#: Default step of the fixed-step methods ("rk", "collocation"), s.
+FIXED_STEP = 1e-5
+
+
+class SimulationError(RuntimeError):
+    """An integrator failed. Attributes: ``time`` reached (s, NaN if unknown), ``method``, ``hint``."""
+
+    def __init__(self, message: str, time: float = float("nan"), method: str = "", hint: str = ""):
+        self.time, self.method, self.hint = time, method, hint
+        text = f"{method} failed"
+        if np.isfinite(time):
+            text += f" at t = {time:.6g} s"
+        text += f": {message}"
+        if hint:
+            text += f"\nhint: {hint}"
+        super().__init__(text)
+
+
+HINT = (
+    "the contact is stiff: try a larger bearing smoothing or damping, a softer contact stiffness, "
+    "a looser rtol, more steps (max_steps), or method='cvodes'"
+)
+
+
+def _integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, atol: float,
+                max_steps: int, step: float) -> ca.Function:
+    explicit = method != "idas"
+    dae = model.dae(explicit=explicit)
+    opts: dict[str, Any] = {}
+    if method in ("idas", "cvodes"):
+        opts.update(reltol=rtol, abstol=atol, max_num_steps=max_steps)
+        if method == "idas":
+            opts.update(calc_ic=True, suppress_algebraic=True)
+    else:
+        dt = float(np.max(np.diff(grid))) if grid.size > 1 else float(grid[0])
+        opts.update(number_of_finite_elements=max(1, int(np.ceil(dt / step))))
+        if method == "collocation":
+            opts.update(interpolation_order=3, collocation_scheme="radau")
+    return ca.integrator("press_" + method.replace("-", "_"), method, dae, 0.0, grid, opts)
+
+
+def _stats(raw: dict, wall: float) -> dict:
+    keys = {"nsteps": "steps", "nfevals": "rhs_evaluations", "nresevals": "rhs_evaluations",
+            "netfails": "error_test_failures", "nncfails": "convergence_failures", "nniters": "newton_iterations"}
+    out = {"wall_time": wall}
+    for k, v in raw.items():
+        if k in keys and np.isscalar(v):
+            out[keys[k]] = int(v)
+    return out
+
+
+def _run(model, method, x0, p, grid, rtol, atol, max_steps, step):
+    """Integrate from t = 0 over `grid` (the first entry > 0). Returns (X, Qf, stats)."""
+    if method.startswith("scipy"):
+        return _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps)
+    F = _integrator(model, method, grid, rtol, atol, max_steps, step)
+    args = {"x0": x0, "p": p}
+    if method == "idas":
+        args["z0"] = model.z0(x0, p)
+    t0 = time.perf_counter()
+    try:
+        res = F(**args)
+    except RuntimeError as err:
+        raw = F.stats()
+        raise SimulationError(_first_line(err), time=float(raw.get("tcur", np.nan)) if isinstance(raw, dict) else np.nan,
+                              method=method, hint=HINT) from None
+    wall = time.perf_counter() - t0
+    raw = F.stats()
+    X, Qf = np.asarray(res["xf"]), np.asarray(res["qf"])
+    if not (np.all(np.isfinite(X)) and np.all(np.isfinite(Qf))):
+        raise SimulationError("non-finite state", method=method, hint=HINT)
+    return X, Qf, _stats(raw, wall)
+
+
+def _first_line(err: Exception) -> str:
+    lines = [s for s in str(err).splitlines() if s.strip()]
+    useful = [s for s in lines if any(k in s for k in ("IDA_", "CV_", "failed", "Maximum", "error"))]
+    return (useful or lines or ["integrator error"])[-1].strip()[:500]
+
+
+def _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps):
+    from scipy.integrate import solve_ivp  # baseline only
+
+    nx, nq = model.nx, model.quad.numel()
+    rhs = ca.Function("rhs", [model.t, model.x, model.p], [ca.vertcat(model.ode_explicit, model.quad)])
+    xa = ca.SX.sym("xa", nx + nq)
+    rhs_aug = ca.Function("rhs_aug", [model.t, xa], [rhs(model.t, xa[:nx], p)])
+    jac = ca.Function("jac", [model.t, xa], [ca.jacobian(rhs_aug(model.t, xa), xa)])
+    t0 = time.perf_counter()
+    sol = solve_ivp(
+        lambda t, y: np.asarray(rhs_aug(t, y)).ravel(), (0.0, float(grid[-1])), np.concatenate([x0, np.zeros(nq)]),
+        method="Radau" if method == "scipy-radau" else "BDF", t_eval=grid, rtol=rtol, atol=atol,
+        jac=lambda t, y: np.asarray(jac(t, y)),
+    )
+    wall = time.perf_counter() - t0
+    if not sol.success:
+        raise SimulationError(sol.message, time=float(sol.t[-1]) if sol.t.size else np.nan, method=method, hint=HINT)
+    return sol.y[:nx], sol.y[nx:], {"wall_time": wall, "rhs_evaluations": int(sol.nfev),
+                                    "jacobian_evaluations": int(sol.njev), "lu_decompositions": int(sol.nlu)}
+
+
+def periodic_state(model: PressModel, speed: FourierSpeed, method: str = "cvodes", rtol: float = 1e-8,
+                   atol: float | None = None, x_start: np.ndarray | None = None, settle_cycles: int = 2,
+                   tol: float = 1e-6, max_iter: int = 15) -> tuple[np.ndarray, dict]:
+    """Periodic steady state x(T) = x(0) by Newton's method on one-period shooting.
+
+    The Jacobian comes from forward sensitivities (forward mode is robust through contact;
+    the adjoint pass is not). Starts from ``x_start`` (default: the model's initial state after
+    ``settle_cycles`` cycles). Returns the scaled state and a dict with iterations and residual.
+
+    Raises
+    ------
+    SimulationError
+        If Newton does not reach ``tol`` (max norm of the scaled residual) in ``max_iter``.
+    """
+    if model.is_rigid:
+        return np.zeros(0), {"iterations": 0, "residual": 0.0}
+    method = "cvodes" if method not in ("idas", "cvodes") else method
+    atol = rtol if atol is None else atol
+    T = speed.period
+    p = model.parameters(speed)
+    x = model.x0 if x_start is None else np.asarray(x_start, float)
+    if settle_cycles:
+        X, _, _ = _run(model, method, x, p, np.array([settle_cycles * T]), rtol, atol, 10**8, FIXED_STEP)
+        x = X[:, -1]
+    F = _integrator(model, method, np.array([T]), rtol, atol, 10**8, FIXED_STEP)
+    X0 = ca.MX.sym("x0", model.nx)
+    xf = F(x0=X0, p=p)["xf"]
+    G = ca.Function("shoot", [X0], [xf, ca.jtimes(xf, X0, ca.MX.eye(model.nx), False)])
+    res = np.inf
+    for it in range(1, max_iter + 1):
+        try:
+            xT, J = (np.asarray(v) for v in G(x))
+        except RuntimeError as err:
+            raise SimulationError(_first_line(err), method=method + " (periodic shooting)", hint=HINT) from None
+        r = xT.ravel() - x
+        res = float(np.max(np.abs(r)))
+        if res <= tol:
+            return x, {"iterations": it - 1, "residual": res}
+        dx = np.linalg.solve(J - np.eye(model.nx), -r)
+        x = x + dx
+    raise SimulationError(f"periodic steady state not found: residual {res:.3g} after {max_iter} Newton steps",
+                          method=method + " (periodic shooting)",
+                          hint="more damping in the bearings, or simulate more cycles before the shooting")
+
+
+def simulate(
+    model: PressModel,
+    speed: FourierSpeed,
+    t_end: float | None = None,
+    cycles: int = 1,
+    periodic: bool = False,
+    method: str = "idas",
+    rtol: float = 1e-6,
+    atol: float | None = None,
+    n_out: int | None = None,
+    max_steps: int = 10**7,
+    step: float = FIXED_STEP,
+    x0: np.ndarray | None = None,
+) -> SimResult:
+    """Simulate the press over time.
+
+    Parameters
+    ----------
+    model : PressModel
+        From `build_model`.
+    speed : FourierSpeed
+        Prescribed crank speed.
+    t_end : float, optional
+        End time, s (> 0); default ``cycles * speed.period``.
+    cycles : int
+        Cycles to simulate when ``t_end`` is not given, 1..1000.
+    periodic : bool
+        First find the periodic steady state (`periodic_state`), then return ``cycles`` cycles from it.
+    method : {"idas", "cvodes", "collocation", "rk", "scipy-radau", "scipy-bdf"}
+        Integrator. "idas" integrates the semi-explicit DAE (accelerations algebraic), the others the
+        explicit ODE; "collocation" and "rk" are CasADi's fixed-step methods (step ``step``).
+    rtol : float
+        Relative tolerance, > 0.
+    atol : float, optional
+        Absolute tolerance on the scaled states (eccentricity / clearance), default ``rtol``.
+    n_out : int, optional
+        Output samples; default 4000 per cycle + 1.
+    max_steps : int
+        Step limit of the adaptive integrators.
+    step : float
+        Step of the fixed-step methods, s.
+    x0 : ndarray, optional
+        Scaled initial state; default the model's consistent initial state (journals centred).
+
+    Returns
+    -------
+    SimResult
+        Includes ``stats`` (wall_time, steps, rhs evaluations, failures) and ``energy``
+        (motor, contact and process work, kinetic and potential energy at start and end, J).
+
+    Raises
+    ------
+    ValueError
+        Bad arguments.
+    SimulationError
+        The integrator failed.
+    """
+    chk.choice("method", method, METHODS)
+    r = chk.positive("rtol", rtol)
+    a = r if atol is None else chk.positive("atol", atol)
+    if not isinstance(speed, FourierSpeed):
+        raise ValueError(f"speed must be a FourierSpeed, got {type(speed).__name__}")
+    ncyc = chk.integer("cycles", cycles, 1, 1000)
+    T_end = ncyc * speed.period if t_end is None else chk.positive("t_end", t_end, "s")
+    n = max(2, int(round(OUTPUTS_PER_CYCLE * T_end / speed.period)) + 1) if n_out is None else chk.integer("n_out", n_out, 2, 10**8)
+    chk.positive("step", step, "s")
+    p = model.parameters(speed)
+    t = np.linspace(0.0, T_end, n)
+    stats: dict = {}
+    x_init = model.x0 if x0 is None else chk.finite_array("x0", x0)
+    if x_init.size != model.nx:
+        raise ValueError(f"x0 must have {model.nx} entries (the model's states), got {x_init.size}")
+    if periodic and not model.is_rigid:
+        t0 = time.perf_counter()
+        x_init, info = periodic_state(model, speed, method="idas" if method == "idas" else "cvodes",
+                                      rtol=min(r, 1e-8), x_start=x_init)
+        stats["periodic"] = {**info, "wall_time": time.perf_counter() - t0}
+    if model.is_rigid:
+        t_start = time.perf_counter()
+        X = np.zeros((0, n))
+        stats["wall_time"] = time.perf_counter() - t_start
+        Qf = None
+    else:
+        X, Qf, run_stats = _run(model, method, x_init, p, t[1:], r, a, max_steps, step)
+        X = np.hstack([x_init[:, None], X])
+        stats.update(run_stats)
+    out = model.outputs.map(n)(t[None, :], X if X.size else np.zeros((0, n)), np.tile(p[:, None], (1, n)))
+    series = {name: np.asarray(v).ravel() for name, v in zip(OUTPUT_NAMES, out)}
+    for name, v in series.items():
+        if not np.all(np.isfinite(v)):
+            raise SimulationError(f"non-finite {name}", method=method, hint=HINT)
+    E0 = [float(v) for v in model.energy(0.0, x_init, p)]
+    E1 = [float(v) for v in model.energy(T_end, X[:, -1] if X.size else x_init, p)]
+    energy = {"kinetic_start": E0[0], "potential_start": E0[1], "kinetic_end": E1[0], "potential_end": E1[1]}
+    if Qf is not None:
+        energy.update({k: float(Qf[i, -1]) for i, k in enumerate(QUADRATURE_NAMES)})
+    states = X * model.x_scale[:, None] if X.size else X
+    return SimResult(t=t, stats=stats, energy=energy, states=states, **{k: series[k] for k in OUTPUT_NAMES})
