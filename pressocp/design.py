@@ -308,3 +308,38 @@ def speed_for_ram_motion(
     theta = np.where(down, th_down, 2 * np.pi - th_down)
     theta = np.unwrap(theta)
     return _fit_theta(t, theta, T, n)
+
+
+def emulate_sixbar(params: PressParams, sixbar=None, period: float = 1.0, n_harmonics: int = DEFAULT_HARMONICS,
+                   n: int = 2001) -> dict:
+    """Crank speed that makes the four-bar `params` reproduce a six-bar press's stroke.
+
+    Parameters
+    ----------
+    params : PressParams
+        The four-bar (its stroke must equal the six-bar's).
+    sixbar : pressocp.sixbar.SixBarPress, optional
+        Reference link press; default `SixBarPress()`.
+    period : float
+        Cycle time, s (constant input speed of the six-bar).
+    n_harmonics : int
+        Harmonics of the four-bar's speed.
+    n : int
+        Samples over the period.
+
+    Returns
+    -------
+    dict
+        ``t``, ``h_sixbar``, ``v_sixbar``, ``speed`` (FourierSpeed), ``h_fourbar`` and ``v_fourbar``
+        (rigid four-bar with that speed), ``max_position_error`` (m).
+    """
+    from .sixbar import SixBarPress, sixbar_stroke
+
+    six = SixBarPress() if sixbar is None else sixbar
+    if not np.isclose(six.stroke, params.stroke, rtol=1e-9):
+        raise ValueError(f"the four-bar's stroke ({params.stroke:g} m) must equal the six-bar's ({six.stroke:g} m)")
+    t, h6, v6 = sixbar_stroke(six, period, n)
+    speed = speed_for_ram_motion(params, t, h6, period=period, n_harmonics=n_harmonics)
+    k = rigid_kinematics(params, *speed.evaluate(t))
+    return {"t": t, "h_sixbar": h6, "v_sixbar": v6, "speed": speed, "h_fourbar": k["ram_height"],
+            "v_fourbar": k["ram_velocity"], "max_position_error": float(np.max(np.abs(k["ram_height"] - h6)))}

@@ -69,3 +69,42 @@ def save(fig, path) -> None:
     """Save a figure as PNG (150 dpi) and close it."""
     fig.savefig(path, dpi=150)
     plt.close(fig)
+
+
+def plot_sixbar_emulation(emulation: dict, constant_height=None, zone_times=None):
+    """Seed Figs. 3-5: six-bar stroke, the four-bar's with the fitted speed, and that speed.
+
+    Parameters
+    ----------
+    emulation : dict
+        From `pressocp.design.emulate_sixbar`.
+    constant_height : ndarray, optional
+        Four-bar ram height at constant crank speed, for comparison (m).
+    zone_times : (t1, t2), optional
+        Six-bar working zone to shade, s.
+    """
+    e = emulation
+    t = e["t"]
+    fig, axes = plt.subplots(3, 1, figsize=(8, 7.5), sharex=True)
+    axes[0].plot(t, e["h_sixbar"] * 1e3, lw=2.5, color="0.6", label="six-bar drag-link press")
+    axes[0].plot(t, e["h_fourbar"] * 1e3, "--", color="C3", label="four-bar, fitted 15-harmonic speed")
+    if constant_height is not None:
+        axes[0].plot(t, constant_height * 1e3, ":", color="C0", label="four-bar, constant speed")
+    axes[0].set_ylabel("ram height h [mm]")
+    axes[1].plot(t, e["v_sixbar"], lw=2.5, color="0.6", label="six-bar")
+    axes[1].plot(t, e["v_fourbar"], "--", color="C3", label="four-bar, fitted speed")
+    axes[1].set_ylabel("ram velocity [m/s]")
+    axes[2].plot(t, e["speed"].omega(t), color="C3", label="required four-bar crank speed")
+    axes[2].axhline(e["speed"].mean_speed, color="0.5", lw=0.8, ls=":", label="mean speed 2π/T")
+    axes[2].set_ylabel("crank speed ω [rad/s]")
+    axes[2].set_xlabel("time t [s]")
+    err = e["max_position_error"] / (np.max(e["h_sixbar"]) - np.min(e["h_sixbar"]))
+    axes[0].set_title(f"Four-bar servo press emulating a six-bar link press (max position error {100 * err:.2g} % of stroke)",
+                      fontsize=9)
+    for ax in axes:
+        if zone_times is not None:
+            ax.axvspan(*zone_times, color="0.92", zorder=0)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
