@@ -14,7 +14,8 @@ and the normal force magnitude (never a pull):
   and the force vanishes out of contact.
 
 The force pushes the bearing back toward the journal: on the bearing body -F n, on the journal
-+F n, with n = e / |e|_s. ``delta^n`` is evaluated as ``exp(n log(delta + tiny))`` with a tiny floor
++F n, with n = e / |e|_s. A viscous lubricant-film force -c_t s (e_dot . t) t along the surface
+(t perpendicular to n, s the contact indicator) damps the journal's tangential motion in contact. ``delta^n`` is evaluated as ``exp(n log(delta + tiny))`` with a tiny floor
 so that the derivative stays finite where the softplus underflows to exactly zero.
 """
 
@@ -44,7 +45,7 @@ class ContactForce:
     force : ca.SX
         Normal force magnitude F >= 0, N.
     vector_on_bearing : ca.SX
-        Force on the bearing body, -F n, N (2-vector).
+        Force on the bearing body, -F n minus the tangential film force, N (2-vector).
     penetration, penetration_rate : ca.SX
         delta (m) and d delta/dt (m/s).
     elastic_force : ca.SX
@@ -86,9 +87,11 @@ def contact_force(bearing: Bearing, e: ca.SX, e_dot: ca.SX) -> ContactForce:
         cdamp = bearing.damping_value
         indicator = delta / (delta + eps)
         force = indicator * softplus(elastic + cdamp * delta_dot * indicator, f_eps)
+    tangent = ca.vertcat(-normal[1], normal[0])
+    film = bearing.tangential_damping * delta / (delta + eps) * ca.dot(e_dot, tangent)
     return ContactForce(
         force=force,
-        vector_on_bearing=-force * normal,
+        vector_on_bearing=-force * normal - film * tangent,
         penetration=delta,
         penetration_rate=delta_dot,
         elastic_force=elastic,

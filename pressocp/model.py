@@ -50,8 +50,8 @@ OUTPUT_NAMES = (
     "crank_pin_force", "wrist_pin_force", "crank_pin_eccentricity", "wrist_pin_eccentricity",
     "rod_midspan_deflection",
 )
-#: Power terms integrated as quadratures: motor power, contact power F*d|e|/dt, its elastic part,
-#: power of the process force on the ram.
+#: Power terms integrated as quadratures: motor power, power absorbed by the contacts (normal and
+#: tangential), its elastic part K delta^n d|e|/dt, power of the process force on the ram.
 QUADRATURE_NAMES = ("motor_work", "contact_work", "contact_elastic_work", "process_work")
 
 
@@ -327,7 +327,9 @@ def build_model(
     energy = ca.Function("energy", [t, x, p], at_state([lag.T, lag.V]), ["t", "x", "p"], ["kinetic", "potential"])
 
     # --- quadratures: motor, contact and process power ----------------------------------------
-    contact_power = sum((at_state([cf.force * cf.penetration_rate])[0] for cf in contacts.values()), ca.SX(0))
+    e_of = {"crank_pin": eA, "wrist_pin": eB}
+    contact_power = sum((at_state([-ca.dot(cf.vector_on_bearing, rate(e_of[j]))])[0] for j, cf in contacts.items()),
+                        ca.SX(0))
     elastic_power = sum((at_state([cf.elastic_force * cf.penetration_rate])[0] for cf in contacts.values()), ca.SX(0))
     quad = ca.vertcat(torque * omega_t, contact_power, elastic_power, at_state([f_proc * hd])[0])
 

@@ -89,6 +89,12 @@ class Bearing:
     smoothing : float or None
         Width (m) of the C1 smoothing of penetration and eccentricity; must be < clearance.
         ``None`` -> ``1e-3 * clearance``.
+    tangential_damping : float
+        Viscous damping of the journal's motion along the bearing surface while in contact
+        (lubricant film), N s/m, >= 0. Without it the frictionless journal's tangential modes are
+        undamped and the periodic steady state is neither attracting nor well conditioned; the
+        default 1e3 N s/m damps them within about two cycles and changes peak forces by well under
+        1 % at steady state (measured; see the README).
     """
 
     clearance: float = 1e-4
@@ -98,9 +104,11 @@ class Bearing:
     damping: float | None = None
     law: str = "hunt-crossley"
     smoothing: float | None = None
+    tangential_damping: float = 1e3
 
     def __post_init__(self) -> None:
         c = chk.positive("clearance", self.clearance, "m")
+        chk.nonnegative("tangential_damping", self.tangential_damping, "N s/m")
         chk.positive("journal_radius", self.journal_radius, "m")
         if self.stiffness is not None:
             chk.positive("stiffness", self.stiffness, "N/m^exponent")

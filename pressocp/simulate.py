@@ -120,48 +120,91 @@ def _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps):
 
 
 def periodic_state(model: PressModel, speed: FourierSpeed, method: str = "cvodes", rtol: float = 1e-8,
-                   atol: float | None = None, x_start: np.ndarray | None = None, settle_cycles: int = 2,
-                   tol: float = 1e-6, max_iter: int = 15) -> tuple[np.ndarray, dict]:
-    """Periodic steady state x(T) = x(0) by Newton's method on one-period shooting.
+                   atol: float | None = None, x_start: np.ndarray | None = None, tol: float | None = None,
+                   max_settle: int = 12, max_newton: int = 8) -> tuple[np.ndarray, dict]:
+    """Periodic steady state x(T) = x(0) of the scaled states.
 
-    The Jacobian comes from forward sensitivities (forward mode is robust through contact;
-    the adjoint pass is not). Starts from ``x_start`` (default: the model's initial state after
-    ``settle_cycles`` cycles). Returns the scaled state and a dict with iterations and residual.
+    First it simulates cycle by cycle (the bearings' normal and film damping make the periodic
+    orbit attracting, typically within a few cycles); if the change per cycle is still above
+    ``tol`` after ``max_settle`` cycles, it switches to Newton's method on one-period shooting with
+    a finite-difference Jacobian (the nx + 1 shots run in 2 threads) and a backtracking line
+    search. (Forward sensitivities give the same Jacobian but took 3.5x longer here.)
+
+    Parameters
+    ----------
+    model : PressModel
+    speed : FourierSpeed
+    method : {"cvodes", "idas"}
+        Integrator of the shots.
+    rtol, atol : float
+        Tolerances of the shots.
+    x_start : ndarray, optional
+        Scaled start state; default the model's initial state.
+    tol : float, optional
+        Max-norm of x(T) - x(0) in scaled states (eccentricity/clearance; rates/(1000 clearance));
+        default max(1e-4, 100 rtol): 1e-8 m and 1e-5 m/s at a 0.1 mm clearance.
+    max_settle, max_newton : int
+        Cycle and Newton-step limits.
+
+    Returns
+    -------
+    x0 : ndarray
+        Scaled periodic state.
+    info : dict
+        ``cycles`` settled, ``newton`` steps, ``residual``.
 
     Raises
     ------
     SimulationError
-        If Newton does not reach ``tol`` (max norm of the scaled residual) in ``max_iter``.
+        When neither settling nor Newton reach ``tol``.
     """
     if model.is_rigid:
-        return np.zeros(0), {"iterations": 0, "residual": 0.0}
-    method = "cvodes" if method not in ("idas", "cvodes") else method
+        return np.zeros(0), {"cycles": 0, "newton": 0, "residual": 0.0}
+    method = method if method in ("idas", "cvodes") else "cvodes"
     atol = rtol if atol is None else atol
-    T = speed.period
+    tol = max(1e-4, 100 * rtol) if tol is None else tol
     p = model.parameters(speed)
     x = model.x0 if x_start is None else np.asarray(x_start, float)
-    if settle_cycles:
-        X, _, _ = _run(model, method, x, p, np.array([settle_cycles * T]), rtol, atol, 10**8, FIXED_STEP)
-        x = X[:, -1]
-    F = _integrator(model, method, np.array([T]), rtol, atol, 10**8, FIXED_STEP)
-    X0 = ca.MX.sym("x0", model.nx)
-    xf = F(x0=X0, p=p)["xf"]
-    G = ca.Function("shoot", [X0], [xf, ca.jtimes(xf, X0, ca.MX.eye(model.nx), False)])
-    res = np.inf
-    for it in range(1, max_iter + 1):
+    F = _integrator(model, method, np.array([speed.period]), rtol, atol, 10**8, FIXED_STEP)
+
+    def shoot(xs: np.ndarray) -> np.ndarray:
         try:
-            xT, J = (np.asarray(v) for v in G(x))
+            return np.asarray(F(x0=xs, p=np.tile(p[:, None], (1, xs.shape[1])) if xs.ndim > 1 else p)["xf"])
         except RuntimeError as err:
             raise SimulationError(_first_line(err), method=method + " (periodic shooting)", hint=HINT) from None
-        r = xT.ravel() - x
-        res = float(np.max(np.abs(r)))
+
+    res = np.inf
+    for cycle in range(1, max_settle + 1):
+        xT = shoot(x).ravel()
+        res = float(np.max(np.abs(xT - x)))
+        x = xT
         if res <= tol:
-            return x, {"iterations": it - 1, "residual": res}
-        dx = np.linalg.solve(J - np.eye(model.nx), -r)
-        x = x + dx
-    raise SimulationError(f"periodic steady state not found: residual {res:.3g} after {max_iter} Newton steps",
-                          method=method + " (periodic shooting)",
-                          hint="more damping in the bearings, or simulate more cycles before the shooting")
+            return x, {"cycles": cycle, "newton": 0, "residual": res}
+    Fmap = F.map(model.nx + 1, "thread", 2)
+    h = 1e-6
+    for it in range(1, max_newton + 1):
+        shots = np.hstack([x[:, None], x[:, None] + h * np.eye(model.nx)])
+        try:
+            Y = np.asarray(Fmap(x0=shots, p=np.tile(p[:, None], (1, model.nx + 1)))["xf"])
+        except RuntimeError as err:
+            raise SimulationError(_first_line(err), method=method + " (periodic shooting)", hint=HINT) from None
+        r = Y[:, 0] - x
+        J = (Y[:, 1:] - Y[:, [0]]) / h
+        dx = np.linalg.lstsq(J - np.eye(model.nx), -r, rcond=None)[0]
+        step = 1.0
+        while step > 1e-3:
+            xn = x + step * dx
+            rn = float(np.max(np.abs(shoot(xn).ravel() - xn)))
+            if rn < res:
+                break
+            step /= 2
+        x, res = xn, rn
+        if res <= tol:
+            return x, {"cycles": max_settle, "newton": it, "residual": res}
+    raise SimulationError(
+        f"periodic steady state not found: residual {res:.3g} (tol {tol:.3g}) after {max_settle} cycles and "
+        f"{max_newton} Newton steps", method=method + " (periodic shooting)",
+        hint="more bearing damping (damping, tangential_damping) or a looser tol")
 
 
 def simulate(
