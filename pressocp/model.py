@@ -42,8 +42,10 @@ RODS = ("rigid", "flexible")
 
 #: Reference speed of the eccentricity rates for state scaling: s_v = s_q * VELOCITY_SCALE_RATE.
 VELOCITY_SCALE_RATE = 1.0e3  # 1/s
-#: Scale of the elastic transverse displacements (m) and slopes (rad).
-ELASTIC_SCALE = (1e-5, 1e-4)
+#: Transverse acceleration (m/s^2) whose static deflection of the pinned-pinned rod sets the scale of
+#: the elastic states: w_s = rho A a l^4 / (76.8 EI) (midspan deflection under a uniform load),
+#: slopes w_s * 3.2 / l (end slope of the same load case).
+ELASTIC_SCALE_ACCELERATION = 1.0e3
 
 OUTPUT_NAMES = (
     "theta", "omega", "torque", "ram_height", "ram_velocity", "ram_acceleration", "slider_normal_force",
@@ -51,8 +53,9 @@ OUTPUT_NAMES = (
     "rod_midspan_deflection",
 )
 #: Power terms integrated as quadratures: motor power, power absorbed by the contacts (normal and
-#: tangential), its elastic part K delta^n d|e|/dt, power of the process force on the ram.
-QUADRATURE_NAMES = ("motor_work", "contact_work", "contact_elastic_work", "process_work")
+#: tangential), its elastic part K delta^n d|e|/dt, power of the process force on the ram, power
+#: dissipated by the rod's material damping.
+QUADRATURE_NAMES = ("motor_work", "contact_work", "contact_elastic_work", "process_work", "rod_damping_work")
 
 
 @dataclass
@@ -216,9 +219,10 @@ def build_model(
             free += list(sl)
             scale += [getattr(P, j).clearance] * 2
     if flexible:
+        w_s = (P.rod_mass / l) * ELASTIC_SCALE_ACCELERATION * l**4 / (76.8 * P.rod_youngs_modulus * P.rod_area_moment)
         for k in range(nw):
             free.append(6 + k)
-            scale.append(ELASTIC_SCALE[1] if names[6 + k].startswith("w'") else ELASTIC_SCALE[0])
+            scale.append(w_s * 3.2 / l if names[6 + k].startswith("w'") else w_s)
     locked = [i for i in range(6 + nw) if i not in free]
     nf = len(free)
 
@@ -243,14 +247,19 @@ def build_model(
         # a rod inertia other than m l^2/12 is kept as a rigid-body correction
         T_r += 0.5 * (P.rod_inertia_value - P.rod_mass * l**2 / 12) * rate(phi) ** 2
         midspan = beam.deflection_at(l, ne, w, 0.5 * l)
+        strain = sum(0.5 * P.rod_youngs_modulus * P.rod_area_moment * wgt * w2**2
+                     for _, wgt, _, _, w2 in beam.quadrature_points(l, ne, w))
+        beta = 2 * P.rod_damping_ratio / P.rod_first_bending_frequency  # Rayleigh: D = beta K
+        rod_damping = -beta * ca.jtimes(ca.gradient(strain, w), w, Qd[6:])
     else:
         G = 0.5 * (A_rod + B_rod)
         T_r, V_r = mech.body_energy(P.rod_mass, P.rod_inertia_value, g, G, rate(G), rate(phi))
         midspan = ca.SX(0)
+        rod_damping = ca.SX(0, 1)
     lag = mech.lagrangian(T_c + T_r + T_s, V_c + V_r + V_s, Q, Qd)
 
     # --- applied forces: contact and process --------------------------------------------------
-    F_gen = lag.Q
+    F_gen = lag.Q + ca.vertcat(ca.SX.zeros(6), rod_damping)
     contacts = {}
     for j, e in (("crank_pin", eA), ("wrist_pin", eB)):
         if j in clearance:
@@ -331,7 +340,8 @@ def build_model(
     contact_power = sum((at_state([-ca.dot(cf.vector_on_bearing, rate(e_of[j]))])[0] for j, cf in contacts.items()),
                         ca.SX(0))
     elastic_power = sum((at_state([cf.elastic_force * cf.penetration_rate])[0] for cf in contacts.values()), ca.SX(0))
-    quad = ca.vertcat(torque * omega_t, contact_power, elastic_power, at_state([f_proc * hd])[0])
+    damping_power = at_state([-ca.dot(rod_damping, Qd[6:])])[0] if flexible else ca.SX(0)
+    quad = ca.vertcat(torque * omega_t, contact_power, elastic_power, at_state([f_proc * hd])[0], damping_power)
 
     # --- DAE ----------------------------------------------------------------------------------
     ode = ca.vertcat(qd_free / s_q, z / s_v) if nf else ca.SX(0, 1)

@@ -245,6 +245,10 @@ class PressParams:
         Young's modulus of the rod, Pa.
     rod_area_moment : float
         Second moment of area of the rod section for bending, m^4.
+    rod_damping_ratio : float
+        Material damping of the flexible rod: stiffness-proportional (Rayleigh) damping with this
+        damping ratio at the first pinned-pinned bending mode (higher modes are damped more), in
+        [0, 1). 0 for an undamped rod (e.g. the Simeon benchmark).
     slider_mass : float
         Ram plus upper die, kg.
     gravity : float
@@ -264,6 +268,7 @@ class PressParams:
     rod_inertia: float | None = None
     rod_youngs_modulus: float = 2.1e11
     rod_area_moment: float = 2.13e-7
+    rod_damping_ratio: float = 0.02
     slider_mass: float = 150.0
     gravity: float = 9.81
     crank_pin: Bearing = field(default_factory=lambda: Bearing(clearance=1e-4, journal_radius=0.04))
@@ -283,6 +288,9 @@ class PressParams:
             chk.positive("rod_inertia", self.rod_inertia, "kg m^2")
         chk.positive("rod_youngs_modulus", self.rod_youngs_modulus, "Pa")
         chk.positive("rod_area_moment", self.rod_area_moment, "m^4")
+        zeta = chk.finite("rod_damping_ratio", self.rod_damping_ratio)
+        if not 0.0 <= zeta < 1.0:
+            raise ValueError(f"rod_damping_ratio must be in [0, 1), got {zeta!r}")
         chk.positive("slider_mass", self.slider_mass, "kg")
         chk.nonnegative("gravity", self.gravity, "m/s^2")
         for name in ("crank_pin", "wrist_pin"):
@@ -295,6 +303,12 @@ class PressParams:
     def stroke(self) -> float:
         """Stroke H = 2 r, m."""
         return 2.0 * self.crank_radius
+
+    @property
+    def rod_first_bending_frequency(self) -> float:
+        """First pinned-pinned bending frequency (pi/l)^2 sqrt(EI/(rho A)), rad/s."""
+        return (math.pi / self.rod_length) ** 2 * math.sqrt(
+            self.rod_youngs_modulus * self.rod_area_moment * self.rod_length / self.rod_mass)
 
     @property
     def rod_inertia_value(self) -> float:

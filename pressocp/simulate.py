@@ -105,7 +105,7 @@ def _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps):
     rhs = ca.Function("rhs", [model.t, model.x, model.p], [ca.vertcat(model.ode_explicit, model.quad)])
     xa = ca.SX.sym("xa", nx + nq)
     rhs_aug = ca.Function("rhs_aug", [model.t, xa], [rhs(model.t, xa[:nx], p)])
-    jac = ca.Function("jac", [model.t, xa], [ca.jacobian(rhs_aug(model.t, xa), xa)])
+    jac = ca.Function("rhs_jacobian", [model.t, xa], [ca.jacobian(rhs_aug(model.t, xa), xa)])
     t0 = time.perf_counter()
     sol = solve_ivp(
         lambda t, y: np.asarray(rhs_aug(t, y)).ravel(), (0.0, float(grid[-1])), np.concatenate([x0, np.zeros(nq)]),
