@@ -99,24 +99,37 @@ def _first_line(err: Exception) -> str:
 
 
 def _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps):
-    from scipy.integrate import solve_ivp  # baseline only
+    from scipy.integrate import BDF, Radau  # baseline only
 
     nx, nq = model.nx, model.quad.numel()
     rhs = ca.Function("rhs", [model.t, model.x, model.p], [ca.vertcat(model.ode_explicit, model.quad)])
     xa = ca.SX.sym("xa", nx + nq)
     rhs_aug = ca.Function("rhs_aug", [model.t, xa], [rhs(model.t, xa[:nx], p)])
     jac = ca.Function("rhs_jacobian", [model.t, xa], [ca.jacobian(rhs_aug(model.t, xa), xa)])
+    solver_cls = Radau if method == "scipy-radau" else BDF
     t0 = time.perf_counter()
-    sol = solve_ivp(
-        lambda t, y: np.asarray(rhs_aug(t, y)).ravel(), (0.0, float(grid[-1])), np.concatenate([x0, np.zeros(nq)]),
-        method="Radau" if method == "scipy-radau" else "BDF", t_eval=grid, rtol=rtol, atol=atol,
-        jac=lambda t, y: np.asarray(jac(t, y)),
-    )
+    solver = solver_cls(lambda t, y: np.asarray(rhs_aug(t, y)).ravel(), 0.0, np.concatenate([x0, np.zeros(nq)]),
+                        float(grid[-1]), rtol=rtol, atol=atol, jac=lambda t, y: np.asarray(jac(t, y)))
+    Y = np.empty((nx + nq, grid.size))
+    k, steps = 0, 0
+    while k < grid.size:
+        if solver.status != "running" and solver.t < grid[-1]:
+            raise SimulationError(str(solver.status), time=float(solver.t), method=method, hint=HINT)
+        if steps >= max_steps:
+            raise SimulationError(f"maximum number of steps ({max_steps}) reached", time=float(solver.t),
+                                  method=method, hint=HINT)
+        t_prev = solver.t
+        msg = solver.step()
+        steps += 1
+        if solver.status == "failed":
+            raise SimulationError(str(msg), time=float(solver.t), method=method, hint=HINT)
+        dense = solver.dense_output()
+        while k < grid.size and grid[k] <= solver.t:
+            Y[:, k] = dense(grid[k]) if grid[k] > t_prev else solver.y
+            k += 1
     wall = time.perf_counter() - t0
-    if not sol.success:
-        raise SimulationError(sol.message, time=float(sol.t[-1]) if sol.t.size else np.nan, method=method, hint=HINT)
-    return sol.y[:nx], sol.y[nx:], {"wall_time": wall, "rhs_evaluations": int(sol.nfev),
-                                    "jacobian_evaluations": int(sol.njev), "lu_decompositions": int(sol.nlu)}
+    return Y[:nx], Y[nx:], {"wall_time": wall, "steps": steps, "rhs_evaluations": int(solver.nfev),
+                            "jacobian_evaluations": int(solver.njev), "lu_decompositions": int(solver.nlu)}
 
 
 def periodic_state(model: PressModel, speed: FourierSpeed, method: str = "cvodes", rtol: float = 1e-8,

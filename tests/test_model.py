@@ -1,0 +1,192 @@
+"""The press DAE: rigid limit, energy balance, flexible rod (modes, Simeon benchmark), cross-method
+agreement, the seed's impact phenomenon, bad input and integrator failures.
+
+References: the rigid inverse dynamics (itself checked against tests/references/newton_euler.py),
+the Euler-Bernoulli formula, the Simeon slider crank (shared/reference/benchmarks.md section 1),
+work-energy bookkeeping and scipy's Radau on the same equations.
+"""
+
+import numpy as np
+import pytest
+import scipy.linalg as sla
+
+from pressocp import Bearing, FourierSpeed, PressParams, beam, rigid_response
+from pressocp.design import design_speed
+from pressocp.model import build_model
+from pressocp.simulate import SimulationError, simulate
+
+FLORES_PERIOD = 60.0 / 5000.0
+
+
+def _rel_peak_errors(res, ref, names=("torque", "crank_pin_force", "wrist_pin_force", "slider_normal_force")):
+    return {n: res.peak(n) / ref.peak(n) - 1 for n in names}
+
+
+def test_rigid_model_equals_rigid_inverse_dynamics():
+    p = PressParams(crank_com=0.01)
+    s = FourierSpeed(1.0, [2.0, 1.0], [0.5, -1.0], theta0=0.3)
+    r = simulate(build_model(p, clearance=()), s, n_out=301)
+    ref = rigid_response(p, s, r.t)
+    for n in ("torque", "ram_acceleration", "slider_normal_force", "crank_pin_force", "wrist_pin_force"):
+        assert np.allclose(getattr(r, n), getattr(ref, n), rtol=0, atol=1e-9 * ref.peak(n)), n
+
+
+@pytest.mark.parametrize("stiffness", [None, 1e14], ids=["hertz", "stiffer"])
+def test_rigid_limit_flores(stiffness):
+    """Both clearances 1 um with stiff contact -> within 2 % of the ideal joints (5000 rpm, g = 0)."""
+    b = Bearing(clearance=1e-6, journal_radius=0.01, stiffness=stiffness)
+    p = PressParams.flores().replace(crank_pin=b, wrist_pin=b)
+    s = FourierSpeed.constant(FLORES_PERIOD)
+    r = simulate(build_model(p), s, periodic=True, method="cvodes", rtol=1e-8)
+    ref = rigid_response(p, s, r.t)
+    for n in ("torque", "crank_pin_force", "wrist_pin_force", "slider_normal_force"):
+        assert np.max(np.abs(getattr(r, n) - getattr(ref, n))) <= 0.02 * ref.peak(n), n
+    assert max(abs(e) for e in _rel_peak_errors(r, ref).values()) < 0.02
+
+
+def test_flexible_rod_with_large_EI_is_rigid():
+    p = PressParams.flores(clearance=1e-6).replace(rod_youngs_modulus=2.1e13)
+    s = FourierSpeed.constant(FLORES_PERIOD)
+    r = simulate(build_model(p, rod="flexible", clearance=(), n_elements=4), s, periodic=True, method="cvodes",
+                 rtol=1e-8)
+    ref = rigid_response(p, s, r.t)
+    assert max(abs(e) for e in _rel_peak_errors(r, ref).values()) < 1e-3
+    assert np.max(np.abs(r.rod_midspan_deflection)) < 1e-7
+
+
+@pytest.fixture(scope="module")
+def impact_speed():
+    """The rigid-designed speed at T = 0.8 s, -0.1 m/s: its wrist-pin force reverses (see README)."""
+    return design_speed(PressParams(), period=0.8, ram_speed=-0.1).speed
+
+
+@pytest.mark.parametrize("rod", ["rigid", "flexible"])
+def test_energy_balance_with_clearances(rod, impact_speed):
+    """W_motor + W_process = dT + dV + contact work (stored + dissipated) + rod damping work."""
+    m = build_model(PressParams(), rod=rod, n_elements=2)
+    r = simulate(m, impact_speed, t_end=0.8 if rod == "rigid" else 0.3, method="cvodes",
+                 rtol=1e-10 if rod == "rigid" else 1e-9)
+    E = r.energy
+    dE = E["kinetic_end"] + E["potential_end"] - E["kinetic_start"] - E["potential_start"]
+    imbalance = E["motor_work"] + E["process_work"] - dE - E["contact_work"] - E["rod_damping_work"]
+    scale = max(abs(E["motor_work"]), abs(dE), abs(E["contact_work"]))
+    assert abs(imbalance) <= 1e-4 * scale
+    assert E["contact_work"] - E["contact_elastic_work"] > 0  # the contacts dissipate
+
+
+def test_pinned_pinned_frequencies():
+    """First three bending frequencies within 0.5 % at 8 elements; error falls with refinement."""
+    p = PressParams()
+    rho_a, EI, L = p.rod_mass / p.rod_length, p.rod_youngs_modulus * p.rod_area_moment, p.rod_length
+    exact = np.array([(k * np.pi / L) ** 2 * np.sqrt(EI / rho_a) for k in (1, 2, 3)])
+    errors = []
+    for n in (2, 4, 8, 16):
+        M, K = beam.pinned_pinned_matrices(L, n, rho_a, EI)
+        w = np.sqrt(np.sort(sla.eigh(K, M, eigvals_only=True))[:3])
+        errors.append(np.abs(w / exact - 1))
+    assert np.all(errors[2] < 0.005)
+    assert np.all(np.diff([e[0] for e in errors]) < 0)  # monotone convergence of mode 1
+    # Hermite cubics: eigenvalue error O(h^4) -> about 16x per halving
+    assert errors[1][0] / errors[2][0] > 10
+    assert p.rod_first_bending_frequency == pytest.approx(exact[0])
+
+
+SIMEON = PressParams(
+    crank_radius=0.15, rod_length=0.30, crank_inertia=0.002727, crank_mass=0.36, rod_mass=0.151104,
+    slider_mass=0.075552, gravity=0.0, rod_youngs_modulus=2.0e11, rod_area_moment=0.008**4 / 12,
+    rod_damping_ratio=0.0,
+)
+
+
+def simeon_run(n_elements=4, rtol=1e-10):
+    """Simeon's flexible slider crank from the test-set initial values (elastic rates of the two modes)."""
+    L = SIMEON.rod_length
+    m = build_model(SIMEON, rod="flexible", clearance=(), n_elements=n_elements)
+    q1d, q2d = 0.44490, 4.6343e-3
+    qd = beam.interpolate(L, n_elements,
+                          lambda x: q1d * np.sin(np.pi * x / L) + q2d * np.sin(2 * np.pi * x / L),
+                          lambda x: np.pi / L * (q1d * np.cos(np.pi * x / L) + 2 * q2d * np.cos(2 * np.pi * x / L)))
+    x0 = np.concatenate([np.zeros(2 * n_elements), qd]) / m.x_scale
+    # theta = pi: the crank points along the slide toward the slider, as in the test set
+    speed = FourierSpeed.constant(2 * np.pi / 150.0, theta0=np.pi)
+    return simulate(m, speed, t_end=0.1, x0=x0, method="cvodes", rtol=rtol, n_out=2001)
+
+
+def test_simeon_flexible_slider_crank():
+    r = simeon_run()
+    slider = SIMEON.crank_radius + SIMEON.rod_length - r.ram_height[-1]  # distance from the crank axis
+    assert slider == pytest.approx(0.169737333, rel=1e-4)
+    assert -r.ram_velocity[-1] == pytest.approx(-8.7531, rel=1e-3)
+    # midspan deflection: 1.8932e-4 m at 0.1 s; extremes about +-1.65 mm (different discretisation)
+    assert r.rod_midspan_deflection[-1] == pytest.approx(1.8932e-4, rel=0.02)
+    assert np.max(r.rod_midspan_deflection) == pytest.approx(1.65e-3, rel=0.02)
+    assert np.min(r.rod_midspan_deflection) == pytest.approx(-1.65e-3, rel=0.02)
+
+
+def test_cross_method_agreement(impact_speed):
+    """idas, cvodes and scipy-radau at rtol 1e-8 agree on the peaks within 1 % (impacting case)."""
+    m = build_model(PressParams())
+    x0 = simulate(m, impact_speed, t_end=1.6, method="cvodes", rtol=1e-9, n_out=3).states[:, -1] / m.x_scale
+    runs = {meth: simulate(m, impact_speed, x0=x0, method=meth, rtol=1e-8, n_out=16001)
+            for meth in ("cvodes", "idas", "scipy-radau")}
+    for meth in ("idas", "scipy-radau"):
+        for n in ("torque", "slider_normal_force", "crank_pin_force", "wrist_pin_force"):
+            assert runs[meth].peak(n) == pytest.approx(runs["cvodes"].peak(n), rel=0.01), (meth, n)
+
+
+def test_seed_phenomenon(impact_speed):
+    """Constant speed: no force reversal, no impact. Rigid-designed speed at 75 spm: impact spikes."""
+    p = PressParams()
+    m = build_model(p)
+    const = FourierSpeed.constant(0.8)
+    rc = simulate(m, const, periodic=True, method="cvodes", rtol=1e-8)
+    rigid_c = rigid_response(p, const, rc.t)
+    assert rigid_c.wrist_pin_force.min() > 500 and rc.wrist_pin_force.min() > 500  # never reverses
+    assert rc.peak("torque") == pytest.approx(rigid_c.peak("torque"), rel=0.02)
+    rd = simulate(m, impact_speed, periodic=True, method="cvodes", rtol=1e-8)
+    rigid_d = rigid_response(p, impact_speed, rd.t)
+    assert rigid_d.wrist_pin_force.min() < 0.01 * rigid_d.peak("wrist_pin_force")  # the force reverses
+    assert rd.wrist_pin_eccentricity.min() < 0.99  # the journal leaves the bearing surface (free flight)
+    assert rd.peak("torque") > 2.0 * rigid_d.peak("torque")
+    assert rd.peak("slider_normal_force") > 3.0 * rigid_d.peak("slider_normal_force")
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(clearance=("big_end",)), "clearance joint"),
+        (dict(clearance=("crank_pin", "crank_pin")), "twice"),
+        (dict(n_elements=0), "n_elements"),
+        (dict(n_elements=65), "n_elements"),
+        (dict(rod="elastic"), "rod"),
+    ],
+)
+def test_build_model_bad_input(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        build_model(PressParams(), **kwargs)
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(method="euler"), "method"),
+        (dict(rtol=0.0), "rtol"),
+        (dict(rtol=-1e-6), "rtol"),
+        (dict(t_end=0.0), "t_end"),
+        (dict(t_end=-1.0), "t_end"),
+        (dict(cycles=0), "cycles"),
+    ],
+)
+def test_simulate_bad_input(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        simulate(build_model(PressParams()), FourierSpeed.constant(1.0), **kwargs)
+
+
+@pytest.mark.parametrize("method", ["idas", "cvodes", "scipy-bdf"])
+def test_forced_integrator_failure_is_typed_and_readable(method):
+    m = build_model(PressParams())
+    with pytest.raises(SimulationError) as info:
+        simulate(m, FourierSpeed.constant(1.0), method=method, max_steps=20)
+    msg = str(info.value)
+    assert method in msg and "hint" in msg
+    assert info.value.method == method
