@@ -108,3 +108,32 @@ def plot_sixbar_emulation(emulation: dict, constant_height=None, zone_times=None
         ax.legend(fontsize=8)
     fig.tight_layout()
     return fig
+
+
+def plot_impact_study(study) -> "plt.Figure":
+    """Seed Figs. 6 and 9: torque, slider normal force and wrist-pin force, clearance vs ideal joints,
+    at constant speed (left) and at the rigid-designed speed (right)."""
+    fig, axes = plt.subplots(4, 2, figsize=(12, 9), sharex="col")
+    cols = [("constant crank speed", study.constant, study.constant_rigid),
+            ("rigid-designed speed", study.designed, study.designed_rigid)]
+    rows = [("omega", "crank speed ω [rad/s]"), ("torque", "motor torque [N·m]"),
+            ("slider_normal_force", "slider normal force [N]"), ("wrist_pin_force", "wrist-pin force [N]")]
+    ratios = study.ratios()
+    for j, (title, clr, rig) in enumerate(cols):
+        for i, (name, label) in enumerate(rows):
+            ax = axes[i, j]
+            ax.plot(clr.t, getattr(clr, name), lw=0.9, color="C3", label="clearance 0.1 mm (both joints)")
+            ax.plot(rig.t, getattr(rig, name), lw=1.6, color="k", ls="--", label="ideal joints")
+            ax.grid(alpha=0.3)
+            if j == 0:
+                ax.set_ylabel(label, fontsize=8)
+        key = "constant" if j == 0 else "designed"
+        axes[0, j].set_title(f"{title}: peak torque ×{ratios[key]['torque']:.2f}, "
+                             f"normal force ×{ratios[key]['slider_normal_force']:.2f} of ideal", fontsize=9)
+        axes[-1, j].set_xlabel("time t [s]")
+        if j == 1:
+            for ax in axes[:, j]:
+                ax.axvspan(study.design.t1, study.design.t2, color="0.92", zorder=0)
+    axes[1, 0].legend(fontsize=8)
+    fig.tight_layout()
+    return fig

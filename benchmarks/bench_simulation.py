@@ -1,0 +1,117 @@
+"""Speed versus accuracy of the simulation methods on the same equations.
+
+Scenario: the default press at the rigid-designed speed of the impact study (T = 0.8 s,
+ram speed -0.1 m/s over h/H 0.7 -> 0.3), one cycle from its periodic steady state. For each method
+and tolerance: wall time per cycle (median of repeats) and the relative error of the peak motor
+torque against a CVODES rtol 1e-10 reference. "Equal accuracy" compares the cheapest run of each
+method whose peak-torque error is below a target.
+
+Writes benchmarks/results/simulation.json and simulation.png.
+
+    python benchmarks/bench_simulation.py [--quick]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from pressocp import PressParams  # noqa: E402
+from pressocp.design import design_speed  # noqa: E402
+from pressocp.model import build_model  # noqa: E402
+from pressocp.simulate import SimulationError, periodic_state, simulate  # noqa: E402
+
+OUT = Path(__file__).parent / "results"
+
+
+def run_case(name, model, speed, methods, rtols, repeats, budget):
+    x0, _ = periodic_state(model, speed, rtol=1e-9)
+    ref = simulate(model, speed, x0=x0, method="cvodes", rtol=1e-10, n_out=16001)
+    rows = []
+    for method in methods:
+        for rtol in rtols:
+            times, err, ok = [], None, True
+            for _ in range(repeats):
+                t0 = time.perf_counter()
+                try:
+                    r = simulate(model, speed, x0=x0, method=method, rtol=rtol, n_out=16001)
+                except SimulationError as e:
+                    ok, err = False, str(e).splitlines()[0]
+                    break
+                times.append(time.perf_counter() - t0)
+                err = abs(r.peak("torque") / ref.peak("torque") - 1)
+                if times[-1] > budget:
+                    break
+            row = {"case": name, "method": method, "rtol": rtol, "ok": ok,
+                   "time_per_cycle_s": statistics.median(times) if times else None, "repeats": len(times),
+                   "peak_torque_rel_error": err if ok else None, "error": None if ok else err,
+                   "steps": r.stats.get("steps") if ok else None}
+            rows.append(row)
+            print(json.dumps(row))
+            if ok and times and times[-1] > budget:
+                break  # tighter tolerances only get slower
+    return {"reference_peak_torque": ref.peak("torque"), "rows": rows}
+
+
+def equal_accuracy(rows, target):
+    best = {}
+    for r in rows:
+        if r["ok"] and r["peak_torque_rel_error"] <= target:
+            m = r["method"]
+            if m not in best or r["time_per_cycle_s"] < best[m]["time_per_cycle_s"]:
+                best[m] = r
+    return best
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--quick", action="store_true", help="fewer tolerances and repeats")
+    args = ap.parse_args()
+    OUT.mkdir(exist_ok=True)
+    p = PressParams()
+    speed = design_speed(p, period=0.8, ram_speed=-0.1).speed
+    repeats = 1 if args.quick else 3
+    rtols = [1e-5, 1e-7] if args.quick else [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9]
+    methods = ["idas", "cvodes", "scipy-radau"]
+    results = {
+        "clearance": run_case("clearance", build_model(p), speed, methods, rtols, repeats, budget=120),
+        "flexible": run_case("flexible (4 elements)", build_model(p, rod="flexible", n_elements=4), speed, methods,
+                             rtols, repeats, budget=300),
+    }
+    summary = {}
+    for case, res in results.items():
+        for target in (1e-2, 1e-3):
+            best = equal_accuracy(res["rows"], target)
+            entry = {m: {"rtol": r["rtol"], "time_per_cycle_s": r["time_per_cycle_s"]} for m, r in best.items()}
+            if "idas" in best and "scipy-radau" in best:
+                entry["radau_over_idas"] = best["scipy-radau"]["time_per_cycle_s"] / best["idas"]["time_per_cycle_s"]
+            summary[f"{case}@{target:g}"] = entry
+    (OUT / "simulation.json").write_text(json.dumps({"results": results, "equal_accuracy": summary}, indent=2))
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    for ax, (case, res) in zip(axes, results.items()):
+        for m in methods:
+            pts = [(r["time_per_cycle_s"], r["peak_torque_rel_error"]) for r in res["rows"] if r["method"] == m and r["ok"]]
+            if pts:
+                x, y = zip(*pts)
+                ax.loglog(x, np.maximum(y, 1e-12), "o-", label=m)
+        ax.set_xlabel("wall time per cycle [s]")
+        ax.set_ylabel("relative error of peak torque")
+        ax.set_title(f"{case} model, impact scenario (T = 0.8 s)", fontsize=9)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend()
+    fig.tight_layout()
+    fig.savefig(OUT / "simulation.png", dpi=130)
+    print(json.dumps(summary, indent=2))
+
+
+if __name__ == "__main__":
+    main()
