@@ -190,3 +190,14 @@ def test_forced_integrator_failure_is_typed_and_readable(method):
     msg = str(info.value)
     assert method in msg and "hint" in msg
     assert info.value.method == method
+
+
+@pytest.mark.parametrize("method, step", [("rk", 1e-6), ("collocation", 1e-5)])
+def test_fixed_step_methods_agree_with_cvodes(method, step):
+    m = build_model(PressParams())
+    s = FourierSpeed.constant(1.0)
+    x0 = simulate(m, s, t_end=2.0, method="cvodes", rtol=1e-9, n_out=3).states[:, -1] / m.x_scale
+    ref = simulate(m, s, t_end=0.02, x0=x0, method="cvodes", rtol=1e-10, n_out=21)
+    r = simulate(m, s, t_end=0.02, x0=x0, method=method, step=step, n_out=21)
+    assert np.max(np.abs(r.torque - ref.torque)) < 1e-4 * ref.peak("torque")
+    assert np.max(np.abs(r.wrist_pin_force - ref.wrist_pin_force)) < 1e-4 * ref.peak("wrist_pin_force")

@@ -1,0 +1,76 @@
+"""Result of a speed optimisation."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..result import SimResult
+from ..speed import FourierSpeed
+
+
+@dataclass
+class OcpResult:
+    """Optimal crank speed and how it was found.
+
+    Attributes
+    ----------
+    speed : FourierSpeed
+        Optimal (or best-iterate) speed; ``speed.amplitude`` and ``speed.phase`` give r_k, phi_k.
+    objective : str
+        What was minimised.
+    peak_torque, initial_peak_torque, rigid_peak_torque : float
+        Peak |torque| of the optimum, of the initial speed and of the rigid optimum (the floor), N m,
+        each evaluated on the model the stage solved (see `stages`).
+    objective_value : float
+        The epigraph variable s (or the RMS torque), in the objective's unit.
+    t1, t2 : float
+        Working window, s.
+    success : bool
+        IPOPT's success flag of the last stage; when False the speed is the best iterate.
+    status : str
+        IPOPT return status of the last stage.
+    iterations : int
+        IPOPT iterations, summed over stages.
+    wall_time : float
+        Total wall time, s.
+    max_ram_speed_violation : float
+        max(|v - ram_speed| - tol, 0) on a dense grid over the window, m/s.
+    min_omega : float
+        Smallest crank speed over the period, rad/s.
+    objective_history : list of float
+        Objective per IPOPT iteration (all stages, in order).
+    stages : list of dict
+        Per stage: name, status, iterations, wall time, objective.
+    simulation : SimResult or None
+        Re-simulated (or re-evaluated) response of the optimum.
+    """
+
+    speed: FourierSpeed
+    objective: str
+    peak_torque: float
+    initial_peak_torque: float
+    rigid_peak_torque: float
+    objective_value: float
+    t1: float
+    t2: float
+    success: bool
+    status: str
+    iterations: int
+    wall_time: float
+    max_ram_speed_violation: float
+    min_omega: float
+    objective_history: list = field(default_factory=list)
+    stages: list = field(default_factory=list)
+    simulation: SimResult | None = None
+
+    @property
+    def amplitude(self) -> np.ndarray:
+        """r_k, rad/s."""
+        return self.speed.amplitude
+
+    @property
+    def phase(self) -> np.ndarray:
+        """phi_k, rad."""
+        return self.speed.phase

@@ -1,0 +1,150 @@
+"""Rigid-model transcription: the press has no states, so the loads are closed-form functions of the
+Fourier coefficients at sample times. IPOPT with the exact Hessian solves it in seconds; its
+optimum is the floor the clearance stages compare with and their warm start.
+"""
+
+from __future__ import annotations
+
+import time
+
+import casadi as ca
+import numpy as np
+
+from .. import _checks as chk
+from ..design import design_speed, window_error
+from ..rigid import _inverse_dynamics_function, _kinematics_function, rigid_response
+from ..speed import FourierSpeed, series
+from .problem import SpeedProblem
+from .result import OcpResult
+
+IPOPT_DEFAULTS = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False, "ipopt.max_iter": 300,
+                  "ipopt.tol": 1e-8, "ipopt.linear_solver": "mumps"}
+
+
+def _speed_functions(problem: SpeedProblem) -> tuple[ca.Function, ca.Function]:
+    """(t, c) -> inverse dynamics outputs and (t, c) -> kinematics outputs, as SX functions."""
+    n, T = problem.n_harmonics, problem.period
+    t, c = ca.SX.sym("t"), ca.SX.sym("c", 2 * n)
+    th, om, al = series(t, c[:n], c[n:], T)
+    dyn = _inverse_dynamics_function(problem.params)(theta=th, omega=om, alpha=al)
+    kin = _kinematics_function(problem.params)(theta=th, omega=om, alpha=al)
+    f_dyn = ca.Function("loads", [t, c], [dyn["torque"], dyn["slider_normal_force"], dyn["crank_pin_force"],
+                                          dyn["wrist_pin_force"], om, al])
+    f_kin = ca.Function("ram", [t, c], [kin["ram_height"], kin["ram_velocity"], th])
+    return f_dyn, f_kin
+
+
+def solve_rigid(problem: SpeedProblem, initial: FourierSpeed | None = None, samples: int = 1000,
+                window_samples: int = 200, ipopt_options: dict | None = None) -> OcpResult:
+    """Solve the speed problem on the rigid press (ideal joints).
+
+    Parameters
+    ----------
+    problem : SpeedProblem
+        The problem.
+    initial : FourierSpeed, optional
+        Initial speed; default the rigid kinematic design (`design_speed`) of the same window.
+    samples : int
+        Uniform samples over the period for the load and speed constraints, 50..20000.
+    window_samples : int
+        Samples of the ram speed constraint inside [t1, t2], 10..5000.
+    ipopt_options : dict, optional
+        Extra CasADi/IPOPT options (e.g. ``{"ipopt.max_iter": 50}``).
+
+    Returns
+    -------
+    OcpResult
+        ``success`` False (with the last iterate) when IPOPT does not converge; never raises for that.
+    """
+    N = chk.integer("samples", samples, 50, 20000)
+    m = chk.integer("window_samples", window_samples, 10, 5000)
+    P, T, n = problem, problem.period, problem.n_harmonics
+    t_start = time.perf_counter()
+    if initial is None:
+        d = design_speed(P.params, period=T, ram_speed=P.ram_speed, window=P.window, n_harmonics=n)
+        initial, t1_0 = d.speed, d.t1
+    else:
+        if not np.isclose(initial.period, T):
+            raise ValueError(f"initial.period must equal the problem's period {T:g} s, got {initial.period:g}")
+        if initial.n_harmonics > n:
+            raise ValueError(f"initial has {initial.n_harmonics} harmonics; the problem has n_harmonics={n}")
+        c = np.zeros(2 * n)
+        c[: initial.n_harmonics], c[n : n + initial.n_harmonics] = initial.a, initial.b
+        initial = FourierSpeed(T, c[:n], c[n:], 0.0)
+        from ..rigid import crank_angle_at_height
+
+        th1 = float(crank_angle_at_height(P.params, P.window[0] * P.params.stroke, "down"))
+        tg = np.linspace(0, T, 20001)
+        t1_0 = float(np.interp(th1, initial.theta(tg), tg))
+    f_dyn, f_kin = _speed_functions(P)
+    tau_w = P.window_duration
+
+    c = ca.MX.sym("c", 2 * n)
+    s = ca.MX.sym("s")
+    t1 = ca.MX.sym("t1")
+    ts = np.linspace(0.0, T, N, endpoint=False)
+    tau, nf, fa, fb, om, al = f_dyn.map(N)(ca.DM(ts).T, ca.repmat(c, 1, N))
+    tw = t1 + tau_w * ca.DM(np.linspace(0.0, 1.0, m)).T
+    _, vw, _ = f_kin.map(m)(tw, ca.repmat(c, 1, m))
+    h1, _, th1 = f_kin(t1, c)
+
+    r0 = rigid_response(P.params, initial, ts)
+    scale = {"peak_torque": r0.peak("torque"), "peak_slider_normal_force": r0.peak("slider_normal_force"),
+             "peak_pin_force": max(r0.peak("crank_pin_force"), r0.peak("wrist_pin_force")),
+             "rms_torque": float(np.sqrt(np.mean(r0.torque**2)))}[P.objective]
+    g, lbg, ubg = [], [], []
+
+    def add(expr, lo, hi):
+        g.append(expr)
+        k = expr.numel()
+        lbg.append(np.broadcast_to(lo, (k,)))
+        ubg.append(np.broadcast_to(hi, (k,)))
+
+    if P.objective == "rms_torque":
+        f = ca.sumsqr(tau) / N / scale**2
+    else:
+        f = s / scale
+        loads = {"peak_torque": [tau], "peak_slider_normal_force": [nf], "peak_pin_force": [fa, fb]}[P.objective]
+        for q in loads:
+            add((q.T - s) / scale, -np.inf, 0.0)
+            add((-q.T - s) / scale, -np.inf, 0.0)
+    add((vw.T - P.ram_speed) / P.tol, -1.0, 1.0)
+    add(h1 / P.params.stroke - P.window[0], 0.0, 0.0)
+    add(th1, 0.0, np.pi)
+    wbar = 2 * np.pi / T
+    add(om.T / wbar, P.omega_lower / wbar, np.inf if P.omega_max is None else P.omega_max / wbar)
+    if P.alpha_max is not None:
+        add(al.T / P.alpha_max, -1.0, 1.0)
+    x = ca.vertcat(c, s, t1)
+    opts = {**IPOPT_DEFAULTS, "expand": True, **(ipopt_options or {})}
+    solver = ca.nlpsol("rigid_speed_ocp", "ipopt", {"x": x, "f": f, "g": ca.vertcat(*g)}, opts)
+    x0 = np.concatenate([initial.coefficients, [scale, t1_0]])
+    lbx = np.concatenate([-np.inf * np.ones(2 * n), [0.0, 0.0]])
+    ubx = np.concatenate([np.inf * np.ones(2 * n), [np.inf, T - tau_w]])
+    sol = solver(x0=x0, lbx=lbx, ubx=ubx, lbg=np.concatenate(lbg), ubg=np.concatenate(ubg))
+    st = solver.stats()
+    xo = np.asarray(sol["x"]).ravel()
+    speed = FourierSpeed(T, xo[:n], xo[n : 2 * n])
+    t1v = float(xo[-1])
+    wall = time.perf_counter() - t_start
+    dense = np.linspace(0.0, T, 20001)
+    resp = rigid_response(P.params, speed, dense)
+    init_resp = rigid_response(P.params, initial, dense)
+    max_err, _ = window_error(P.params, speed, t1v, t1v + tau_w, P.ram_speed)
+    history = [float(v) * scale for v in st.get("iterations", {}).get("obj", [])]
+    if P.objective == "rms_torque":
+        history = [float(np.sqrt(max(h, 0.0) * scale)) for h in history]
+        value = float(np.sqrt(np.mean(resp.torque**2)))
+    else:
+        value = float(xo[2 * n])
+    return OcpResult(
+        speed=speed, objective=P.objective, peak_torque=resp.peak("torque"),
+        initial_peak_torque=init_resp.peak("torque"), rigid_peak_torque=resp.peak("torque"),
+        objective_value=value, t1=t1v, t2=t1v + tau_w, success=bool(st["success"]),
+        status=str(st["return_status"]), iterations=int(st.get("iter_count", 0)), wall_time=wall,
+        max_ram_speed_violation=max(max_err * abs(P.ram_speed) - P.tol, 0.0), min_omega=speed.min_speed(),
+        objective_history=history,
+        stages=[{"name": "rigid", "status": str(st["return_status"]), "iterations": int(st.get("iter_count", 0)),
+                 "wall_time": wall, "objective": value}],
+        simulation=resp,
+    )
