@@ -343,3 +343,14 @@ class PressParams:
             crank_pin=Bearing(**bearing),
             wrist_pin=Bearing(**bearing),
         )
+
+    @classmethod
+    def simeon(cls) -> "PressParams":
+        """Simeon's flexible slider crank (IVP test set "crank"): l1 0.15 m, l2 0.30 m, 8 x 8 mm steel rod
+        (E = 2.0e11 Pa), slider 0.075552 kg, no gravity, undamped rod. Run at 150 rad/s from theta = pi."""
+        return cls(
+            crank_radius=0.15, rod_length=0.30, crank_inertia=0.002727, crank_mass=0.36, rod_mass=0.151104,
+            slider_mass=0.075552, gravity=0.0, rod_youngs_modulus=2.0e11, rod_area_moment=0.008**4 / 12,
+            rod_damping_ratio=0.0,
+        )
+

@@ -14,6 +14,7 @@ from pressocp import Bearing, FourierSpeed, PressParams, beam, rigid_response
 from pressocp.design import design_speed
 from pressocp.model import build_model
 from pressocp.simulate import SimulationError, simulate
+from pressocp.studies import simeon_crank
 
 FLORES_PERIOD = 60.0 / 5000.0
 
@@ -91,30 +92,10 @@ def test_pinned_pinned_frequencies():
     assert p.rod_first_bending_frequency == pytest.approx(exact[0])
 
 
-SIMEON = PressParams(
-    crank_radius=0.15, rod_length=0.30, crank_inertia=0.002727, crank_mass=0.36, rod_mass=0.151104,
-    slider_mass=0.075552, gravity=0.0, rod_youngs_modulus=2.0e11, rod_area_moment=0.008**4 / 12,
-    rod_damping_ratio=0.0,
-)
-
-
-def simeon_run(n_elements=4, rtol=1e-10):
-    """Simeon's flexible slider crank from the test-set initial values (elastic rates of the two modes)."""
-    L = SIMEON.rod_length
-    m = build_model(SIMEON, rod="flexible", clearance=(), n_elements=n_elements)
-    q1d, q2d = 0.44490, 4.6343e-3
-    qd = beam.interpolate(L, n_elements,
-                          lambda x: q1d * np.sin(np.pi * x / L) + q2d * np.sin(2 * np.pi * x / L),
-                          lambda x: np.pi / L * (q1d * np.cos(np.pi * x / L) + 2 * q2d * np.cos(2 * np.pi * x / L)))
-    x0 = np.concatenate([np.zeros(2 * n_elements), qd]) / m.x_scale
-    # theta = pi: the crank points along the slide toward the slider, as in the test set
-    speed = FourierSpeed.constant(2 * np.pi / 150.0, theta0=np.pi)
-    return simulate(m, speed, t_end=0.1, x0=x0, method="cvodes", rtol=rtol, n_out=2001)
-
-
 def test_simeon_flexible_slider_crank():
-    r = simeon_run()
-    slider = SIMEON.crank_radius + SIMEON.rod_length - r.ram_height[-1]  # distance from the crank axis
+    r = simeon_crank(n_elements=4)
+    p = PressParams.simeon()
+    slider = p.crank_radius + p.rod_length - r.ram_height[-1]  # distance from the crank axis
     assert slider == pytest.approx(0.169737333, rel=1e-4)
     assert -r.ram_velocity[-1] == pytest.approx(-8.7531, rel=1e-3)
     # midspan deflection: 1.8932e-4 m at 0.1 s; extremes about +-1.65 mm (different discretisation)
