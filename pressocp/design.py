@@ -94,6 +94,22 @@ def ram_speed_range(params: PressParams, period: float, window: tuple[float, flo
     return -fastest, -slowest
 
 
+def check_ram_speed(params: PressParams, period: float, ram_speed: float, window: tuple[float, float]) -> float:
+    """Validate a window ram speed: negative and within `ram_speed_range` (ValueError otherwise)."""
+    v = chk.finite("ram_speed", ram_speed)
+    if v >= 0:
+        raise ValueError(f"ram_speed must be negative (downstroke, dh/dt < 0), got {v!r} m/s")
+    fastest, slowest = ram_speed_range(params, period, window)
+    if not fastest <= v <= slowest:
+        raise ValueError(
+            f"ram_speed must be in [{fastest:.4g}, {slowest:.4g}] m/s for period={period:g} s and window="
+            f"({window[0]:g}, {window[1]:g}): the crank cannot deliver {v!r} m/s over that window at that period "
+            f"(the window may take at most {MAX_WINDOW_SHARE:.0%} of the period and the crank may cross it at most "
+            f"{MAX_WINDOW_SPEED_RATIO:g}x faster than its mean speed)"
+        )
+    return v
+
+
 def _window_trajectory(params: PressParams, period: float, ram_speed: float, window, n: int = 2000):
     """A smooth crank-angle trajectory with the exact window motion: the design's initial guess.
 
@@ -177,15 +193,7 @@ def design_speed(
     mu = chk.nonnegative("smoothing_weight", smoothing_weight)
     wbar = 2 * np.pi / T
     wmin = 0.05 * wbar if omega_min is None else chk.in_open_interval("omega_min", omega_min, 0.0, wbar, "rad/s")
-    if v >= 0:
-        raise ValueError(f"ram_speed must be negative (downstroke, dh/dt < 0), got {v!r} m/s")
-    fastest, slowest = ram_speed_range(params, T, (w0, w1))
-    if not fastest <= v <= slowest:
-        raise ValueError(
-            f"ram_speed must be in [{fastest:.4g}, {slowest:.4g}] m/s for period={T:g} s and window="
-            f"({w0:g}, {w1:g}) (the window may take at most {MAX_WINDOW_SHARE:.0%} of the period and the "
-            f"crank may cross it at most {MAX_WINDOW_SPEED_RATIO:g}x faster than its mean speed), got {v!r}"
-        )
+    check_ram_speed(params, T, v, (w0, w1))
     H = params.stroke
     tau = (w0 - w1) * H / abs(v)
 

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _checks as chk
-from ..design import check_window, ram_speed_range
+from ..design import check_ram_speed, check_window
 from ..params import PressParams
 from ..speed import DEFAULT_HARMONICS
 
@@ -59,13 +59,7 @@ class SpeedProblem:
         object.__setattr__(self, "window", (w0, w1))
         chk.choice("objective", self.objective, OBJECTIVES)
         chk.integer("n_harmonics", self.n_harmonics, 1, 50)
-        if v >= 0:
-            raise ValueError(f"ram_speed must be negative (downstroke, dh/dt < 0), got {v!r} m/s")
-        fastest, slowest = ram_speed_range(self.params, T, (w0, w1))
-        if not fastest <= v <= slowest:
-            raise ValueError(
-                f"ram_speed must be in [{fastest:.4g}, {slowest:.4g}] m/s for period={T:g} s and window="
-                f"({w0:g}, {w1:g}): the crank cannot deliver {v!r} m/s over that window at that period")
+        check_ram_speed(self.params, T, v, (w0, w1))
         if self.ram_speed_tol is not None:
             chk.in_open_interval("ram_speed_tol", self.ram_speed_tol, 0.0, abs(v), "m/s")
         wbar = 2 * np.pi / T
