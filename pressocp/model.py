@@ -89,6 +89,8 @@ class PressModel:
         (t, x, p) -> the outputs named in `OUTPUT_NAMES`.
     energy : ca.Function
         (t, x, p) -> (kinetic, potential) energy, J.
+    accelerations : ca.Function
+        (t, x, p) -> accelerations of the free coordinates (the consistent z of the DAE).
     x0 : ndarray
         Consistent scaled initial state: journals centred, no elastic deformation, no rates.
     """
@@ -110,6 +112,7 @@ class PressModel:
     x_scale: np.ndarray
     outputs: ca.Function
     energy: ca.Function
+    accelerations: ca.Function
     x0: np.ndarray = field(repr=False)
 
     @property
@@ -124,12 +127,8 @@ class PressModel:
 
     def parameters(self, speed: FourierSpeed) -> np.ndarray:
         """The parameter vector p for a speed (harmonics padded with zeros)."""
-        n = self.n_harmonics
-        if speed.n_harmonics > n:
-            raise ValueError(f"speed has {speed.n_harmonics} harmonics; this model carries at most n_harmonics={n}")
-        a, b = np.zeros(n), np.zeros(n)
-        a[: speed.n_harmonics], b[: speed.n_harmonics] = speed.a, speed.b
-        return np.concatenate([a, b, [speed.period, speed.theta0]])
+        s = speed.padded(self.n_harmonics)
+        return np.concatenate([s.a, s.b, [s.period, s.theta0]])
 
     def dae(self, explicit: bool = False) -> dict:
         """The DAE dict for `casadi.integrator` (with the quadratures)."""
@@ -140,10 +139,7 @@ class PressModel:
 
     def z0(self, x: np.ndarray, p: np.ndarray, t: float = 0.0) -> np.ndarray:
         """Consistent algebraic state (free accelerations) for a state."""
-        f = ca.Function("zexp", [self.t, self.x, self.p], [self._z_explicit])
-        return np.asarray(f(t, x, p)).ravel()
-
-    _z_explicit: ca.SX = field(default=None, repr=False)
+        return np.asarray(self.accelerations(t, x, p)).ravel()
 
 
 def _rod_kinematics(params: PressParams, theta, xs, eA, eB):
@@ -239,16 +235,17 @@ def build_model(
         rho_a = P.rod_mass / l
         T_r = 0.0
         V_r = 0.0
+        strain = 0.0
         for xi, wgt, wx, _, w2 in beam.quadrature_points(l, ne, w):
             r = A_rod - xi * d + wx * normal
             v = rate(r)
             T_r += 0.5 * rho_a * wgt * ca.dot(v, v)
-            V_r += rho_a * wgt * g * r[1] + 0.5 * P.rod_youngs_modulus * P.rod_area_moment * wgt * w2**2
+            V_r += rho_a * wgt * g * r[1]
+            strain += 0.5 * P.rod_youngs_modulus * P.rod_area_moment * wgt * w2**2
+        V_r += strain
         # a rod inertia other than m l^2/12 is kept as a rigid-body correction
         T_r += 0.5 * (P.rod_inertia_value - P.rod_mass * l**2 / 12) * rate(phi) ** 2
         midspan = beam.deflection_at(l, ne, w, 0.5 * l)
-        strain = sum(0.5 * P.rod_youngs_modulus * P.rod_area_moment * wgt * w2**2
-                     for _, wgt, _, _, w2 in beam.quadrature_points(l, ne, w))
         beta = 2 * P.rod_damping_ratio / P.rod_first_bending_frequency  # Rayleigh: D = beta K
         rod_damping = -beta * ca.jtimes(ca.gradient(strain, w), w, Qd[6:])
     else:
@@ -353,5 +350,6 @@ def build_model(
     return PressModel(
         params=P, rod=rod, clearance=clearance, n_elements=ne, n_harmonics=nh, t=t, x=x, z=z, p=p,
         ode=ode, alg=alg, quad=quad, ode_explicit=ode_expl, state_names=state_names, x_scale=x_scale,
-        outputs=outputs, energy=energy, x0=np.zeros(2 * nf), _z_explicit=qdd_free_expl,
+        outputs=outputs, energy=energy, x0=np.zeros(2 * nf),
+        accelerations=ca.Function("accelerations", [t, x, p], [qdd_free_expl], ["t", "x", "p"], ["qdd"]),
     )

@@ -194,6 +194,15 @@ class FourierSpeed:
             raise ValueError(f"coefficients must have length 2*n_harmonics={2 * self.n_harmonics}, got {c.size}")
         return FourierSpeed(self.period, c[: self.n_harmonics], c[self.n_harmonics :], self.theta0)
 
+    def padded(self, n_harmonics: int) -> "FourierSpeed":
+        """The same speed with n_harmonics >= self.n_harmonics harmonics (the extra ones zero)."""
+        n = chk.integer("n_harmonics", n_harmonics, 0, 10_000)
+        if n < self.n_harmonics:
+            raise ValueError(f"n_harmonics must be in [{self.n_harmonics}, 10000] (the speed has "
+                             f"{self.n_harmonics} harmonics), got {n}")
+        pad = np.zeros(n - self.n_harmonics)
+        return FourierSpeed(self.period, np.concatenate([self.a, pad]), np.concatenate([self.b, pad]), self.theta0)
+
     @property
     def amplitude(self) -> np.ndarray:
         """r_k of omega = mean + sum r_k sin(2 pi k t/T + phi_k), rad/s."""

@@ -12,7 +12,7 @@ import numpy as np
 
 from .. import _checks as chk
 from ..design import design_speed, window_error
-from ..rigid import _inverse_dynamics_function, _kinematics_function, rigid_response
+from ..rigid import _inverse_dynamics_function, _kinematics_function, crank_angle_at_height, rigid_response
 from ..speed import FourierSpeed, series
 from .problem import SpeedProblem
 from .result import OcpResult
@@ -66,13 +66,8 @@ def solve_rigid(problem: SpeedProblem, initial: FourierSpeed | None = None, samp
     else:
         if not np.isclose(initial.period, T):
             raise ValueError(f"initial.period must equal the problem's period {T:g} s, got {initial.period:g}")
-        if initial.n_harmonics > n:
-            raise ValueError(f"initial has {initial.n_harmonics} harmonics; the problem has n_harmonics={n}")
-        c = np.zeros(2 * n)
-        c[: initial.n_harmonics], c[n : n + initial.n_harmonics] = initial.a, initial.b
-        initial = FourierSpeed(T, c[:n], c[n:], 0.0)
-        from ..rigid import crank_angle_at_height
-
+        padded = initial.padded(n)
+        initial = FourierSpeed(T, padded.a, padded.b, 0.0)
         th1 = float(crank_angle_at_height(P.params, P.window[0] * P.params.stroke, "down"))
         tg = np.linspace(0, T, 20001)
         t1_0 = float(np.interp(th1, initial.theta(tg), tg))
