@@ -45,6 +45,10 @@ class OcpResult:
         Per stage: name, status, iterations, wall time, objective.
     simulation : SimResult or None
         Re-simulated (or re-evaluated) response of the optimum.
+    initial_simulation : SimResult or None
+        The same for the initial speed.
+    rigid : OcpResult or None
+        The rigid stage's own result (shooting stages only).
     """
 
     speed: FourierSpeed
@@ -64,6 +68,18 @@ class OcpResult:
     objective_history: list = field(default_factory=list)
     stages: list = field(default_factory=list)
     simulation: SimResult | None = None
+    initial_simulation: SimResult | None = None
+    rigid: "OcpResult | None" = None
+
+    @property
+    def max_speed_change(self) -> float:
+        """max |omega_opt - omega_initial| / mean speed over the period (needs `initial_simulation`)."""
+        if self.initial_simulation is None or self.simulation is None:
+            raise ValueError("max_speed_change needs both simulations")
+        t = self.simulation.t
+        wbar = 2 * np.pi / self.speed.period
+        return float(np.max(np.abs(self.speed.omega(t) - np.interp(t, self.initial_simulation.t,
+                                                                    self.initial_simulation.omega))) / wbar)
 
     @property
     def amplitude(self) -> np.ndarray:

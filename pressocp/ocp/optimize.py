@@ -1,0 +1,237 @@
+"""`optimize_speed`: the model hierarchy applied to optimisation.
+
+Stages, each warm-starting the next:
+
+1. ``rigid``: the ideal press, exact Hessian, closed form (`solve_rigid`). Its optimum is the floor.
+2. ``soft``: the clearance model with a softer, more damped contact (``soft_factor``), multiple
+   shooting (`solve_shooting`), node states from a simulation of the previous stage's speed.
+3. ``target``: the clearance model as given.
+4. ``flexible``: when the model's rod is flexible, the same problem on it.
+
+The optimum is then re-simulated with `simulate(..., periodic=True)` at ``verify_rtol`` on a fine
+grid; ``peak_torque``, the ram-speed violation and ``simulation`` come from that run, not from the
+optimiser's samples.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import replace
+
+import numpy as np
+
+from .. import _checks as chk
+from ..design import design_speed
+from ..model import PressModel, build_model
+from ..params import PressParams
+from ..simulate import SimulationError, periodic_state, simulate
+from ..speed import DEFAULT_HARMONICS, FourierSpeed
+from .problem import SpeedProblem
+from .result import OcpResult
+from .rigid import solve_rigid
+from .shooting import SHOOTING_METHODS, ShootingError, ShootingGrid, node_states, solve_shooting
+
+#: The soft stage runs only when the rigid optimum's peak torque on the clearance model exceeds the
+#: rigid peak by this factor (it impacts); otherwise the target stage starts at once.
+IMPACT_RATIO = 1.10
+#: Default shooting intervals per period and output samples per interval.
+DEFAULT_INTERVALS = 16
+DEFAULT_SAMPLES = 25
+
+
+def soft_params(params: PressParams, factor: float) -> PressParams:
+    """The press with every bearing's contact stiffness divided by ``factor`` (continuation stage)."""
+    chk.positive("soft_factor", factor)
+    bearings = {k: replace(getattr(params, k), stiffness=getattr(params, k).contact_stiffness / factor)
+                for k in ("crank_pin", "wrist_pin")}
+    return params.replace(**bearings)
+
+
+def _warm_nodes(model: PressModel, speed: FourierSpeed, grid: ShootingGrid, method: str, rtol: float) -> tuple:
+    """Node states from the periodic state of `speed` on `model`, or (when none is found) from the
+    third cycle of a simulation from rest. Returns (nodes, info)."""
+    try:
+        x0, info = periodic_state(model, speed, method="cvodes", rtol=min(rtol, 1e-7))
+        info = {"periodic_warm_start": True, **info}
+    except SimulationError as err:
+        r = simulate(model, speed, cycles=3, method="cvodes", rtol=min(rtol, 1e-7), n_out=3 * 200 + 1)
+        x0 = r.states[:, -1] / model.x_scale
+        info = {"periodic_warm_start": False, "reason": str(err).splitlines()[0]}
+    return node_states(model, speed, x0, grid, "cvodes", min(rtol, 1e-7)), info
+
+
+def optimize_speed(
+    model: PressModel | None = None,
+    initial: FourierSpeed | None = None,
+    period: float = 1.0,
+    ram_speed: float = -0.1,
+    window: tuple[float, float] = (0.7, 0.3),
+    objective: str = "peak_torque",
+    n_harmonics: int = DEFAULT_HARMONICS,
+    intervals: int | None = None,
+    samples_per_interval: int | None = None,
+    periodic: bool = True,
+    ram_speed_tol: float | None = None,
+    omega_min: float | None = None,
+    method: str = "idas",
+    ipopt_options: dict | None = None,
+    progress: bool = True,
+    *,
+    omega_max: float | None = None,
+    alpha_max: float | None = None,
+    rtol: float = 1e-6,
+    soft_factor: float | None = 100.0,
+    verify_rtol: float = 1e-9,
+    rigid_samples: int = 1000,
+    max_steps: int = 10**6,
+) -> OcpResult:
+    """Design the crank speed that minimises a peak load with a constant ram speed in the window.
+
+    Parameters
+    ----------
+    model : PressModel, optional
+        Target model; default the default press with clearance in both pins and a rigid rod. A model
+        without states (ideal joints) stops after the rigid stage.
+    initial : FourierSpeed, optional
+        Initial speed; default the kinematic design (`pressocp.design.design_speed`) of the window.
+        ``initial_peak_torque`` is its periodic peak on the target model.
+    period : float
+        Cycle time T, s.
+    ram_speed : float
+        Ram velocity in the window, m/s (negative: downstroke).
+    window : (float, float)
+        (h1/H, h2/H), the working window on the downstroke.
+    objective : {"peak_torque", "peak_slider_normal_force", "peak_pin_force", "rms_torque"}
+    n_harmonics : int
+        Harmonics of the speed, 1..50.
+    intervals : int, optional
+        Shooting intervals per period (default 16), 1..400.
+    samples_per_interval : int, optional
+        Output samples per interval for the load and ram-speed constraints (default 25), 1..1000.
+    periodic : bool
+        Periodic steady state x(T) = x(0); otherwise the first node is the warm start's.
+    ram_speed_tol : float, optional
+        |v - ram_speed| allowed in the window, m/s; default 1 % of |ram_speed|.
+    omega_min : float, optional
+        Lower crank-speed bound, rad/s; default 5 % of the mean speed.
+    method : {"idas", "cvodes"}
+        Interval integrator of the shooting stages.
+    ipopt_options : dict, optional
+        Extra options for the shooting stages' nlpsol (e.g. ``{"ipopt.max_iter": 30}``); the rigid
+        stage keeps its defaults.
+    progress : bool
+        tqdm bars over the IPOPT iterations of the shooting stages.
+    omega_max, alpha_max : float, optional
+        Motor limits, rad/s and rad/s^2.
+    rtol : float
+        Tolerance of the shooting integrators.
+    soft_factor : float or None
+        Contact-stiffness divisor of the continuation stage, which runs when the rigid optimum
+        impacts on the clearance model (peak torque > `IMPACT_RATIO` x rigid); None skips it.
+    verify_rtol : float
+        Tolerance of the final periodic re-simulation.
+    rigid_samples : int
+        Samples of the rigid stage.
+    max_steps : int
+        Step limit of each shooting-interval integration.
+
+    Returns
+    -------
+    OcpResult
+        ``success`` False when a stage did not converge (its best iterate is returned, its status
+        says why, and an integrator failure names the stage and interval).
+
+    Raises
+    ------
+    ValueError
+        Invalid or infeasible request (checked before any solve).
+    ShootingError
+        A stage's warm start cannot be integrated.
+    """
+    t_start = time.perf_counter()
+    if model is None:
+        model = build_model(PressParams(), n_harmonics=n_harmonics)
+    if not isinstance(model, PressModel):
+        raise ValueError(f"model must be a PressModel (from build_model), got {type(model).__name__}")
+    problem = SpeedProblem(model.params, period=period, ram_speed=ram_speed, window=window, objective=objective,
+                           n_harmonics=n_harmonics, ram_speed_tol=ram_speed_tol, omega_min=omega_min,
+                           omega_max=omega_max, alpha_max=alpha_max)
+    chk.choice("method", method, SHOOTING_METHODS)
+    N = chk.integer("intervals", DEFAULT_INTERVALS if intervals is None else intervals, 1, 400)
+    S = chk.integer("samples_per_interval", DEFAULT_SAMPLES if samples_per_interval is None else samples_per_interval,
+                    1, 1000)
+    chk.positive("rtol", rtol)
+    chk.positive("verify_rtol", verify_rtol)
+    if soft_factor is not None:
+        chk.in_open_interval("soft_factor", soft_factor, 1.0, 1e8)
+    if model.n_harmonics != n_harmonics:
+        model = build_model(model.params, model.rod, model.clearance, model.n_elements, n_harmonics)
+    if initial is None:
+        initial = design_speed(model.params, period=period, ram_speed=ram_speed, window=window,
+                               n_harmonics=min(n_harmonics, DEFAULT_HARMONICS)).speed
+    elif not np.isclose(initial.period, period):
+        raise ValueError(f"initial.period must equal period ({period:g} s), got {initial.period:g} s")
+
+    rigid = solve_rigid(problem, initial, samples=rigid_samples)
+    stages = list(rigid.stages)
+    history = list(rigid.objective_history)
+    if model.is_rigid:
+        rigid.wall_time = time.perf_counter() - t_start
+        return rigid
+
+    chain: list[tuple[str, PressModel]] = []
+    base = model if model.rod == "rigid" else build_model(model.params, "rigid", model.clearance, 4, n_harmonics)
+    probe = _verify(base, rigid.speed, 1e-7)
+    ratio = probe.peak("torque") / rigid.peak_torque
+    stages[0].update(clearance_peak_torque=probe.peak("torque"), clearance_ratio=ratio,
+                     periodic=probe.stats["periodic"].get("found", True))
+    if soft_factor is not None and ratio > IMPACT_RATIO:
+        chain.append(("soft", build_model(soft_params(model.params, soft_factor), "rigid", base.clearance, 4,
+                                          n_harmonics)))
+    chain.append(("target", base))
+    if model.rod == "flexible":
+        chain.append(("flexible", model))
+
+    grid = ShootingGrid(period, N, S)
+    speed, t1, success, status, value = rigid.speed, rigid.t1, rigid.success, rigid.status, rigid.objective_value
+    for name, m in chain:
+        nodes, warm = _warm_nodes(m, speed, grid, method, rtol)
+        sol = solve_shooting(problem, m, speed, nodes, t1, grid, stage=name, periodic=periodic, method=method,
+                             rtol=rtol, ipopt_options=ipopt_options, progress=progress,
+                             max_steps=max_steps)
+        stages.append({"name": name, "status": sol.status, "iterations": sol.iterations, "wall_time": sol.wall_time,
+                       "objective": sol.value,
+                       "violations_start": sol.violations_start, "violations": sol.violations, "intervals": N, "samples": S,
+                       "method": method, **warm})
+        history.extend(sol.history)
+        speed, success, status, value = sol.speed, sol.success, sol.status, sol.value
+        if not success:
+            status = f"stage {name!r}: {status}"
+            break
+
+    t2 = t1 + problem.window_duration
+    sim = _verify(model, speed, verify_rtol)
+    init_sim = _verify(model, initial, min(1e-7, 10 * verify_rtol))
+    mask = (sim.t >= t1) & (sim.t <= t2)
+    viol = float(np.max(np.abs(sim.ram_velocity[mask] - ram_speed))) - problem.tol
+    return OcpResult(
+        speed=speed, objective=objective, peak_torque=sim.peak("torque"),
+        initial_peak_torque=init_sim.peak("torque"), rigid_peak_torque=rigid.peak_torque, objective_value=value,
+        t1=t1, t2=t2, success=success, status=status, iterations=sum(s["iterations"] for s in stages),
+        wall_time=time.perf_counter() - t_start, max_ram_speed_violation=max(viol, 0.0),
+        min_omega=speed.min_speed(), objective_history=history, stages=stages, simulation=sim,
+        initial_simulation=init_sim, rigid=rigid,
+    )
+
+
+def _verify(model: PressModel, speed: FourierSpeed, rtol: float):
+    """Periodic re-simulation on a fine grid (20 000 samples per cycle). When the response has no
+    periodic steady state (an impacting, chaotic one), the 6th cycle from rest is returned and
+    ``stats["periodic"]`` says so."""
+    try:
+        return simulate(model, speed, periodic=True, method="cvodes", rtol=rtol, n_out=20001)
+    except SimulationError as err:
+        warm = simulate(model, speed, cycles=5, method="cvodes", rtol=rtol, n_out=11)
+        sim = simulate(model, speed, method="cvodes", rtol=rtol, n_out=20001, x0=warm.states[:, -1] / model.x_scale)
+        sim.stats["periodic"] = {"found": False, "reason": str(err).splitlines()[0], "cycle": 6}
+        return sim

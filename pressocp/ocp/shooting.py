@@ -1,0 +1,370 @@
+"""Multiple-shooting transcription on a model with states (bearing clearance, flexible rod).
+
+The period is cut into N equal intervals. One interval integrator (IDAS on the semi-explicit DAE,
+or CVODES on the explicit ODE) takes the node state, the speed parameters and the interval's start
+time, and returns the end state and the loads at S output samples inside the interval. It is
+built once, given forward-mode sensitivities (the backward IDAS pass fails on clearance contact)
+and mapped over the intervals in threads. The NLP variables are the Fourier coefficients, the
+node states and the epigraph variable; IPOPT uses a limited-memory Hessian.
+
+The working window [t1, t2] is held at the warm start's (h(t1) = h1 H becomes a constraint on the
+crank angle at the fixed t1), so the set of samples inside it does not jump between iterations.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from .. import _checks as chk
+from ..design import window_error
+from ..model import OUTPUT_NAMES, PressModel
+from ..simulate import HINT, SimulationError, _first_line
+from ..speed import FourierSpeed, series
+from .problem import SpeedProblem
+from .rigid import IPOPT_DEFAULTS, _speed_functions
+
+#: Outputs each objective bounds at every sample.
+LOADS = {"peak_torque": ("torque",), "peak_slider_normal_force": ("slider_normal_force",),
+         "peak_pin_force": ("crank_pin_force", "wrist_pin_force"), "rms_torque": ("torque",)}
+SHOOTING_METHODS = ("idas", "cvodes")
+
+
+class ShootingError(SimulationError):
+    """An interval integrator failed. Attributes: ``stage``, ``interval`` (0-based), ``t_start``, ``t_end``."""
+
+    def __init__(self, message: str, stage: str, interval: int, t_start: float, t_end: float, method: str):
+        self.stage, self.interval, self.t_start, self.t_end = stage, interval, t_start, t_end
+        super().__init__(f"stage {stage!r}, shooting interval {interval} (t = {t_start:.4g}..{t_end:.4g} s): "
+                         f"{message}", method=method, hint=HINT)
+
+
+@dataclass(frozen=True)
+class ShootingGrid:
+    """Equal shooting intervals with S output samples each (the last one at the interval's end).
+
+    Attributes
+    ----------
+    period : float
+        s.
+    intervals : int
+        N.
+    samples : int
+        S per interval.
+    """
+
+    period: float
+    intervals: int
+    samples: int
+
+    @property
+    def h(self) -> float:
+        """Interval length, s."""
+        return self.period / self.intervals
+
+    @property
+    def nodes(self) -> np.ndarray:
+        """Start times of the intervals, s."""
+        return self.h * np.arange(self.intervals)
+
+    @property
+    def local(self) -> np.ndarray:
+        """Sample times inside an interval, measured from its start, s."""
+        return self.h * np.arange(1, self.samples + 1) / self.samples
+
+    @property
+    def times(self) -> np.ndarray:
+        """All sample times in the order of the mapped outputs, s."""
+        return (self.nodes[:, None] + self.local[None, :]).ravel()
+
+
+def interval_function(model: PressModel, grid: ShootingGrid, names: tuple[str, ...], method: str = "idas",
+                      rtol: float = 1e-6, atol: float | None = None, max_steps: int = 10**6) -> ca.Function:
+    """One shooting interval as a CasADi Function with forward-mode derivatives.
+
+    Returns
+    -------
+    ca.Function
+        ``(x0 [nx], p [np], t0) -> (xf [nx], y [len(names) x S])``: scaled end state and the outputs
+        `names` (see `pressocp.model.OUTPUT_NAMES`) at ``t0 + grid.local``.
+    """
+    chk.choice("method", method, SHOOTING_METHODS)
+    tau, t0 = ca.SX.sym("tau"), ca.SX.sym("t0")
+    explicit = method != "idas"
+    dae = model.dae(explicit=explicit)
+    dae.pop("quad")
+    for k in ("ode", "alg"):
+        if k in dae:
+            dae[k] = ca.substitute(dae[k], model.t, tau + t0)
+    dae.update(t=tau, p=ca.vertcat(model.p, t0))
+    opts = {"reltol": rtol, "abstol": rtol if atol is None else atol, "max_num_steps": max_steps}
+    if method == "idas":  # z0 below is consistent: IDACalcIC is not needed (and its line search failed)
+        opts.update(calc_ic=False, suppress_algebraic=True)
+    F = ca.integrator("shooting_" + method, method, dae, 0.0, grid.local, opts)
+    x0, p, ts = ca.MX.sym("x0", model.nx), ca.MX.sym("p", model.p.numel()), ca.MX.sym("t0")
+    args = {"x0": x0, "p": ca.vertcat(p, ts)}
+    if method == "idas":
+        args["z0"] = model.accelerations(ts, x0, p)
+    X = F(**args)["xf"]
+    S = grid.samples
+    out = model.outputs.map(S)(ts + ca.DM(grid.local).T, X, ca.repmat(p, 1, S))
+    idx = [OUTPUT_NAMES.index(n) for n in names]
+    y = ca.vertcat(*[out[i] for i in idx])
+    return ca.Function("interval", [x0, p, ts], [X[:, -1], y], ["x0", "p", "t0"], ["xf", "y"],
+                       {"ad_weight": 0.0, "ad_weight_sp": 0.0})
+
+
+def node_states(model: PressModel, speed: FourierSpeed, x_start: np.ndarray, grid: ShootingGrid,
+                method: str = "idas", rtol: float = 1e-6) -> np.ndarray:
+    """Scaled states at the shooting nodes, integrated from ``x_start`` at t = 0 (nx x N)."""
+    from ..simulate import _run
+
+    if grid.intervals == 1:
+        return np.asarray(x_start, float)[:, None]
+    X, _, _ = _run(model, method, np.asarray(x_start, float), model.parameters(speed), grid.nodes[1:], rtol, rtol,
+                   10**7, 1e-5)
+    return np.hstack([np.asarray(x_start, float)[:, None], X])
+
+
+def locate_failure(G: ca.Function, X: np.ndarray, p: np.ndarray, grid: ShootingGrid, stage: str,
+                   method: str) -> ShootingError | None:
+    """Integrate every interval separately; the first failure as a `ShootingError`, or None."""
+    for k, t0 in enumerate(grid.nodes):
+        try:
+            xf, y = G(X[:, k], p, t0)
+            if not (np.all(np.isfinite(np.asarray(xf))) and np.all(np.isfinite(np.asarray(y)))):
+                raise RuntimeError("non-finite state or output")
+        except RuntimeError as err:
+            return ShootingError(_first_line(err), stage, k, float(t0), float(t0 + grid.h), method)
+    return None
+
+
+class _Iterations(ca.Callback):
+    """IPOPT iteration callback: objective history, the least-infeasible iterate, optional tqdm bar."""
+
+    def __init__(self, nx: int, ng: int, lbg: np.ndarray, ubg: np.ndarray, bar=None):
+        ca.Callback.__init__(self)
+        self.nx, self.ng, self.lbg, self.ubg, self.bar = nx, ng, lbg, ubg, bar
+        self.history: list[float] = []
+        self.best: tuple[float, float, np.ndarray] | None = None
+        self.construct("iterations", {})
+
+    def get_n_in(self):
+        return ca.nlpsol_n_out()
+
+    def get_n_out(self):
+        return 1
+
+    def get_name_in(self, i):
+        return ca.nlpsol_out(i)
+
+    def get_name_out(self, i):
+        return "ret"
+
+    def get_sparsity_in(self, i):
+        n = ca.nlpsol_out(i)
+        if n == "f":
+            return ca.Sparsity.scalar()
+        if n in ("x", "lam_x"):
+            return ca.Sparsity.dense(self.nx)
+        if n in ("g", "lam_g"):
+            return ca.Sparsity.dense(self.ng)
+        return ca.Sparsity(0, 0)
+
+    def eval(self, arg):
+        f = float(arg[1])
+        g = np.asarray(arg[2]).ravel()
+        viol = float(np.max(np.maximum(self.lbg - g, 0.0) + np.maximum(g - self.ubg, 0.0), initial=0.0))
+        self.history.append(f)
+        if self.best is None or (viol, f) < (self.best[0], self.best[1]) or (viol <= 1e-6 and f < self.best[1]):
+            self.best = (viol, f, np.asarray(arg[0]).ravel().copy())
+        if self.bar is not None:
+            self.bar.update(1)
+            self.bar.set_postfix(objective=f"{f:.4g}", infeasibility=f"{viol:.2g}")
+        return [0]
+
+
+@dataclass
+class ShootingSolution:
+    """Raw output of one shooting stage (turned into an `OcpResult` by `optimize_speed`)."""
+
+    speed: FourierSpeed
+    nodes: np.ndarray
+    value: float
+    success: bool
+    status: str
+    iterations: int
+    wall_time: float
+    history: list
+    violations_start: dict
+    violations: dict
+    failure: ShootingError | None
+
+
+def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpeed, nodes: np.ndarray,
+                   t1: float, grid: ShootingGrid, stage: str = "clearance", periodic: bool = True,
+                   method: str = "idas", rtol: float = 1e-6, window_samples: int = 200,
+                   omega_samples: int = 1000, ipopt_options: dict | None = None, progress: bool = False,
+                   scale: float | None = None, max_steps: int = 10**6) -> ShootingSolution:
+    """One multiple-shooting stage of the speed problem on `model`, warm-started at (initial, nodes).
+
+    Parameters
+    ----------
+    problem : SpeedProblem
+    model : PressModel
+        A model with states; its ``n_harmonics`` must equal the problem's.
+    initial : FourierSpeed
+        Warm-start speed (period = problem's period).
+    nodes : ndarray
+        Warm-start scaled node states, nx x N (e.g. `node_states` from its periodic state).
+    t1 : float
+        Window start, s, held fixed (t2 = t1 + window duration).
+    grid : ShootingGrid
+    stage : str
+        Name used in reports and errors.
+    periodic : bool
+        x(T) = x(0); otherwise the first node is held at ``nodes[:, 0]``.
+    method : {"idas", "cvodes"}
+    rtol : float
+        Integrator tolerance (atol = rtol on the scaled states).
+    window_samples, omega_samples : int
+        Dense samples of the closed-form kinematic ram speed in the window and of the crank speed
+        over the period (they cost no integration).
+    ipopt_options : dict, optional
+    progress : bool
+        Show a tqdm bar over IPOPT iterations.
+    scale : float, optional
+        Objective scale (the load's unit size); default the warm start's peak at the samples.
+    max_steps : int
+        Step limit of each interval integration.
+
+    Raises
+    ------
+    ShootingError
+        When the warm start itself cannot be integrated (no iterate to return).
+    """
+    P, T, n, N, S = problem, problem.period, problem.n_harmonics, grid.intervals, grid.samples
+    if model.n_harmonics != n:
+        raise ValueError(f"model.n_harmonics ({model.n_harmonics}) must equal the problem's n_harmonics ({n})")
+    nodes = np.asarray(nodes, float)
+    if nodes.shape != (model.nx, N):
+        raise ValueError(f"nodes must have shape ({model.nx}, {N}), got {nodes.shape}")
+    t_start = time.perf_counter()
+    names = LOADS[P.objective] + ("ram_velocity",)
+    G = interval_function(model, grid, names, method, rtol, max_steps=max_steps)
+    p0 = model.parameters(initial)
+    failure = locate_failure(G, nodes, p0, grid, stage, method)
+    if failure is not None:
+        raise failure
+    Gm = G.map(N, "thread", 2)
+
+    c = ca.MX.sym("c", 2 * n)
+    s = ca.MX.sym("s")
+    X = ca.MX.sym("X", model.nx, N)
+    p = ca.vertcat(c, T, 0.0)
+    Xf, Y = Gm(X, ca.repmat(p, 1, N), ca.DM(grid.nodes).T)
+    ts = grid.times
+    nl = len(names) - 1
+    Yl, v = Y[:nl, :], Y[nl, :]
+    y0 = np.asarray(Gm(nodes, np.tile(p0[:, None], (1, N)), grid.nodes[None, :])[1])
+    if scale is None:
+        scale = float(np.sqrt(np.mean(y0[0] ** 2))) if P.objective == "rms_torque" else float(np.max(np.abs(y0[:nl])))
+    g, lbg, ubg, groups = [], [], [], []
+
+    def add(expr, lo, hi, name):
+        groups.append((name, sum(x.size for x in lbg), expr.numel()))
+        g.append(ca.vec(expr))
+        k = expr.numel()
+        lbg.append(np.broadcast_to(lo, (k,)))
+        ubg.append(np.broadcast_to(hi, (k,)))
+
+    nxt = ca.horzcat(X[:, 1:], X[:, :1]) if periodic else X[:, 1:]
+    add((Xf if periodic else Xf[:, :-1]) - nxt, 0.0, 0.0, "continuity")
+    if P.objective == "rms_torque":
+        f = ca.sumsqr(Yl) / Yl.numel() / scale**2
+    else:
+        f = s / scale
+        add((Yl - s) / scale, -np.inf, 0.0, "epigraph")
+        add((-Yl - s) / scale, -np.inf, 0.0, "epigraph")
+    t2 = t1 + P.window_duration
+    inside = np.nonzero((ts >= t1) & (ts <= t2))[0]
+    if inside.size:
+        add((v[:, inside] - P.ram_speed) / P.tol, -1.0, 1.0, "ram_speed_samples")
+    _, f_kin = _speed_functions(P)
+    tw = t1 + P.window_duration * np.linspace(0.0, 1.0, window_samples)
+    _, vk, _ = f_kin.map(window_samples)(ca.DM(tw).T, ca.repmat(c, 1, window_samples))
+    add((vk - P.ram_speed) / P.tol, -1.0, 1.0, "ram_speed_kinematic")
+    h1, _, th1 = f_kin(t1, c)
+    add(h1 / P.params.stroke - P.window[0], 0.0, 0.0, "window_start")
+    add(th1, 0.0, np.pi, "window_start")
+    to = np.linspace(0.0, T, omega_samples, endpoint=False)
+    tt, cc = ca.SX.sym("t"), ca.SX.sym("c", 2 * n)
+    f_om = ca.Function("omega_alpha", [tt, cc], list(series(tt, cc[:n], cc[n:], T)[1:]))
+    om, al = f_om.map(omega_samples)(ca.DM(to).T, ca.repmat(c, 1, omega_samples))
+    wbar = 2 * np.pi / T
+    add(om / wbar, P.omega_lower / wbar, np.inf if P.omega_max is None else P.omega_max / wbar, "omega")
+    if P.alpha_max is not None:
+        add(al / P.alpha_max, -1.0, 1.0, "alpha")
+
+    w = ca.vertcat(c, s, ca.vec(X))
+    lbg_a, ubg_a = np.concatenate(lbg), np.concatenate(ubg)
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(desc=f"{stage} ({N}x{S} {method})", unit="it", leave=True)
+    cb = _Iterations(w.numel(), lbg_a.size, lbg_a, ubg_a, bar)
+    opts = {**IPOPT_DEFAULTS, "ipopt.hessian_approximation": "limited-memory", "ipopt.tol": 1e-6,
+            "ipopt.acceptable_tol": 1e-4, "ipopt.max_iter": 200, "iteration_callback": cb,
+            **(ipopt_options or {})}
+    gall = ca.vertcat(*g)
+    solver = ca.nlpsol(f"shooting_{stage}", "ipopt", {"x": w, "f": f, "g": gall}, opts)
+    g_fun = ca.Function("constraints", [w], [gall])
+
+    def violations(wv: np.ndarray) -> dict:
+        gv = np.asarray(g_fun(wv)).ravel()
+        d = np.maximum(lbg_a - gv, 0.0) + np.maximum(gv - ubg_a, 0.0)
+        out: dict = {}
+        for name, i0, k in groups:
+            out[name] = max(out.get(name, 0.0), float(np.max(d[i0 : i0 + k], initial=0.0)))
+        return out
+
+    s0 = float(np.max(np.abs(y0[:nl]))) if P.objective != "rms_torque" else 0.0
+    w0 = np.concatenate([initial.padded(n).coefficients, [s0], nodes.ravel(order="F")])
+    lbw = np.full(w0.size, -np.inf)
+    ubw = np.full(w0.size, np.inf)
+    lbw[2 * n] = 0.0
+    if not periodic:
+        lbw[2 * n + 1 : 2 * n + 1 + model.nx] = ubw[2 * n + 1 : 2 * n + 1 + model.nx] = nodes[:, 0]
+    viol_start = violations(w0)
+    try:
+        sol = solver(x0=w0, lbx=lbw, ubx=ubw, lbg=lbg_a, ubg=ubg_a)
+        st = solver.stats()
+        wo, success, status = np.asarray(sol["x"]).ravel(), bool(st["success"]), str(st["return_status"])
+        iters = int(st.get("iter_count", len(cb.history)))
+    except RuntimeError as err:  # IPOPT itself raised (e.g. an evaluation error at the start)
+        wo, success, status, iters = (cb.best[2] if cb.best else w0), False, _first_line(err), len(cb.history)
+    finally:
+        if bar is not None:
+            bar.close()
+    if not success and cb.best is not None:
+        wo = cb.best[2]
+    speed = FourierSpeed(T, wo[:n], wo[n : 2 * n])
+    Xo = wo[2 * n + 1 :].reshape((model.nx, N), order="F")
+    po = model.parameters(speed)
+    failure = None
+    if not success:
+        failure = locate_failure(G, Xo, po, grid, stage, method)
+        if failure is not None:
+            status = f"{status}; {failure}"
+    viol_end = violations(wo) if failure is None else {}
+    value = float(wo[2 * n]) if P.objective != "rms_torque" else float(np.sqrt(max(cb.history[-1], 0.0)) * scale) \
+        if cb.history else np.nan
+    history = [h * scale for h in cb.history] if P.objective != "rms_torque" else \
+        [float(np.sqrt(max(h, 0.0)) * scale) for h in cb.history]
+    return ShootingSolution(speed=speed, nodes=Xo, value=value, success=success, status=status, iterations=iters,
+                            wall_time=time.perf_counter() - t_start, history=history, violations_start=viol_start, violations=viol_end,
+                            failure=failure)

@@ -1,0 +1,107 @@
+"""Multiple-shooting transcription (smoke size): the interval integrator reproduces a whole-cycle
+simulation, its forward sensitivities match finite differences, failures are reported with stage and
+interval, and `optimize_speed` runs end to end and flags a stopped IPOPT as not successful."""
+
+import numpy as np
+import pytest
+
+from pressocp import PressParams
+from pressocp.design import design_speed
+from pressocp.model import build_model
+from pressocp.ocp import ShootingError, ShootingGrid, SpeedProblem, optimize_speed, solve_shooting
+from pressocp.ocp.shooting import interval_function, node_states
+from pressocp.simulate import periodic_state, simulate
+
+N_HARM = 4
+
+
+@pytest.fixture(scope="module")
+def case():
+    params = PressParams()
+    model = build_model(params, n_harmonics=N_HARM)
+    speed = design_speed(params, period=1.0, ram_speed=-0.15, n_harmonics=N_HARM).speed
+    x0, _ = periodic_state(model, speed, rtol=1e-9)
+    return params, model, speed, x0
+
+
+@pytest.mark.parametrize("method", ["idas", "cvodes"])
+def test_intervals_reproduce_a_whole_cycle_simulation(case, method):
+    """Time offsets, output grid and mapping: each interval started from the simulated state at its
+    node ends where the (separately set up) whole-cycle simulation is, with the same torque."""
+    _, model, speed, x0 = case
+    grid = ShootingGrid(1.0, 5, 4)
+    nodes = node_states(model, speed, x0, grid, "cvodes", 1e-10)
+    G = interval_function(model, grid, ("torque", "wrist_pin_force", "ram_velocity"), method, rtol=1e-9)
+    p = model.parameters(speed)
+    xf, y = (np.asarray(v) for v in G.map(grid.intervals)(nodes, np.tile(p[:, None], (1, 5)), grid.nodes[None, :]))
+    assert np.max(np.abs(xf - np.hstack([nodes[:, 1:], nodes[:, :1]]))) < 1e-4  # periodic: last wraps to first
+    ref = simulate(model, speed, x0=x0, rtol=1e-10, method="cvodes", n_out=21)  # t = 0, 0.05, ..., 1
+    assert np.allclose(ref.t[1:], grid.times)
+    assert np.allclose(y[0], ref.torque[1:], rtol=1e-4, atol=1e-3 * ref.peak("torque"))
+    assert np.allclose(y[1], ref.wrist_pin_force[1:], rtol=1e-4, atol=1e-3 * ref.peak("wrist_pin_force"))
+    assert np.allclose(y[2], ref.ram_velocity[1:], atol=1e-6)
+
+
+def test_forward_sensitivities_match_finite_differences(case):
+    _, model, speed, x0 = case
+    grid = ShootingGrid(1.0, 10, 3)
+    G = interval_function(model, grid, ("torque",), "idas", rtol=1e-10)
+    p = model.parameters(speed)
+    k = 2
+    node = node_states(model, speed, x0, grid, "cvodes", 1e-10)[:, k]
+    rng = np.random.default_rng(0)
+    dx, dp = rng.normal(size=model.nx) * 1e-2, np.concatenate([rng.normal(size=2 * N_HARM) * 1e-2, [0.0, 0.0]])
+    import casadi as ca
+
+    xs, ps = ca.MX.sym("x", model.nx), ca.MX.sym("p", p.size)
+    out = ca.vertcat(*[ca.vec(o) for o in G(xs, ps, grid.nodes[k])])
+    jv = ca.Function("jv", [xs, ps], [ca.jtimes(out, ca.vertcat(xs, ps), ca.vertcat(dx, dp))])
+    d = np.asarray(jv(node, p)).ravel()
+    f = ca.Function("f", [xs, ps], [out])
+    h = 1e-4
+    fd = (np.asarray(f(node + h * dx, p + h * dp)) - np.asarray(f(node - h * dx, p - h * dp))).ravel() / (2 * h)
+    assert np.allclose(d, fd, rtol=1e-3, atol=1e-4 * np.max(np.abs(fd)))
+
+
+def test_integrator_failure_names_stage_and_interval(case):
+    params, model, speed, x0 = case
+    prob = SpeedProblem(params, period=1.0, ram_speed=-0.15, n_harmonics=N_HARM)
+    grid = ShootingGrid(1.0, 4, 2)
+    nodes = node_states(model, speed, x0, grid)
+    with pytest.raises(ShootingError, match=r"stage 'target', shooting interval 0 \(t = 0\.\.0\.25 s\)") as err:
+        solve_shooting(prob, model, speed, nodes, 0.3, grid, stage="target", max_steps=20)
+    assert err.value.interval == 0 and err.value.stage == "target"
+
+
+def test_bad_nodes_shape_rejected(case):
+    params, model, speed, _ = case
+    prob = SpeedProblem(params, period=1.0, ram_speed=-0.15, n_harmonics=N_HARM)
+    with pytest.raises(ValueError, match="nodes must have shape"):
+        solve_shooting(prob, model, speed, np.zeros((3, 3)), 0.3, ShootingGrid(1.0, 4, 2))
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [(dict(ram_speed=-0.01), "cannot deliver"), (dict(window=(0.7, 0.9)), "window"),
+     (dict(intervals=0), "intervals"), (dict(method="euler"), "method"), (dict(period=-1.0), "period")],
+)
+def test_infeasible_requests_rejected_before_solving(case, kwargs, match):
+    _, model, _, _ = case
+    with pytest.raises(ValueError, match=match):
+        optimize_speed(model, n_harmonics=N_HARM, progress=False, **kwargs)
+
+
+def test_optimize_speed_smoke_stopped_ipopt_is_flagged(case):
+    """Few harmonics and intervals, IPOPT stopped after 2 iterations: a result, not an exception,
+    flagged not successful, holding a finite iterate, its status, and a re-simulation."""
+    params, model, _, _ = case
+    r = optimize_speed(model, ram_speed=-0.15, n_harmonics=N_HARM, intervals=4, samples_per_interval=4,
+                       ipopt_options={"ipopt.max_iter": 2}, progress=False, rigid_samples=200, verify_rtol=1e-7)
+    assert not r.success and "Maximum_Iterations" in r.status
+    assert [s["name"] for s in r.stages] == ["rigid", "target"]  # no impact at 60 spm: no soft stage
+    assert r.stages[0]["clearance_ratio"] < 1.10
+    assert np.all(np.isfinite(r.speed.coefficients)) and r.objective_history
+    assert r.simulation is not None and np.isfinite(r.peak_torque) and r.rigid_peak_torque > 0
+    # the warm start was the converged rigid optimum: the iterate stays near its floor
+    assert r.peak_torque < 1.2 * r.rigid_peak_torque
+    assert set(r.stages[1]["violations"]) >= {"continuity", "epigraph", "ram_speed_samples", "omega"}
