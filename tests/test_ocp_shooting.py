@@ -42,10 +42,11 @@ def test_intervals_reproduce_a_whole_cycle_simulation(case, method):
     assert np.allclose(y[2], ref.ram_velocity[1:], atol=1e-6)
 
 
-def test_forward_sensitivities_match_finite_differences(case):
+@pytest.mark.parametrize("method", ["idas", "cvodes"])
+def test_forward_sensitivities_match_finite_differences(case, method):
     _, model, speed, x0 = case
     grid = ShootingGrid(1.0, 10, 3)
-    G = interval_function(model, grid, ("torque",), "idas", rtol=1e-10)
+    G = interval_function(model, grid, ("torque",), method, rtol=1e-10)
     p = model.parameters(speed)
     k = 2
     node = node_states(model, speed, x0, grid, "cvodes", 1e-10)[:, k]
@@ -57,8 +58,10 @@ def test_forward_sensitivities_match_finite_differences(case):
     out = ca.vertcat(*[ca.vec(o) for o in G(xs, ps, grid.nodes[k])])
     jv = ca.Function("jv", [xs, ps], [ca.jtimes(out, ca.vertcat(xs, ps), ca.vertcat(dx, dp))])
     d = np.asarray(jv(node, p)).ravel()
-    f = ca.Function("f", [xs, ps], [out])
-    h = 1e-4
+    # finite differences of the explicit-ODE (CVODES) interval, independent of the method under test
+    G_fd = interval_function(model, grid, ("torque",), "cvodes", rtol=1e-11)
+    f = ca.Function("f", [xs, ps], [ca.vertcat(*[ca.vec(o) for o in G_fd(xs, ps, grid.nodes[k])])])
+    h = 1e-2
     fd = (np.asarray(f(node + h * dx, p + h * dp)) - np.asarray(f(node - h * dx, p - h * dp))).ravel() / (2 * h)
     assert np.allclose(d, fd, rtol=1e-3, atol=1e-4 * np.max(np.abs(fd)))
 
@@ -96,7 +99,8 @@ def test_optimize_speed_smoke_stopped_ipopt_is_flagged(case):
     flagged not successful, holding a finite iterate, its status, and a re-simulation."""
     params, model, _, _ = case
     r = optimize_speed(model, ram_speed=-0.15, n_harmonics=N_HARM, intervals=4, samples_per_interval=4,
-                       ipopt_options={"ipopt.max_iter": 2}, progress=False, rigid_samples=200, verify_rtol=1e-7)
+                       ipopt_options={"ipopt.max_iter": 2}, progress=False, rigid_samples=200, verify_rtol=1e-7,
+                       stages="all")
     assert not r.success and "Maximum_Iterations" in r.status
     assert [s["name"] for s in r.stages] == ["rigid", "target"]  # no impact at 60 spm: no soft stage
     assert r.stages[0]["clearance_ratio"] < 1.10
@@ -105,3 +109,16 @@ def test_optimize_speed_smoke_stopped_ipopt_is_flagged(case):
     # the warm start was the converged rigid optimum: the iterate stays near its floor
     assert r.peak_torque < 1.2 * r.rigid_peak_torque
     assert set(r.stages[1]["violations"]) >= {"continuity", "epigraph", "ram_speed_samples", "omega"}
+
+
+def test_auto_stages_accept_a_verified_rigid_optimum(case):
+    """At 60 spm the rigid optimum does not impact: "auto" re-simulates it on the clearance model,
+    finds it within 2 % of the floor with the ram speed in tolerance, and skips the shooting."""
+    _, model, _, _ = case
+    r = optimize_speed(model, ram_speed=-0.15, n_harmonics=N_HARM, progress=False, rigid_samples=200,
+                       verify_rtol=1e-8)
+    assert r.success
+    assert [s["name"] for s in r.stages] == ["rigid", "target"] and r.stages[1]["status"].startswith("skipped")
+    assert r.peak_torque <= 1.02 * r.rigid_peak_torque
+    assert r.max_ram_speed_violation == 0.0
+    assert r.simulation.stats["periodic"]["residual"] < 1e-4

@@ -34,6 +34,9 @@ from .shooting import SHOOTING_METHODS, ShootingError, ShootingGrid, node_states
 #: The soft stage runs only when the rigid optimum's peak torque on the clearance model exceeds the
 #: rigid peak by this factor (it impacts); otherwise the target stage starts at once.
 IMPACT_RATIO = 1.10
+#: The rigid optimum is accepted on a clearance model ("auto" stages) when its re-simulated peak is
+#: within this factor of the rigid floor and the ram speed stays within tolerance.
+VERIFIED_RATIO = 1.02
 #: Default shooting intervals per period and output samples per interval.
 DEFAULT_INTERVALS = 16
 DEFAULT_SAMPLES = 25
@@ -84,6 +87,7 @@ def optimize_speed(
     verify_rtol: float = 1e-9,
     rigid_samples: int = 1000,
     max_steps: int = 10**6,
+    stages: str = "auto",
 ) -> OcpResult:
     """Design the crank speed that minimises a peak load with a constant ram speed in the window.
 
@@ -134,6 +138,11 @@ def optimize_speed(
         Samples of the rigid stage.
     max_steps : int
         Step limit of each shooting-interval integration.
+    stages : {"auto", "all"}
+        "auto" (use no more model than the scene needs): when the rigid optimum, re-simulated on the
+        clearance model, keeps the ram speed within tolerance and its peak within `VERIFIED_RATIO`
+        of the rigid floor, it is the answer and the shooting stages are skipped (recorded in
+        ``stages``). "all" always runs them.
 
     Returns
     -------
@@ -162,6 +171,7 @@ def optimize_speed(
                     1, 1000)
     chk.positive("rtol", rtol)
     chk.positive("verify_rtol", verify_rtol)
+    stages_mode = chk.choice("stages", stages, ("auto", "all"))
     if soft_factor is not None:
         chk.in_open_interval("soft_factor", soft_factor, 1.0, 1e8)
     if model.n_harmonics != n_harmonics:
@@ -173,7 +183,7 @@ def optimize_speed(
         raise ValueError(f"initial.period must equal period ({period:g} s), got {initial.period:g} s")
 
     rigid = solve_rigid(problem, initial, samples=rigid_samples)
-    stages = list(rigid.stages)
+    records = list(rigid.stages)
     history = list(rigid.objective_history)
     if model.is_rigid:
         rigid.wall_time = time.perf_counter() - t_start
@@ -181,16 +191,22 @@ def optimize_speed(
 
     chain: list[tuple[str, PressModel]] = []
     base = model if model.rod == "rigid" else build_model(model.params, "rigid", model.clearance, 4, n_harmonics)
-    probe = _verify(base, rigid.speed, 1e-7)
-    ratio = probe.peak("torque") / rigid.peak_torque
-    stages[0].update(clearance_peak_torque=probe.peak("torque"), clearance_ratio=ratio,
-                     periodic=probe.stats["periodic"].get("found", True))
+    ratio, verified = _check_on(base, rigid, problem, records[0])
     if soft_factor is not None and ratio > IMPACT_RATIO:
         chain.append(("soft", build_model(soft_params(model.params, soft_factor), "rigid", base.clearance, 4,
                                           n_harmonics)))
     chain.append(("target", base))
     if model.rod == "flexible":
         chain.append(("flexible", model))
+    if stages_mode == "auto" and verified:
+        chain = []
+        if model.rod == "flexible":
+            _, verified_flex = _check_on(model, rigid, problem, records[0], prefix="flexible_")
+            chain = [] if verified_flex else [("flexible", model)]
+        for name in ("target",) + (("flexible",) if model.rod == "flexible" and not chain else ()):
+            records.append({"name": name, "status": "skipped: the rigid optimum meets the constraints on this "
+                           f"model and its peak is within {VERIFIED_RATIO:g} x the rigid floor",
+                           "iterations": 0, "wall_time": 0.0, "objective": rigid.objective_value})
 
     grid = ShootingGrid(period, N, S)
     speed, t1, success, status, value = rigid.speed, rigid.t1, rigid.success, rigid.status, rigid.objective_value
@@ -199,7 +215,7 @@ def optimize_speed(
         sol = solve_shooting(problem, m, speed, nodes, t1, grid, stage=name, periodic=periodic, method=method,
                              rtol=rtol, ipopt_options=ipopt_options, progress=progress,
                              max_steps=max_steps)
-        stages.append({"name": name, "status": sol.status, "iterations": sol.iterations, "wall_time": sol.wall_time,
+        records.append({"name": name, "status": sol.status, "iterations": sol.iterations, "wall_time": sol.wall_time,
                        "objective": sol.value,
                        "violations_start": sol.violations_start, "violations": sol.violations, "intervals": N, "samples": S,
                        "method": method, **warm})
@@ -212,16 +228,41 @@ def optimize_speed(
     t2 = t1 + problem.window_duration
     sim = _verify(model, speed, verify_rtol)
     init_sim = _verify(model, initial, min(1e-7, 10 * verify_rtol))
-    mask = (sim.t >= t1) & (sim.t <= t2)
-    viol = float(np.max(np.abs(sim.ram_velocity[mask] - ram_speed))) - problem.tol
+    viol = ram_speed_violation(sim, problem, t1)
     return OcpResult(
         speed=speed, objective=objective, peak_torque=sim.peak("torque"),
         initial_peak_torque=init_sim.peak("torque"), rigid_peak_torque=rigid.peak_torque, objective_value=value,
-        t1=t1, t2=t2, success=success, status=status, iterations=sum(s["iterations"] for s in stages),
+        t1=t1, t2=t2, success=success, status=status, iterations=sum(s["iterations"] for s in records),
         wall_time=time.perf_counter() - t_start, max_ram_speed_violation=max(viol, 0.0),
-        min_omega=speed.min_speed(), objective_history=history, stages=stages, simulation=sim,
+        min_omega=speed.min_speed(), objective_history=history, stages=records, simulation=sim,
         initial_simulation=init_sim, rigid=rigid,
     )
+
+
+def objective_peak(sim, objective: str) -> float:
+    """The objective's value on a simulated response (peak load or RMS torque)."""
+    if objective == "rms_torque":
+        return float(np.sqrt(np.mean(sim.torque**2)))
+    if objective == "peak_pin_force":
+        return max(sim.peak("crank_pin_force"), sim.peak("wrist_pin_force"))
+    return sim.peak({"peak_torque": "torque", "peak_slider_normal_force": "slider_normal_force"}[objective])
+
+
+def ram_speed_violation(sim, problem: SpeedProblem, t1: float) -> float:
+    """max(|v - ram_speed|) - tol over the window samples of a response, m/s (<= 0: within tolerance)."""
+    mask = (sim.t >= t1) & (sim.t <= t1 + problem.window_duration)
+    return float(np.max(np.abs(sim.ram_velocity[mask] - problem.ram_speed))) - problem.tol
+
+
+def _check_on(model: PressModel, rigid: OcpResult, problem: SpeedProblem, record: dict, prefix: str = "") -> tuple:
+    """Re-simulate the rigid optimum on `model`; (objective ratio to the rigid value, verified?)."""
+    probe = _verify(model, rigid.speed, 1e-7)
+    ratio = objective_peak(probe, problem.objective) / objective_peak(rigid.simulation, problem.objective)
+    periodic = probe.stats["periodic"].get("found", True)
+    viol = ram_speed_violation(probe, problem, rigid.t1)
+    record.update({prefix + "clearance_peak_torque": probe.peak("torque"), prefix + "clearance_ratio": ratio,
+                   prefix + "periodic": periodic, prefix + "ram_speed_violation": max(viol, 0.0)})
+    return ratio, bool(periodic and ratio <= VERIFIED_RATIO and viol <= 0.0)
 
 
 def _verify(model: PressModel, speed: FourierSpeed, rtol: float):

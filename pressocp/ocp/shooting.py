@@ -101,8 +101,8 @@ def interval_function(model: PressModel, grid: ShootingGrid, names: tuple[str, .
             dae[k] = ca.substitute(dae[k], model.t, tau + t0)
     dae.update(t=tau, p=ca.vertcat(model.p, t0))
     opts = {"reltol": rtol, "abstol": rtol if atol is None else atol, "max_num_steps": max_steps}
-    if method == "idas":  # z0 below is consistent: IDACalcIC is not needed (and its line search failed)
-        opts.update(calc_ic=False, suppress_algebraic=True)
+    if method == "idas":
+        opts.update(calc_ic=True, suppress_algebraic=True)
     F = ca.integrator("shooting_" + method, method, dae, 0.0, grid.local, opts)
     x0, p, ts = ca.MX.sym("x0", model.nx), ca.MX.sym("p", model.p.numel()), ca.MX.sym("t0")
     args = {"x0": x0, "p": ca.vertcat(p, ts)}
@@ -317,8 +317,11 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
 
         bar = tqdm(desc=f"{stage} ({N}x{S} {method})", unit="it", leave=True)
     cb = _Iterations(w.numel(), lbg_a.size, lbg_a, ubg_a, bar)
+    # Warm start: a small initial barrier parameter and bound push keep IPOPT from pushing the epigraph
+    # variable (and every other inequality) into the interior first.
     opts = {**IPOPT_DEFAULTS, "ipopt.hessian_approximation": "limited-memory", "ipopt.tol": 1e-6,
-            "ipopt.acceptable_tol": 1e-4, "ipopt.max_iter": 200, "iteration_callback": cb,
+            "ipopt.acceptable_tol": 1e-4, "ipopt.acceptable_iter": 5, "ipopt.max_iter": 200,
+            "ipopt.mu_init": 1e-4, "ipopt.bound_push": 1e-6, "ipopt.bound_frac": 1e-6, "iteration_callback": cb,
             **(ipopt_options or {})}
     gall = ca.vertcat(*g)
     solver = ca.nlpsol(f"shooting_{stage}", "ipopt", {"x": w, "f": f, "g": gall}, opts)

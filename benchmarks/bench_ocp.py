@@ -1,0 +1,122 @@
+"""Optimiser benchmark: wall time to convergence of `optimize_speed` on the clearance model, the
+SLSQP single-shooting baseline (finite differences, the seed's approach) to the same objective
+within 1 %, and the seed story figure.
+
+Cases (run one per call; each appends one JSON line to benchmarks/results/ocp.jsonl and writes
+ocp_<case>.png):
+
+* ``default``      T = 1 s, -0.1 m/s, stages "auto" (the default call).
+* ``default_all``  the same with every shooting stage forced ("all").
+* ``seed``         T = 0.8 s (75 spm): the rigid-designed speed impacts (model issue); stages "auto".
+* ``slsqp``        the baseline on the default case, from the rigid-designed speed, capped.
+* ``flexible``     the flexible rod (4 elements), stages "auto", warm-started by the same chain.
+
+    python benchmarks/bench_ocp.py CASE [--max-iter K] [--cap SECONDS]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from pressocp import PressParams  # noqa: E402
+from pressocp.design import design_speed  # noqa: E402
+from pressocp.model import build_model  # noqa: E402
+from pressocp.ocp import SpeedProblem, optimize_speed  # noqa: E402
+from pressocp.ocp.optimize import objective_peak  # noqa: E402
+
+OUT = Path(__file__).parent / "results"
+
+
+def plot_story(r, title: str, path: Path) -> None:
+    """Initial vs optimal: crank speed, motor torque, slider normal force, ram velocity (seed Figs. 9-11)."""
+    si, so, rr = r.initial_simulation, r.simulation, r.rigid.simulation
+    fig, axes = plt.subplots(4, 1, figsize=(8, 10), sharex=True)
+    rows = [("omega", "crank speed ω, rad/s"), ("torque", "motor torque, N·m"),
+            ("slider_normal_force", "slider normal force, N"), ("ram_velocity", "ram velocity, m/s")]
+    for ax, (key, label) in zip(axes, rows):
+        ax.plot(si.t, getattr(si, key), lw=0.8, color="tab:red", label="initial (rigid design), clearance model")
+        ax.plot(so.t, getattr(so, key), lw=1.0, color="tab:blue", label="optimum, clearance model")
+        ax.plot(rr.t, getattr(rr, key), lw=0.8, ls="--", color="k", label="rigid optimum, rigid model")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    for ax in axes:
+        ax.axvspan(r.t1, r.t2, color="0.9", zorder=0)
+    axes[0].legend(fontsize=7, loc="upper right")
+    axes[-1].set_xlabel("time, s (grey: working window)")
+    axes[0].set_title(title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def summary(r, case: str, kwargs: dict) -> dict:
+    so, si = r.simulation, r.initial_simulation
+    return {
+        "case": case, "kwargs": kwargs, "success": r.success, "status": r.status, "wall_time_s": r.wall_time,
+        "iterations": r.iterations, "peak_torque": r.peak_torque, "initial_peak_torque": r.initial_peak_torque,
+        "rigid_peak_torque": r.rigid_peak_torque, "floor_ratio": r.peak_torque / r.rigid_peak_torque,
+        "reported_objective": r.objective_value,
+        "resimulated_vs_reported": objective_peak(so, r.objective) / r.objective_value - 1.0,
+        "peak_slider_normal_force": so.peak("slider_normal_force"),
+        "initial_peak_slider_normal_force": si.peak("slider_normal_force"),
+        "torque_reduction_pct": 100 * (1 - r.peak_torque / r.initial_peak_torque),
+        "normal_force_reduction_pct": 100 * (1 - so.peak("slider_normal_force") / si.peak("slider_normal_force")),
+        "max_speed_change_rel": r.max_speed_change, "max_ram_speed_violation": r.max_ram_speed_violation,
+        "min_omega": r.min_omega, "t1": r.t1, "t2": r.t2, "periodic_verified": so.stats.get("periodic", {}),
+        "stages": r.stages, "objective_history": r.objective_history,
+        "coefficients": r.speed.coefficients.tolist(),
+    }
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("case", choices=["default", "default_all", "seed", "slsqp", "flexible"])
+    ap.add_argument("--max-iter", type=int, default=100)
+    ap.add_argument("--cap", type=float, default=1800.0, help="SLSQP time cap, s")
+    a = ap.parse_args()
+    OUT.mkdir(exist_ok=True)
+    kwargs: dict = {"ipopt_options": {"ipopt.max_iter": a.max_iter}}
+    if a.case == "slsqp":
+        sys.path.insert(0, str(Path(__file__).parent))
+        from slsqp_baseline import slsqp_baseline
+
+        ref = [json.loads(s) for s in (OUT / "ocp.jsonl").read_text().splitlines() if '"case": "default_all"' in s][-1]
+        params = PressParams()
+        prob = SpeedProblem(params, period=1.0, ram_speed=-0.1)
+        init = design_speed(params, period=1.0, ram_speed=-0.1).speed
+        model = build_model(params)
+        res = slsqp_baseline(model, prob, init, ref["t1"], ref["reported_objective"], time_cap=a.cap)
+        row = {"case": "slsqp", **res, "shooting_wall_time_s": ref["wall_time_s"],
+               "speedup": (">" if not res["reached"] else "") + f"{res['wall_time'] / ref['wall_time_s']:.1f}"}
+    else:
+        if a.case == "default_all":
+            kwargs["stages"] = "all"
+        if a.case == "seed":
+            kwargs["period"] = 0.8
+        if a.case == "flexible":
+            kwargs["model"] = build_model(PressParams(), rod="flexible", n_elements=4)
+        t0 = time.perf_counter()
+        r = optimize_speed(**kwargs)
+        print(f"{a.case}: {time.perf_counter() - t0:.1f} s, {r.status}", flush=True)
+        kwargs.pop("model", None)
+        row = summary(r, a.case, kwargs)
+        plot_story(r, f"{a.case}: peak torque {r.initial_peak_torque:.0f} → {r.peak_torque:.0f} N·m "
+                   f"(rigid floor {r.rigid_peak_torque:.0f}), {r.wall_time:.0f} s", OUT / f"ocp_{a.case}.png")
+    with open(OUT / "ocp.jsonl", "a") as fh:
+        fh.write(json.dumps(row, default=float) + "\n")
+    print(json.dumps({k: v for k, v in row.items() if k not in ("objective_history", "history", "coefficients")},
+                     default=float, indent=1))
+
+
+if __name__ == "__main__":
+    main()
