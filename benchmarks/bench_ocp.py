@@ -26,7 +26,6 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
 
 from pressocp import PressParams  # noqa: E402
 from pressocp.design import design_speed  # noqa: E402

@@ -29,7 +29,7 @@ from ..speed import DEFAULT_HARMONICS, FourierSpeed
 from .problem import SpeedProblem
 from .result import OcpResult
 from .rigid import solve_rigid
-from .shooting import SHOOTING_METHODS, ShootingError, ShootingGrid, node_states, solve_shooting
+from .shooting import SHOOTING_METHODS, ShootingGrid, node_states, solve_shooting
 
 #: The soft stage runs only when the rigid optimum's peak torque on the clearance model exceeds the
 #: rigid peak by this factor (it impacts); otherwise the target stage starts at once.
@@ -155,7 +155,7 @@ def optimize_speed(
     ValueError
         Invalid or infeasible request (checked before any solve).
     ShootingError
-        A stage's warm start cannot be integrated.
+        (`pressocp.ocp.ShootingError`) a stage's warm start cannot be integrated.
     """
     t_start = time.perf_counter()
     if model is None:

@@ -20,7 +20,6 @@ import casadi as ca
 import numpy as np
 
 from .. import _checks as chk
-from ..design import window_error
 from ..model import OUTPUT_NAMES, PressModel
 from ..simulate import HINT, SimulationError, _first_line
 from ..speed import FourierSpeed, series
