@@ -14,6 +14,7 @@ from .. import _checks as chk
 from ..design import design_speed, window_error
 from ..rigid import _inverse_dynamics_function, _kinematics_function, crank_angle_at_height, rigid_response
 from ..speed import FourierSpeed, series
+from .constraints import Constraints, add_epigraph, add_speed_bounds, add_window
 from .problem import SpeedProblem
 from .result import OcpResult
 
@@ -81,47 +82,30 @@ def solve_rigid(problem: SpeedProblem, initial: FourierSpeed | None = None, samp
     t1 = ca.MX.sym("t1")
     ts = np.linspace(0.0, T, N, endpoint=False)
     tau, nf, fa, fb, om, al = f_dyn.map(N)(ca.DM(ts).T, ca.repmat(c, 1, N))
-    tw = t1 + tau_w * ca.DM(np.linspace(0.0, 1.0, m)).T
-    _, vw, _ = f_kin.map(m)(tw, ca.repmat(c, 1, m))
-    h1, _, th1 = f_kin(t1, c)
 
     r0 = rigid_response(P.params, initial, ts)
     scale = {"peak_torque": r0.peak("torque"), "peak_slider_normal_force": r0.peak("slider_normal_force"),
              "peak_pin_force": max(r0.peak("crank_pin_force"), r0.peak("wrist_pin_force")),
              "rms_torque": float(np.sqrt(np.mean(r0.torque**2)))}[P.objective]
-    g, lbg, ubg = [], [], []
-
-    def add(expr, lo, hi):
-        g.append(expr)
-        k = expr.numel()
-        lbg.append(np.broadcast_to(lo, (k,)))
-        ubg.append(np.broadcast_to(hi, (k,)))
-
+    cons = Constraints()
     if P.objective == "rms_torque":
         f = ca.sumsqr(tau) / N / scale**2
     else:
         f = s / scale
         loads = {"peak_torque": [tau], "peak_slider_normal_force": [nf], "peak_pin_force": [fa, fb]}[P.objective]
-        for q in loads:
-            add((q.T - s) / scale, -np.inf, 0.0)
-            add((-q.T - s) / scale, -np.inf, 0.0)
+        add_epigraph(cons, loads, s, scale)
     # 5 % back-off: the bound holds at the samples, the verification checks the whole window and the
     # clearance model adds the journals' motion to the ram velocity
-    add((vw.T - P.ram_speed) / P.tol, -RAM_SPEED_BACKOFF, RAM_SPEED_BACKOFF)
-    add(h1 / P.params.stroke - P.window[0], 0.0, 0.0)
-    add(th1, 0.0, np.pi)
-    wbar = 2 * np.pi / T
-    add(om.T / wbar, P.omega_lower / wbar, np.inf if P.omega_max is None else P.omega_max / wbar)
-    if P.alpha_max is not None:
-        add(al.T / P.alpha_max, -1.0, 1.0)
+    add_window(cons, P, f_kin, c, t1, m, RAM_SPEED_BACKOFF)
+    add_speed_bounds(cons, P, om, al)
     x = ca.vertcat(c, s, t1)
     # adaptive barrier update: with the monotone one the 15-harmonic default case stalled (300 iterations)
     opts = {**IPOPT_DEFAULTS, "ipopt.mu_strategy": "adaptive", **(ipopt_options or {})}
-    solver = ca.nlpsol("rigid_speed_ocp", "ipopt", {"x": x, "f": f, "g": ca.vertcat(*g)}, opts)
+    solver = ca.nlpsol("rigid_speed_ocp", "ipopt", {"x": x, "f": f, "g": cons.g}, opts)
     x0 = np.concatenate([initial.coefficients, [scale, t1_0]])
     lbx = np.concatenate([-np.inf * np.ones(2 * n), [0.0, 0.0]])
     ubx = np.concatenate([np.inf * np.ones(2 * n), [np.inf, T - tau_w]])
-    sol = solver(x0=x0, lbx=lbx, ubx=ubx, lbg=np.concatenate(lbg), ubg=np.concatenate(ubg))
+    sol = solver(x0=x0, lbx=lbx, ubx=ubx, lbg=cons.lbg, ubg=cons.ubg)
     st = solver.stats()
     xo = np.asarray(sol["x"]).ravel()
     speed = FourierSpeed(T, xo[:n], xo[n : 2 * n])

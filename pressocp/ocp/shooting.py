@@ -21,8 +21,9 @@ import numpy as np
 
 from .. import _checks as chk
 from ..model import OUTPUT_NAMES, PressModel
-from ..simulate import HINT, SimulationError, _first_line
+from ..simulate import HINT, SimulationError, _first_line, _run
 from ..speed import FourierSpeed, series
+from .constraints import Constraints, add_epigraph, add_speed_bounds, add_window, violation
 from .problem import SpeedProblem
 from .rigid import IPOPT_DEFAULTS, _speed_functions
 
@@ -119,8 +120,6 @@ def interval_function(model: PressModel, grid: ShootingGrid, names: tuple[str, .
 def node_states(model: PressModel, speed: FourierSpeed, x_start: np.ndarray, grid: ShootingGrid,
                 method: str = "idas", rtol: float = 1e-6) -> np.ndarray:
     """Scaled states at the shooting nodes, integrated from ``x_start`` at t = 0 (nx x N)."""
-    from ..simulate import _run
-
     if grid.intervals == 1:
         return np.asarray(x_start, float)[:, None]
     X, _, _ = _run(model, method, np.asarray(x_start, float), model.parameters(speed), grid.nodes[1:], rtol, rtol,
@@ -176,7 +175,7 @@ class _Iterations(ca.Callback):
     def eval(self, arg):
         f = float(arg[1])
         g = np.asarray(arg[2]).ravel()
-        viol = float(np.max(np.maximum(self.lbg - g, 0.0) + np.maximum(g - self.ubg, 0.0), initial=0.0))
+        viol = float(np.max(violation(g, self.lbg, self.ubg), initial=0.0))
         self.history.append(f)
         if self.best is None or (viol, f) < (self.best[0], self.best[1]) or (viol <= 1e-6 and f < self.best[1]):
             self.best = (viol, f, np.asarray(arg[0]).ravel().copy())
@@ -255,10 +254,14 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     names = LOADS[P.objective] + ("ram_velocity",)
     G = interval_function(model, grid, names, method, rtol, max_steps=max_steps)
     p0 = model.parameters(initial)
-    failure = locate_failure(G, nodes, p0, grid, stage, method)
-    if failure is not None:
-        raise failure
     Gm = G.map(N, "thread", 2)
+    try:
+        y0 = np.asarray(Gm(nodes, np.tile(p0[:, None], (1, N)), grid.nodes[None, :])[1])
+    except RuntimeError:
+        y0 = None
+    if y0 is None or not np.all(np.isfinite(y0)):  # find the interval, one at a time
+        raise locate_failure(G, nodes, p0, grid, stage, method) or SimulationError(
+            f"stage {stage!r}: the mapped intervals failed, each alone integrates", method=method, hint=HINT)
 
     c = ca.MX.sym("c", 2 * n)
     s = ca.MX.sym("s")
@@ -268,48 +271,27 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     ts = grid.times
     nl = len(names) - 1
     Yl, v = Y[:nl, :], Y[nl, :]
-    y0 = np.asarray(Gm(nodes, np.tile(p0[:, None], (1, N)), grid.nodes[None, :])[1])
     if scale is None:
         scale = float(np.sqrt(np.mean(y0[0] ** 2))) if P.objective == "rms_torque" else float(np.max(np.abs(y0[:nl])))
-    g, lbg, ubg, groups = [], [], [], []
-
-    def add(expr, lo, hi, name):
-        groups.append((name, sum(x.size for x in lbg), expr.numel()))
-        g.append(ca.vec(expr))
-        k = expr.numel()
-        lbg.append(np.broadcast_to(lo, (k,)))
-        ubg.append(np.broadcast_to(hi, (k,)))
-
+    cons = Constraints()
     nxt = ca.horzcat(X[:, 1:], X[:, :1]) if periodic else X[:, 1:]
-    add((Xf if periodic else Xf[:, :-1]) - nxt, 0.0, 0.0, "continuity")
+    cons.add((Xf if periodic else Xf[:, :-1]) - nxt, 0.0, 0.0, "continuity")
     if P.objective == "rms_torque":
         f = ca.sumsqr(Yl) / Yl.numel() / scale**2
     else:
         f = s / scale
-        add((Yl - s) / scale, -np.inf, 0.0, "epigraph")
-        add((-Yl - s) / scale, -np.inf, 0.0, "epigraph")
-    t2 = t1 + P.window_duration
-    inside = np.nonzero((ts >= t1) & (ts <= t2))[0]
+        add_epigraph(cons, [Yl], s, scale)
+    inside = np.nonzero((ts >= t1) & (ts <= t1 + P.window_duration))[0]
     if inside.size:
-        add((v[:, inside] - P.ram_speed) / P.tol, -1.0, 1.0, "ram_speed_samples")
-    _, f_kin = _speed_functions(P)
-    tw = t1 + P.window_duration * np.linspace(0.0, 1.0, window_samples)
-    _, vk, _ = f_kin.map(window_samples)(ca.DM(tw).T, ca.repmat(c, 1, window_samples))
-    add((vk - P.ram_speed) / P.tol, -1.0, 1.0, "ram_speed_kinematic")
-    h1, _, th1 = f_kin(t1, c)
-    add(h1 / P.params.stroke - P.window[0], 0.0, 0.0, "window_start")
-    add(th1, 0.0, np.pi, "window_start")
+        cons.add((v[:, inside] - P.ram_speed) / P.tol, -1.0, 1.0, "ram_speed_samples")
+    add_window(cons, P, _speed_functions(P)[1], c, t1, window_samples)
     to = np.linspace(0.0, T, omega_samples, endpoint=False)
     tt, cc = ca.SX.sym("t"), ca.SX.sym("c", 2 * n)
     f_om = ca.Function("omega_alpha", [tt, cc], list(series(tt, cc[:n], cc[n:], T)[1:]))
-    om, al = f_om.map(omega_samples)(ca.DM(to).T, ca.repmat(c, 1, omega_samples))
-    wbar = 2 * np.pi / T
-    add(om / wbar, P.omega_lower / wbar, np.inf if P.omega_max is None else P.omega_max / wbar, "omega")
-    if P.alpha_max is not None:
-        add(al / P.alpha_max, -1.0, 1.0, "alpha")
+    add_speed_bounds(cons, P, *f_om.map(omega_samples)(ca.DM(to).T, ca.repmat(c, 1, omega_samples)))
 
     w = ca.vertcat(c, s, ca.vec(X))
-    lbg_a, ubg_a = np.concatenate(lbg), np.concatenate(ubg)
+    lbg_a, ubg_a = cons.lbg, cons.ubg
     bar = None
     if progress:
         from tqdm.auto import tqdm
@@ -322,17 +304,12 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
             "ipopt.acceptable_tol": 1e-4, "ipopt.acceptable_iter": 5, "ipopt.max_iter": 200,
             "ipopt.mu_init": 1e-4, "ipopt.bound_push": 1e-6, "ipopt.bound_frac": 1e-6, "iteration_callback": cb,
             **(ipopt_options or {})}
-    gall = ca.vertcat(*g)
+    gall = cons.g
     solver = ca.nlpsol(f"shooting_{stage}", "ipopt", {"x": w, "f": f, "g": gall}, opts)
     g_fun = ca.Function("constraints", [w], [gall])
 
     def violations(wv: np.ndarray) -> dict:
-        gv = np.asarray(g_fun(wv)).ravel()
-        d = np.maximum(lbg_a - gv, 0.0) + np.maximum(gv - ubg_a, 0.0)
-        out: dict = {}
-        for name, i0, k in groups:
-            out[name] = max(out.get(name, 0.0), float(np.max(d[i0 : i0 + k], initial=0.0)))
-        return out
+        return cons.by_group(g_fun(wv))
 
     s0 = float(np.max(np.abs(y0[:nl]))) if P.objective != "rms_torque" else 0.0
     w0 = np.concatenate([initial.padded(n).coefficients, [s0], nodes.ravel(order="F")])
