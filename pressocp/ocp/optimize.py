@@ -189,24 +189,27 @@ def optimize_speed(
         rigid.wall_time = time.perf_counter() - t_start
         return rigid
 
-    chain: list[tuple[str, PressModel]] = []
     base = model if model.rod == "rigid" else build_model(model.params, "rigid", model.clearance, 4, n_harmonics)
     ratio, verified = _check_on(base, rigid, problem, records[0])
-    if soft_factor is not None and ratio > IMPACT_RATIO:
-        chain.append(("soft", build_model(soft_params(model.params, soft_factor), "rigid", base.clearance, 4,
-                                          n_harmonics)))
-    chain.append(("target", base))
-    if model.rod == "flexible":
-        chain.append(("flexible", model))
+    chain: list[tuple[str, PressModel]] = []
     if stages_mode == "auto" and verified:
-        chain = []
+        skipped = ["target"]
         if model.rod == "flexible":
-            _, verified_flex = _check_on(model, rigid, problem, records[0], prefix="flexible_")
-            chain = [] if verified_flex else [("flexible", model)]
-        for name in ("target",) + (("flexible",) if model.rod == "flexible" and not chain else ()):
+            if _check_on(model, rigid, problem, records[0], prefix="flexible_")[1]:
+                skipped.append("flexible")
+            else:
+                chain.append(("flexible", model))
+        for name in skipped:
             records.append({"name": name, "status": "skipped: the rigid optimum meets the constraints on this "
                            f"model and its peak is within {VERIFIED_RATIO:g} x the rigid floor",
                            "iterations": 0, "wall_time": 0.0, "objective": rigid.objective_value})
+    else:
+        if soft_factor is not None and ratio > IMPACT_RATIO:
+            chain.append(("soft", build_model(soft_params(model.params, soft_factor), "rigid", base.clearance, 4,
+                                              n_harmonics)))
+        chain.append(("target", base))
+        if model.rod == "flexible":
+            chain.append(("flexible", model))
 
     grid = ShootingGrid(period, N, S)
     speed, t1, success, status, value = rigid.speed, rigid.t1, rigid.success, rigid.status, rigid.objective_value
