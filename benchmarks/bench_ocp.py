@@ -44,7 +44,8 @@ def plot_story(r, title: str, path: Path) -> None:
             ("slider_normal_force", "slider normal force, N"), ("ram_velocity", "ram velocity, m/s")]
     for ax, (key, label) in zip(axes, rows):
         ax.plot(si.t, getattr(si, key), lw=0.8, color="tab:red", label="initial (rigid design), clearance model")
-        ax.plot(so.t, getattr(so, key), lw=1.0, color="tab:blue", label="optimum, clearance model")
+        ax.plot(so.t, getattr(so, key), lw=1.0, color="tab:blue",
+                label=("optimum" if r.success else "best iterate (not converged)") + ", clearance model")
         ax.plot(rr.t, getattr(rr, key), lw=0.8, ls="--", color="k", label="rigid optimum, rigid model")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
