@@ -133,13 +133,19 @@ def _inverse_dynamics_function(params: PressParams) -> ca.Function:
     M, Q, Phi_q, T, V = ca.substitute([lag.M, Q, Phi_q, lag.T, lag.V], subs, vals)
     lam = ca.solve(Phi_q.T, M @ qdd_of - Q)
     h = pos["ram_height"]
+    # component of each pin force along the rod, positive in tension: the slider hangs from the rod,
+    # so without a process force its weight keeps the rod in tension until the ram's downward
+    # acceleration exceeds g; the sign change is the joint-force reversal that makes journals impact
+    e = mech.unit(pos["rod_angle"])
     return ca.Function(
         "rigid_inverse_dynamics",
         [theta, omega, alpha],
-        [lam[5], ca.norm_2(lam[0:2]), ca.norm_2(lam[2:4]), lam[4], h, qd_of[5], qdd_of[5], T, V],
+        [lam[5], ca.norm_2(lam[0:2]), ca.norm_2(lam[2:4]), lam[4], h, qd_of[5], qdd_of[5], T, V,
+         -ca.dot(lam[0:2], e), -ca.dot(lam[2:4], e)],
         ["theta", "omega", "alpha"],
         ["torque", "crank_pin_force", "wrist_pin_force", "slider_normal_force", "ram_height",
-         "ram_velocity", "ram_acceleration", "kinetic_energy", "potential_energy"],
+         "ram_velocity", "ram_acceleration", "kinetic_energy", "potential_energy",
+         "crank_pin_tension", "wrist_pin_tension"],
     )
 
 
@@ -151,7 +157,9 @@ def rigid_inverse_dynamics(params: PressParams, theta: Any, omega: Any, alpha: A
     dict of ndarray
         ``torque`` (N m), ``crank_pin_force``, ``wrist_pin_force`` (N, magnitudes),
         ``slider_normal_force`` (N, guide on slider, +x), ``ram_height`` (m), ``ram_velocity``
-        (m/s), ``ram_acceleration`` (m/s^2), ``kinetic_energy``, ``potential_energy`` (J).
+        (m/s), ``ram_acceleration`` (m/s^2), ``kinetic_energy``, ``potential_energy`` (J),
+        ``crank_pin_tension``, ``wrist_pin_tension`` (N, axial pin forces on the rod, positive in
+        tension; a sign change is a joint-force reversal).
     """
     for name, v in (("theta", theta), ("omega", omega), ("alpha", alpha)):
         chk.finite_array(name, v, ndim=None)

@@ -7,6 +7,7 @@ import pytest
 from pressocp import PressParams, rigid_response
 from pressocp.ocp import SpeedProblem, solve_rigid
 from tests.test_design import exact_height
+from tests.test_rigid import _newton_euler
 
 
 @pytest.fixture(scope="module")
@@ -54,3 +55,39 @@ def test_rms_objective_runs():
 def test_bad_problems_rejected_before_solving(kwargs, match):
     with pytest.raises(ValueError, match=match):
         SpeedProblem(PressParams(), **kwargs)
+
+
+def test_no_reversal_bound_holds_on_an_independent_newton_euler_solution():
+    """At 75 spm the rigid optimum lets the rod go into compression (the joint forces reverse);
+    with ``min_tension`` the tension, recomputed by the hand-written Newton-Euler reference, stays
+    above the bound between the samples too, and the peak torque pays for it."""
+    p = PressParams()
+    # 10 harmonics: with 6 or 8, IPOPT finds no speed without reversal (local infeasibility)
+    free = solve_rigid(SpeedProblem(p, period=0.8, n_harmonics=10), samples=300, window_samples=40)
+    bound = 20.0
+    prob = SpeedProblem(p, period=0.8, n_harmonics=10, min_tension=bound)
+    held = solve_rigid(prob, free.speed, samples=300, window_samples=40)
+    assert free.success and held.success, (free.status, held.status)
+    t = np.linspace(0, 0.8, 8001)
+
+    def tension(speed):
+        ne = _newton_euler(p, *speed.evaluate(t))
+        return np.minimum(ne["crank_pin_tension"], ne["wrist_pin_tension"])
+
+    assert tension(free.speed).min() < 0.0  # the free optimum reverses: the bound is active
+    # 300 samples (2.7 ms apart): between them it may dip by a fraction of a per cent of the weight
+    assert tension(held.speed).min() >= bound - 0.005 * prob.hanging_weight
+    assert held.peak_torque > free.peak_torque
+
+
+@pytest.mark.parametrize("value, match", [(-1.0, r"min_tension must be in \[0, 1"), (2000.0, "min_tension")])
+def test_min_tension_range(value, match):
+    with pytest.raises(ValueError, match=match):
+        SpeedProblem(PressParams(), min_tension=value)
+
+
+def test_min_tension_needs_no_process_force():
+    from pressocp.params import ProcessForce
+
+    with pytest.raises(ValueError, match="process_force"):
+        SpeedProblem(PressParams(process_force=ProcessForce(force=1e4)), min_tension=10.0)

@@ -76,6 +76,22 @@ def test_inverse_dynamics_against_newton_euler(press):
                  "ram_velocity", "ram_acceleration"):
         scale = np.max(np.abs(ref[name]))
         assert np.max(np.abs(getattr(r, name) - ref[name])) <= 1e-10 * scale, name
+    out = rigid_inverse_dynamics(p, *s.evaluate(t))
+    for name in ("crank_pin_tension", "wrist_pin_tension"):
+        scale = np.max(np.abs(ref[name]))
+        assert np.max(np.abs(out[name] - ref[name])) <= 1e-10 * scale, name
+
+
+def test_wrist_pin_tension_carries_the_slider():
+    """Slider equilibrium: the rod pulls it with (-N, m_s (g + a)) (N the guide force, a the ram
+    acceleration); the tension is that force along the rod axis (sin phi, cos phi)."""
+    p = PressParams()
+    th, om, al = np.linspace(0, 2 * np.pi, 13), 16.0, -30.0  # TDC: r w^2 (1 - r/l) > g
+    out = rigid_inverse_dynamics(p, th, om, al)
+    phi = rigid_kinematics(p, th, om, al)["rod_angle"]
+    pull = -out["slider_normal_force"] * np.sin(phi) + p.slider_mass * (p.gravity + out["ram_acceleration"]) * np.cos(phi)
+    np.testing.assert_allclose(out["wrist_pin_tension"], pull, rtol=1e-10, atol=1e-9)
+    assert out["wrist_pin_tension"].min() < 0 < out["wrist_pin_tension"].max()  # this motion reverses
 
 
 def test_flores_published_extremes():

@@ -39,6 +39,12 @@ class SpeedProblem:
         Lower bound on the crank speed, rad/s, in (0, 2 pi/T); default 5 % of the mean speed.
     omega_max, alpha_max : float or None
         Optional motor limits |omega| <= omega_max (rad/s), |alpha| <= alpha_max (rad/s^2).
+    min_tension : float or None
+        Lower bound on the rod's axial tension at both pins in the rigid model, N, in
+        [0, weight of rod and slider). The slider hangs from the rod; a bound > 0 forbids the
+        joint-force reversal (tension to compression, the ram falling faster than g) that makes the
+        journals cross their clearance and impact. Needs a press without process force (the
+        forming load compresses the rod). None: no bound.
     """
 
     params: PressParams
@@ -51,6 +57,7 @@ class SpeedProblem:
     omega_min: float | None = None
     omega_max: float | None = None
     alpha_max: float | None = None
+    min_tension: float | None = None
 
     def __post_init__(self) -> None:
         T = chk.positive("period", self.period, "s")
@@ -69,6 +76,16 @@ class SpeedProblem:
             chk.in_open_interval("omega_max", self.omega_max, wbar, np.inf, "rad/s")
         if self.alpha_max is not None:
             chk.positive("alpha_max", self.alpha_max, "rad/s^2")
+        if self.min_tension is not None:
+            chk.in_half_open_interval("min_tension", self.min_tension, 0.0, self.hanging_weight, "N")
+            if self.params.process_force.force != 0.0:
+                raise ValueError("min_tension needs process_force.force == 0: the forming load compresses the rod, "
+                                 "so its axial force must change sign")
+
+    @property
+    def hanging_weight(self) -> float:
+        """Weight of rod and slider, N: the static rod tension is about this."""
+        return (self.params.slider_mass + self.params.rod_mass) * self.params.gravity
 
     @property
     def tol(self) -> float:

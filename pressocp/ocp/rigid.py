@@ -32,7 +32,8 @@ def _speed_functions(problem: SpeedProblem) -> tuple[ca.Function, ca.Function]:
     dyn = _inverse_dynamics_function(problem.params)(theta=th, omega=om, alpha=al)
     kin = _kinematics_function(problem.params)(theta=th, omega=om, alpha=al)
     f_dyn = ca.Function("loads", [t, c], [dyn["torque"], dyn["slider_normal_force"], dyn["crank_pin_force"],
-                                          dyn["wrist_pin_force"], om, al])
+                                          dyn["wrist_pin_force"], om, al, dyn["crank_pin_tension"],
+                                          dyn["wrist_pin_tension"]])
     f_kin = ca.Function("ram", [t, c], [kin["ram_height"], kin["ram_velocity"], th])
     return f_dyn, f_kin
 
@@ -81,7 +82,7 @@ def solve_rigid(problem: SpeedProblem, initial: FourierSpeed | None = None, samp
     s = ca.MX.sym("s")
     t1 = ca.MX.sym("t1")
     ts = np.linspace(0.0, T, N, endpoint=False)
-    tau, nf, fa, fb, om, al = f_dyn.map(N)(ca.DM(ts).T, ca.repmat(c, 1, N))
+    tau, nf, fa, fb, om, al, tens_a, tens_b = f_dyn.map(N)(ca.DM(ts).T, ca.repmat(c, 1, N))
 
     r0 = rigid_response(P.params, initial, ts)
     scale = {"peak_torque": r0.peak("torque"), "peak_slider_normal_force": r0.peak("slider_normal_force"),
@@ -98,6 +99,8 @@ def solve_rigid(problem: SpeedProblem, initial: FourierSpeed | None = None, samp
     # clearance model adds the journals' motion to the ram velocity
     add_window(cons, P, f_kin, c, t1, m, RAM_SPEED_BACKOFF)
     add_speed_bounds(cons, P, om, al)
+    if P.min_tension is not None:  # no joint-force reversal
+        cons.add((ca.vertcat(tens_a, tens_b) - P.min_tension) / P.hanging_weight, 0.0, np.inf, "rod_tension")
     x = ca.vertcat(c, s, t1)
     # adaptive barrier update: with the monotone one the 15-harmonic default case stalled (300 iterations)
     opts = {**IPOPT_DEFAULTS, "ipopt.mu_strategy": "adaptive", **(ipopt_options or {})}

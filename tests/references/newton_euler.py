@@ -93,6 +93,8 @@ def slider_crank_newton_euler(r, l, m_crank, crank_com, J_crank, m_rod, J_rod,
         ``torque`` motor torque, N·m, positive driving increasing θ;
         ``crank_pin_force``, ``wrist_pin_force`` pin force magnitudes, N;
         ``slider_normal_force`` x-force of the guide on the slider, N;
+        ``crank_pin_tension``, ``wrist_pin_tension`` axial pin forces on the rod, N,
+        positive in tension (the hanging slider's weight);
         ``ram_height`` (m, above BDC), ``ram_velocity`` (m/s),
         ``ram_acceleration`` (m/s²); ``rod_angle`` (rad),
         ``rod_angular_velocity`` (rad/s), ``rod_angular_acceleration`` (rad/s²).
@@ -131,11 +133,15 @@ def slider_crank_newton_euler(r, l, m_crank, crank_com, J_crank, m_rod, J_rod,
     b[:, 7] = -J_crank * al - _cross(C, np.stack([0 * th, -m_crank * g * np.ones(n)], -1))
 
     x = np.linalg.solve(M, b[..., None])[..., 0]
+    e = (A - B) / l  # rod axis, from the wrist pin to the crank pin
     return {
         "torque": x[:, 5],
         "crank_pin_force": np.hypot(x[:, 0], x[:, 1]),
         "wrist_pin_force": np.hypot(x[:, 2], x[:, 3]),
         "slider_normal_force": x[:, 4],
+        # axial components of the forces on the rod, positive when they pull its ends apart
+        "crank_pin_tension": x[:, 0] * e[:, 0] + x[:, 1] * e[:, 1],
+        "wrist_pin_tension": -(x[:, 2] * e[:, 0] + x[:, 3] * e[:, 1]),
         "ram_height": B[:, 1] + r + l,
         "ram_velocity": k["vB"][:, 1],
         "ram_acceleration": k["aB"][:, 1],
