@@ -8,10 +8,12 @@ ocp_<case>.png):
 * ``default``      T = 1 s, -0.1 m/s, stages "auto" (the default call).
 * ``default_all``  the same with every shooting stage forced ("all").
 * ``seed``         T = 0.8 s (75 spm): the rigid-designed speed impacts (model issue); stages "auto".
-* ``slsqp``        the baseline on the default case, from the rigid-designed speed, capped.
-* ``flexible``     the flexible rod (4 elements), stages "auto", warm-started by the same chain.
+* ``slsqp``        the baseline on the case named by ``--ref`` (default ``seed``), from the same
+                   rigid-designed speed, to the objective that case reached, capped at ``--cap`` s.
+* ``flexible``     the seed case on the flexible rod (4 elements), stages "auto", warm-started by
+                   the same chain (rigid, no-reversal, rigid-rod clearance check).
 
-    python benchmarks/bench_ocp.py CASE [--max-iter K] [--cap SECONDS]
+    python benchmarks/bench_ocp.py CASE [--max-iter K] [--cap SECONDS] [--ref CASE]
 """
 
 from __future__ import annotations
@@ -83,6 +85,8 @@ def main() -> None:
     ap.add_argument("case", choices=["default", "default_all", "seed", "slsqp", "flexible"])
     ap.add_argument("--max-iter", type=int, default=100)
     ap.add_argument("--cap", type=float, default=1800.0, help="SLSQP time cap, s")
+    ap.add_argument("--ref", default="seed", choices=["default", "default_all", "seed"],
+                    help="case whose optimum the SLSQP baseline must reach within 1 %%")
     a = ap.parse_args()
     OUT.mkdir(exist_ok=True)
     kwargs: dict = {"ipopt_options": {"ipopt.max_iter": a.max_iter}}
@@ -90,18 +94,21 @@ def main() -> None:
         sys.path.insert(0, str(Path(__file__).parent))
         from slsqp_baseline import slsqp_baseline
 
-        ref = [json.loads(s) for s in (OUT / "ocp.jsonl").read_text().splitlines() if '"case": "default_all"' in s][-1]
+        rows = [json.loads(s) for s in (OUT / "ocp.jsonl").read_text().splitlines()]
+        ref = [r for r in rows if r.get("case") == a.ref][-1]
+        period = ref["kwargs"].get("period", 1.0)
         params = PressParams()
-        prob = SpeedProblem(params, period=1.0, ram_speed=-0.1)
-        init = design_speed(params, period=1.0, ram_speed=-0.1).speed
+        prob = SpeedProblem(params, period=period, ram_speed=-0.1)
+        init = design_speed(params, period=period, ram_speed=-0.1).speed
         model = build_model(params)
-        res = slsqp_baseline(model, prob, init, ref["t1"], ref["reported_objective"], time_cap=a.cap)
-        row = {"case": "slsqp", **res, "shooting_wall_time_s": ref["wall_time_s"],
+        # the target is the optimum's verified peak (re-simulated at rtol 1e-9), not a sampled value
+        res = slsqp_baseline(model, prob, init, ref["t1"], ref["peak_torque"], time_cap=a.cap)
+        row = {"case": "slsqp", "ref": a.ref, **res, "optimizer_wall_time_s": ref["wall_time_s"],
                "speedup": (">" if not res["reached"] else "") + f"{res['wall_time'] / ref['wall_time_s']:.1f}"}
     else:
         if a.case == "default_all":
             kwargs["stages"] = "all"
-        if a.case == "seed":
+        if a.case in ("seed", "flexible"):
             kwargs["period"] = 0.8
         if a.case == "flexible":
             kwargs["model"] = build_model(PressParams(), rod="flexible", n_elements=4)
