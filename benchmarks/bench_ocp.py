@@ -24,41 +24,14 @@ import sys
 import time
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from pressocp import PressParams  # noqa: E402
-from pressocp.design import design_speed  # noqa: E402
-from pressocp.model import build_model  # noqa: E402
-from pressocp.ocp import SpeedProblem, optimize_speed  # noqa: E402
-from pressocp.ocp.optimize import objective_peak  # noqa: E402
+from pressocp import PressParams
+from pressocp.design import design_speed
+from pressocp.model import build_model
+from pressocp.ocp import SpeedProblem, optimize_speed
+from pressocp.ocp.optimize import objective_peak
+from pressocp.plots import plot_speed_design, save
 
 OUT = Path(__file__).parent / "results"
-
-
-def plot_story(r, title: str, path: Path) -> None:
-    """Initial vs optimal: crank speed, motor torque, slider normal force, ram velocity (seed Figs. 9-11)."""
-    si, so, rr = r.initial_simulation, r.simulation, r.rigid.simulation
-    fig, axes = plt.subplots(4, 1, figsize=(8, 10), sharex=True)
-    rows = [("omega", "crank speed ω, rad/s"), ("torque", "motor torque, N·m"),
-            ("slider_normal_force", "slider normal force, N"), ("ram_velocity", "ram velocity, m/s")]
-    for ax, (key, label) in zip(axes, rows):
-        ax.plot(si.t, getattr(si, key), lw=0.8, color="tab:red", label="initial (rigid design), clearance model")
-        ax.plot(so.t, getattr(so, key), lw=1.0, color="tab:blue",
-                label=("optimum" if r.success else "best iterate (not converged)") + ", clearance model")
-        ax.plot(rr.t, getattr(rr, key), lw=0.8, ls="--", color="k", label="rigid optimum, rigid model")
-        ax.set_ylabel(label)
-        ax.grid(alpha=0.3)
-    for ax in axes:
-        ax.axvspan(r.t1, r.t2, color="0.9", zorder=0)
-    axes[0].legend(fontsize=7, loc="upper right")
-    axes[-1].set_xlabel("time, s (grey: working window)")
-    axes[0].set_title(title, fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
 
 
 def summary(r, case: str, kwargs: dict) -> dict:
@@ -117,8 +90,9 @@ def main() -> None:
         print(f"{a.case}: {time.perf_counter() - t0:.1f} s, {r.status}", flush=True)
         kwargs.pop("model", None)
         row = summary(r, a.case, kwargs)
-        plot_story(r, f"{a.case}: peak torque {r.initial_peak_torque:.0f} → {r.peak_torque:.0f} N·m "
-                   f"(rigid floor {r.rigid_peak_torque:.0f}), {r.wall_time:.0f} s", OUT / f"ocp_{a.case}.png")
+        save(plot_speed_design(r, f"{a.case}: peak torque {r.initial_peak_torque:.0f} → {r.peak_torque:.0f} N·m "
+                               f"(rigid floor {r.rigid_peak_torque:.0f}), {r.wall_time:.0f} s"),
+             OUT / f"ocp_{a.case}.png")
     with open(OUT / "ocp.jsonl", "a") as fh:
         fh.write(json.dumps(row, default=float) + "\n")
     print(json.dumps({k: v for k, v in row.items() if k not in ("objective_history", "history", "coefficients")},

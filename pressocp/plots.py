@@ -137,3 +137,31 @@ def plot_impact_study(study) -> "plt.Figure":
     axes[1, 0].legend(fontsize=8)
     fig.tight_layout()
     return fig
+
+
+def plot_speed_design(result, title: str = "") -> "plt.Figure":
+    """Initial vs optimal speed (an `pressocp.ocp.OcpResult`): crank speed, motor torque, slider normal
+    force and ram velocity on the target model, with the rigid optimum on the rigid model dashed and
+    the working window shaded (the seed's Figs. 9-11)."""
+    si, so = result.initial_simulation, result.simulation
+    if si is None or so is None:
+        raise ValueError("result must hold the initial and optimal simulations (from optimize_speed)")
+    fig, axes = plt.subplots(4, 1, figsize=(8, 10), sharex=True)
+    rows = [("omega", "crank speed ω, rad/s"), ("torque", "motor torque, N·m"),
+            ("slider_normal_force", "slider normal force, N"), ("ram_velocity", "ram velocity, m/s")]
+    label = "optimum" if result.success else "best iterate (not converged)"
+    for ax, (key, name) in zip(axes, rows):
+        ax.plot(si.t, getattr(si, key), lw=0.8, color="tab:red", label="initial (rigid design), target model")
+        ax.plot(so.t, getattr(so, key), lw=1.0, color="tab:blue", label=f"{label}, target model")
+        if result.rigid is not None:
+            rr = result.rigid.simulation
+            ax.plot(rr.t, getattr(rr, key), lw=0.8, ls="--", color="k", label="rigid optimum, rigid model")
+        ax.axvspan(result.t1, result.t2, color="0.9", zorder=0)
+        ax.set_ylabel(name)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=7, loc="upper right")
+    axes[-1].set_xlabel("time, s (grey: working window)")
+    if title:
+        axes[0].set_title(title, fontsize=9)
+    fig.tight_layout()
+    return fig
