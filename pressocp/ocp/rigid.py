@@ -19,7 +19,7 @@ from .problem import SpeedProblem
 from .result import OcpResult
 
 #: Fraction of the ram-speed tolerance enforced at the rigid stage's window samples.
-RAM_SPEED_BACKOFF = 0.95
+RAM_SPEED_BACKOFF = 0.9
 IPOPT_DEFAULTS = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False, "ipopt.max_iter": 300,
                   "ipopt.tol": 1e-8, "ipopt.linear_solver": "mumps"}
 
@@ -95,8 +95,9 @@ def solve_rigid(problem: SpeedProblem, initial: FourierSpeed | None = None, samp
         f = s / scale
         loads = {"peak_torque": [tau], "peak_slider_normal_force": [nf], "peak_pin_force": [fa, fb]}[P.objective]
         add_epigraph(cons, loads, s, scale)
-    # 5 % back-off: the bound holds at the samples, the verification checks the whole window and the
-    # clearance model adds the journals' motion to the ram velocity
+    # 10 % back-off: the bound holds at the samples, the verification checks the whole window, and the
+    # clearance model adds the journals' motion to the ram velocity (at T = 0.8 s the no-reversal
+    # optimum with 5 % reached 0.99 tol on the rigid rod and 1.001 tol on the flexible one)
     add_window(cons, P, f_kin, c, t1, m, RAM_SPEED_BACKOFF)
     add_speed_bounds(cons, P, om, al)
     if P.min_tension is not None:  # no joint-force reversal
