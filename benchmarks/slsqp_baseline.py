@@ -17,6 +17,7 @@ from scipy.optimize import minimize
 
 from pressocp.model import PressModel
 from pressocp.ocp import SpeedProblem
+from pressocp.ocp.optimize import settled_state
 from pressocp.ocp.rigid import _speed_functions
 from pressocp.simulate import SimulationError, simulate
 from pressocp.speed import FourierSpeed
@@ -54,9 +55,8 @@ def slsqp_baseline(model: PressModel, problem: SpeedProblem, initial: FourierSpe
                 r = simulate(model, sp, periodic=True, method="cvodes", rtol=rtol, n_out=samples + 1, x0=state["x0"])
                 state["x0"] = r.states[:, 0] / model.x_scale
             except SimulationError:  # no periodic state (impacting, chaotic): the 4th cycle, as the seed did
-                warm = simulate(model, sp, cycles=3, method="cvodes", rtol=rtol, n_out=4)
                 r = simulate(model, sp, method="cvodes", rtol=rtol, n_out=samples + 1,
-                             x0=warm.states[:, -1] / model.x_scale)
+                             x0=settled_state(model, sp, 3, rtol))
             out = (r.torque[:-1], r.ram_velocity[:-1])
             state["evals"] += 1
             state["cache"] = {key: out}

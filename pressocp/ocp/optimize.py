@@ -66,8 +66,7 @@ def _warm_nodes(model: PressModel, speed: FourierSpeed, grid: ShootingGrid, meth
         x0, info = periodic_state(model, speed, method="cvodes", rtol=min(rtol, 1e-7))
         info = {"periodic_warm_start": True, **info}
     except SimulationError as err:
-        r = simulate(model, speed, cycles=3, method="cvodes", rtol=min(rtol, 1e-7), n_out=3 * 200 + 1)
-        x0 = r.states[:, -1] / model.x_scale
+        x0 = settled_state(model, speed, 3, min(rtol, 1e-7))
         info = {"periodic_warm_start": False, "reason": str(err).splitlines()[0]}
     return node_states(model, speed, x0, grid, "cvodes", min(rtol, 1e-7)), info
 
@@ -211,9 +210,9 @@ def optimize_speed(
     ratio, verified = _check_on(base, rigid, problem, records[0])
     start = rigid  # the speed the clearance stages start from, or the answer
     if not verified and tension_margin is not None and model.params.process_force.force == 0.0:
-        nr = solve_rigid(replace(problem, min_tension=tension_margin * problem.hanging_weight), rigid.speed,
-                         samples=rigid_samples)
-        rec = {**nr.stages[0], "name": "no_reversal", "min_tension": tension_margin * problem.hanging_weight}
+        bound = tension_margin * problem.hanging_weight
+        nr = solve_rigid(replace(problem, min_tension=bound), rigid.speed, samples=rigid_samples)
+        rec = {**nr.stages[0], "name": "no_reversal", "min_tension": bound}
         records.append(rec)
         history.extend(nr.objective_history)
         if nr.success:
@@ -261,7 +260,8 @@ def optimize_speed(
     t2 = t1 + problem.window_duration
     sim = _verify(model, speed, verify_rtol)
     init_rigid = rigid_response(model.params, initial, np.linspace(0.0, period, 20001))
-    init_sim = _screened(model, initial, objective_peak(init_rigid, objective), objective, min(1e-7, 10 * verify_rtol))[0]
+    init_sim = _screened(model, initial, objective_peak(init_rigid, objective), objective,
+                         min(1e-7, 10 * verify_rtol))[0]
     viol = ram_speed_violation(sim, problem, t1)
     return OcpResult(
         speed=speed, objective=objective, peak_torque=sim.peak("torque"),
@@ -296,13 +296,12 @@ def _screened(model: PressModel, speed: FourierSpeed, rigid_value: float, object
     chaotic, and the failing search took ~25 s at T = 0.8 s on the rigid rod, many minutes on the
     flexible one). Otherwise the periodic response (`_verify`) from the screen's state.
     Returns (sim, ratio, periodic: True, False (searched, not found) or a reason string)."""
-    warm = simulate(model, speed, cycles=3, method="cvodes", rtol=rtol, n_out=4)
-    x3 = warm.states[:, -1] / model.x_scale
-    sim = simulate(model, speed, method="cvodes", rtol=rtol, n_out=20001, x0=x3)
+    x3 = settled_state(model, speed, 3, rtol)
+    reason = "not searched: impacting (4th cycle from rest)"
+    sim = _cycle_from(model, speed, rtol, x3, cycle=4, reason=reason)
     ratio = objective_peak(sim, objective) / rigid_value
     if ratio > IMPACT_RATIO:
-        sim.stats["periodic"] = {"found": False, "reason": "not searched: impacting (4th cycle from rest)", "cycle": 4}
-        return sim, ratio, "not searched: impacting (4th cycle from rest)"
+        return sim, ratio, reason
     sim = _verify(model, speed, rtol, x0=x3)
     return sim, objective_peak(sim, objective) / rigid_value, sim.stats["periodic"].get("found", True)
 
@@ -325,7 +324,19 @@ def _verify(model: PressModel, speed: FourierSpeed, rtol: float, x0: np.ndarray 
     try:
         return simulate(model, speed, periodic=True, method="cvodes", rtol=rtol, n_out=20001, x0=x0)
     except SimulationError as err:
-        warm = simulate(model, speed, cycles=5, method="cvodes", rtol=rtol, n_out=11)
-        sim = simulate(model, speed, method="cvodes", rtol=rtol, n_out=20001, x0=warm.states[:, -1] / model.x_scale)
-        sim.stats["periodic"] = {"found": False, "reason": str(err).splitlines()[0], "cycle": 6}
-        return sim
+        return _cycle_from(model, speed, rtol, settled_state(model, speed, 5, rtol), cycle=6,
+                           reason=str(err).splitlines()[0])
+
+
+def settled_state(model: PressModel, speed: FourierSpeed, cycles: int, rtol: float) -> np.ndarray:
+    """Scaled state after `cycles` cycles from rest (CVODES at `rtol`)."""
+    r = simulate(model, speed, cycles=cycles, method="cvodes", rtol=rtol, n_out=cycles + 1)
+    return r.states[:, -1] / model.x_scale
+
+
+def _cycle_from(model: PressModel, speed: FourierSpeed, rtol: float, x0: np.ndarray, cycle: int, reason: str):
+    """One cycle from the scaled state `x0` on the fine grid, standing in for a periodic response that
+    was not found or not searched for: ``stats["periodic"]`` records which cycle from rest it is and why."""
+    sim = simulate(model, speed, method="cvodes", rtol=rtol, n_out=20001, x0=x0)
+    sim.stats["periodic"] = {"found": False, "reason": reason, "cycle": cycle}
+    return sim
