@@ -109,6 +109,10 @@ def test_optimize_speed_smoke_stopped_ipopt_is_flagged(case):
     # the warm start was the converged rigid optimum: the iterate stays near its floor
     assert r.peak_torque < 1.2 * r.rigid_peak_torque
     assert set(r.stages[1]["violations"]) >= {"continuity", "epigraph", "ram_speed_samples", "omega"}
+    # a warm start: the barrier starts small and only decreases (with a limited-memory Hessian IPOPT's
+    # default adaptive strategy ignores mu_init and raised it to 0.25 on the seed case)
+    mu = r.stages[1]["barrier"]
+    assert mu and mu[0] <= 1e-4 and np.all(np.diff(mu) <= 0.0)
 
 
 def test_auto_stages_accept_a_verified_rigid_optimum(case):

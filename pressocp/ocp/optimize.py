@@ -250,7 +250,7 @@ def optimize_speed(
         records.append({"name": name, "status": sol.status, "iterations": sol.iterations, "wall_time": sol.wall_time,
                        "objective": sol.value,
                        "violations_start": sol.violations_start, "violations": sol.violations, "intervals": N, "samples": S,
-                       "method": method, **warm})
+                       "method": method, "barrier": sol.barrier, **warm})
         history.extend(sol.history)
         speed, success, status, value = sol.speed, sol.success, sol.status, sol.value
         if not success:

@@ -42,7 +42,9 @@ class OcpResult:
     objective_history : list of float
         Objective per IPOPT iteration (all stages, in order).
     stages : list of dict
-        Per stage: name, status, iterations, wall time, objective.
+        Per stage: name, status, iterations, wall time, objective; a shooting stage adds its
+        constraint violations by group at the start and end, its grid, and ``barrier`` (IPOPT's
+        barrier parameter per iteration).
     simulation : SimResult or None
         Re-simulated (or re-evaluated) response of the optimum.
     initial_simulation : SimResult or None

@@ -197,6 +197,7 @@ class ShootingSolution:
     iterations: int
     wall_time: float
     history: list
+    barrier: list
     violations_start: dict
     violations: dict
     failure: ShootingError | None
@@ -299,8 +300,11 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
         bar = tqdm(desc=f"{stage} ({N}x{S} {method})", unit="it", leave=True)
     cb = _Iterations(w.numel(), lbg_a.size, lbg_a, ubg_a, bar)
     # Warm start: a small initial barrier parameter and bound push keep IPOPT from pushing the epigraph
-    # variable (and every other inequality) into the interior first.
-    opts = {**IPOPT_DEFAULTS, "ipopt.hessian_approximation": "limited-memory", "ipopt.tol": 1e-6,
+    # variable (and every other inequality) into the interior first. The monotone barrier strategy must
+    # be asked for: with a limited-memory Hessian IPOPT defaults to the adaptive one, which ignores
+    # mu_init (measured: mu rose to 0.25 and the second step left the smooth region).
+    opts = {**IPOPT_DEFAULTS, "ipopt.hessian_approximation": "limited-memory", "ipopt.mu_strategy": "monotone",
+            "ipopt.tol": 1e-6,
             "ipopt.acceptable_tol": 1e-4, "ipopt.acceptable_iter": 5, "ipopt.max_iter": 200,
             "ipopt.mu_init": 1e-4, "ipopt.bound_push": 1e-6, "ipopt.bound_frac": 1e-6, "iteration_callback": cb,
             **(ipopt_options or {})}
@@ -324,8 +328,10 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
         st = solver.stats()
         wo, success, status = np.asarray(sol["x"]).ravel(), bool(st["success"]), str(st["return_status"])
         iters = int(st.get("iter_count", len(cb.history)))
+        barrier = [float(m) for m in st.get("iterations", {}).get("mu", [])]
     except RuntimeError as err:  # IPOPT itself raised (e.g. an evaluation error at the start)
         wo, success, status, iters = (cb.best[2] if cb.best else w0), False, _first_line(err), len(cb.history)
+        barrier = []
     finally:
         if bar is not None:
             bar.close()
@@ -345,5 +351,5 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     history = [h * scale for h in cb.history] if P.objective != "rms_torque" else \
         [float(np.sqrt(max(h, 0.0)) * scale) for h in cb.history]
     return ShootingSolution(speed=speed, nodes=Xo, value=value, success=success, status=status, iterations=iters,
-                            wall_time=time.perf_counter() - t_start, history=history, violations_start=viol_start, violations=viol_end,
+                            wall_time=time.perf_counter() - t_start, history=history, barrier=barrier, violations_start=viol_start, violations=viol_end,
                             failure=failure)
