@@ -83,6 +83,21 @@ def test_bad_nodes_shape_rejected(case):
         solve_shooting(prob, model, speed, np.zeros((3, 3)), 0.3, ShootingGrid(1.0, 4, 2))
 
 
+def test_coefficient_trust_region_holds(case):
+    """Every Fourier coefficient of the returned iterate stays within coefficient_step of the start."""
+    params, model, speed, x0 = case
+    prob = SpeedProblem(params, period=1.0, ram_speed=-0.15, n_harmonics=N_HARM)
+    grid = ShootingGrid(1.0, 2, 2)
+    step = 1e-4
+    with pytest.raises(ValueError, match=r"coefficient_step must be in \(0, inf\) rad/s"):
+        solve_shooting(prob, model, speed, node_states(model, speed, x0, grid), 0.3, grid, coefficient_step=0.0)
+    sol = solve_shooting(prob, model, speed, node_states(model, speed, x0, grid), 0.3, grid, method="cvodes",
+                         coefficient_step=step, ipopt_options={"ipopt.max_iter": 3})
+    moved = np.abs(sol.speed.coefficients - speed.padded(N_HARM).coefficients)
+    # IPOPT relaxes bounds by 1e-8 x max(1, |bound|): coefficients are below 10 rad/s here
+    assert np.all(moved <= step + 1e-7) and np.max(moved) > 0.5 * step  # moved, up to the bound
+
+
 @pytest.mark.parametrize(
     "kwargs, match",
     [(dict(ram_speed=-0.01), "cannot deliver"), (dict(window=(0.7, 0.9)), "window"),

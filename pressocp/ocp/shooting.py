@@ -207,7 +207,8 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
                    t1: float, grid: ShootingGrid, stage: str = "clearance", periodic: bool = True,
                    method: str = "idas", rtol: float = 1e-6, window_samples: int = 200,
                    omega_samples: int = 1000, ipopt_options: dict | None = None, progress: bool = False,
-                   scale: float | None = None, max_steps: int = 10**6) -> ShootingSolution:
+                   scale: float | None = None, max_steps: int = 10**6,
+                   coefficient_step: float | None = None) -> ShootingSolution:
     """One multiple-shooting stage of the speed problem on `model`, warm-started at (initial, nodes).
 
     Parameters
@@ -239,6 +240,9 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
         Objective scale (the load's unit size); default the warm start's peak at the samples.
     max_steps : int
         Step limit of each interval integration.
+    coefficient_step : float, optional
+        Trust region, rad/s: every Fourier coefficient stays within this distance of the warm
+        start's (an outer loop re-centres it on each verified iterate; see the README).
 
     Raises
     ------
@@ -251,6 +255,8 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     nodes = np.asarray(nodes, float)
     if nodes.shape != (model.nx, N):
         raise ValueError(f"nodes must have shape ({model.nx}, {N}), got {nodes.shape}")
+    if coefficient_step is not None:
+        chk.positive("coefficient_step", coefficient_step, "rad/s")
     t_start = time.perf_counter()
     names = LOADS[P.objective] + ("ram_velocity",)
     G = interval_function(model, grid, names, method, rtol, max_steps=max_steps)
@@ -320,6 +326,8 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     lbw = np.full(w0.size, -np.inf)
     ubw = np.full(w0.size, np.inf)
     lbw[2 * n] = 0.0
+    if coefficient_step is not None:
+        lbw[: 2 * n], ubw[: 2 * n] = w0[: 2 * n] - coefficient_step, w0[: 2 * n] + coefficient_step
     if not periodic:
         lbw[2 * n + 1 : 2 * n + 1 + model.nx] = ubw[2 * n + 1 : 2 * n + 1 + model.nx] = nodes[:, 0]
     viol_start = violations(w0)
