@@ -101,7 +101,9 @@ def test_coefficient_trust_region_holds(case):
 @pytest.mark.parametrize(
     "kwargs, match",
     [(dict(ram_speed=-0.01), "cannot deliver"), (dict(window=(0.7, 0.9)), "window"),
-     (dict(intervals=0), "intervals"), (dict(method="euler"), "method"), (dict(period=-1.0), "period")],
+     (dict(intervals=0), "intervals"), (dict(method="euler"), "method"), (dict(period=-1.0), "period"),
+     (dict(refine_rounds=-1), r"refine_rounds must be an integer in \[0, 100\]"),
+     (dict(refine_step=0.0), r"refine_step must be in \(0, inf\) rad/s")],
 )
 def test_infeasible_requests_rejected_before_solving(case, kwargs, match):
     _, model, _, _ = case
@@ -141,3 +143,22 @@ def test_auto_stages_accept_a_verified_rigid_optimum(case):
     assert r.peak_torque <= 1.02 * r.rigid_peak_torque
     assert r.max_ram_speed_violation == 0.0
     assert r.simulation.stats["periodic"]["residual"] < 1e-4
+
+
+def test_refine_round_keeps_only_a_verified_improvement(case):
+    """One trust-region round after the verified rigid optimum (60 spm): the round's iterate moves at
+    most refine_step per coefficient, and it replaces the answer only if its periodic clearance
+    response is lower (else the answer is the rigid optimum, unchanged)."""
+    _, model, _, _ = case
+    r = optimize_speed(model, ram_speed=-0.15, n_harmonics=N_HARM, intervals=4, samples_per_interval=4,
+                       method="cvodes", refine_rounds=1, refine_step=0.05, ipopt_options={"ipopt.max_iter": 3},
+                       progress=False, rigid_samples=200, verify_rtol=1e-8)
+    names = [s["name"] for s in r.stages]
+    assert names == ["rigid", "target", "refine_1"] and r.success
+    rec, start_peak = r.stages[2], r.stages[0]["clearance_peak_torque"]
+    moved = np.abs(r.speed.coefficients - r.rigid.speed.coefficients)
+    if rec["accepted"]:
+        assert rec["clearance_value"] < start_peak and r.peak_torque < 1.001 * start_peak
+        assert 0.0 < np.max(moved) <= 0.05 + 1e-7 and r.max_ram_speed_violation == 0.0
+    else:
+        assert np.max(moved) == 0.0 and r.peak_torque == pytest.approx(start_peak, rel=1e-3)

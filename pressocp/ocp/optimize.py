@@ -12,6 +12,10 @@ Stages, each warm-starting the next:
    shooting (`solve_shooting`), node states from a simulation of the previous stage's speed.
 3. ``target``: the clearance model as given.
 4. ``flexible``: when the model's rod is flexible, the same problem on it.
+5. ``refine_k`` (opt-in, ``refine_rounds``): trust-region rounds of shooting on the clearance model
+   from the answer so far (`solve_shooting` with ``coefficient_step``, a few IPOPT iterations each);
+   a round's final iterate is kept only when its periodic re-simulation lowers the objective with
+   the ram speed in tolerance. Slow (minutes per round) but every accepted step is verified.
 
 The optimum is then re-simulated with `simulate(..., periodic=True)` at ``verify_rtol`` on a fine
 grid; ``peak_torque``, the ram-speed violation and ``simulation`` come from that run, not from the
@@ -46,6 +50,9 @@ VERIFIED_RATIO = 1.02
 #: Default lower bound on the rod tension of the ``no_reversal`` stage, as a fraction of the weight of
 #: rod and slider (measured on the default press at T = 0.8 s: see the README).
 DEFAULT_TENSION_MARGIN = 0.05
+#: IPOPT iterations per trust-region refinement round, and the trust region's growth and shrink factors.
+REFINE_ITERATIONS = 6
+REFINE_GROW, REFINE_SHRINK = 1.5, 0.4
 #: Default shooting intervals per period and output samples per interval.
 DEFAULT_INTERVALS = 16
 DEFAULT_SAMPLES = 25
@@ -97,6 +104,8 @@ def optimize_speed(
     max_steps: int = 10**6,
     stages: str = "auto",
     tension_margin: float | None = DEFAULT_TENSION_MARGIN,
+    refine_rounds: int = 0,
+    refine_step: float = 0.2,
 ) -> OcpResult:
     """Design the crank speed that minimises a peak load with a constant ram speed in the window.
 
@@ -158,6 +167,13 @@ def optimize_speed(
         Rod tension kept at both pins by the ``no_reversal`` stage, as a fraction of the weight of
         rod and slider, in [0, 1); None skips that stage. It runs only when the rigid optimum is not
         verified on the clearance model and the press has no process force.
+    refine_rounds : int
+        Trust-region refinement rounds on the clearance model (rigid rod) after the other stages,
+        0..100 (default 0: none). Each runs `REFINE_ITERATIONS` IPOPT iterations of the shooting
+        NLP (``ipopt_options`` can override) and re-simulates the final iterate; measured on the
+        seed case: ≈ 3.5 min per round, −3.1 % in 5 rounds (see the README).
+    refine_step : float
+        Initial trust region of the refinement, rad/s on every Fourier coefficient (> 0).
 
     Returns
     -------
@@ -191,6 +207,8 @@ def optimize_speed(
         chk.in_open_interval("soft_factor", soft_factor, 1.0, 1e8)
     if tension_margin is not None:
         chk.in_half_open_interval("tension_margin", tension_margin, 0.0, 1.0)
+    refine_rounds = chk.integer("refine_rounds", refine_rounds, 0, 100)
+    chk.positive("refine_step", refine_step, "rad/s")
     if model.n_harmonics != n_harmonics:
         model = build_model(model.params, model.rod, model.clearance, model.n_elements, n_harmonics)
     if initial is None:
@@ -257,6 +275,10 @@ def optimize_speed(
             status = f"stage {name!r}: {status}"
             break
 
+    if refine_rounds and success:
+        speed, value = _refine(problem, base, speed, value, t1, grid, refine_rounds, refine_step, records, history,
+                               method=method, rtol=rtol, ipopt_options=ipopt_options, progress=progress,
+                               max_steps=max_steps)
     t2 = t1 + problem.window_duration
     sim = _verify(model, speed, verify_rtol)
     init_rigid = rigid_response(model.params, initial, np.linspace(0.0, period, 20001))
@@ -271,6 +293,38 @@ def optimize_speed(
         min_omega=speed.min_speed(), objective_history=history, stages=records, simulation=sim,
         initial_simulation=init_sim, rigid=rigid,
     )
+
+
+def _refine(problem: SpeedProblem, model: PressModel, speed: FourierSpeed, value: float, t1: float,
+            grid: ShootingGrid, rounds: int, step: float, records: list, history: list, **shooting) -> tuple:
+    """Trust-region rounds of `solve_shooting` on `model` from `speed`; (speed, optimiser value) of the
+    last accepted round, or the inputs. Appends a record per round to `records`."""
+    best = objective_peak(_verify(model, speed, 1e-7), problem.objective)
+    opts = {"ipopt.max_iter": REFINE_ITERATIONS, **(shooting.pop("ipopt_options") or {})}
+    for k in range(rounds):
+        t0 = time.perf_counter()
+        rec = {"name": f"refine_{k + 1}", "coefficient_step": step, "iterations": 0, "objective": value}
+        records.append(rec)
+        try:
+            nodes, _ = _warm_nodes(model, speed, grid, shooting["method"], shooting["rtol"])
+            sol = solve_shooting(problem, model, speed, nodes, t1, grid, stage=rec["name"], ipopt_options=opts,
+                                 coefficient_step=step, **shooting)
+        except SimulationError as err:  # the verified answer so far stands
+            rec.update(status=f"stopped: {str(err).splitlines()[0]}", accepted=False,
+                       wall_time=time.perf_counter() - t0)
+            break
+        history.extend(sol.history)
+        sim, ratio, periodic = _screened(model, sol.last_speed, best, problem.objective, 1e-7)
+        viol = ram_speed_violation(sim, problem, t1)
+        accepted = bool(periodic is True and ratio < 1.0 and viol <= 0.0)
+        rec.update(status=sol.status, iterations=sol.iterations, accepted=accepted, clearance_value=ratio * best,
+                   periodic=periodic, ram_speed_violation=max(viol, 0.0), wall_time=time.perf_counter() - t0)
+        if accepted:
+            speed, best, step = sol.last_speed, ratio * best, step * REFINE_GROW
+            value = rec["objective"] = float(sol.history[-1]) if sol.history else value
+        else:
+            step *= REFINE_SHRINK
+    return speed, value
 
 
 def objective_peak(sim, objective: str) -> float:

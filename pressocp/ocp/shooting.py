@@ -187,7 +187,10 @@ class _Iterations(ca.Callback):
 
 @dataclass
 class ShootingSolution:
-    """Raw output of one shooting stage (turned into an `OcpResult` by `optimize_speed`)."""
+    """Raw output of one shooting stage (turned into an `OcpResult` by `optimize_speed`).
+
+    ``speed`` and ``nodes`` are the solution, or when IPOPT did not succeed its least infeasible
+    iterate; ``last_speed`` is IPOPT's final iterate either way."""
 
     speed: FourierSpeed
     nodes: np.ndarray
@@ -198,6 +201,7 @@ class ShootingSolution:
     wall_time: float
     history: list
     barrier: list
+    last_speed: FourierSpeed
     violations_start: dict
     violations: dict
     failure: ShootingError | None
@@ -343,6 +347,7 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     finally:
         if bar is not None:
             bar.close()
+    last = FourierSpeed(T, wo[:n], wo[n : 2 * n])
     if not success and cb.best is not None:
         wo = cb.best[2]
     speed = FourierSpeed(T, wo[:n], wo[n : 2 * n])
@@ -359,5 +364,5 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     history = [h * scale for h in cb.history] if P.objective != "rms_torque" else \
         [float(np.sqrt(max(h, 0.0)) * scale) for h in cb.history]
     return ShootingSolution(speed=speed, nodes=Xo, value=value, success=success, status=status, iterations=iters,
-                            wall_time=time.perf_counter() - t_start, history=history, barrier=barrier, violations_start=viol_start, violations=viol_end,
+                            wall_time=time.perf_counter() - t_start, history=history, barrier=barrier, last_speed=last, violations_start=viol_start, violations=viol_end,
                             failure=failure)
