@@ -298,15 +298,19 @@ def optimize_speed(
 def _refine(problem: SpeedProblem, model: PressModel, speed: FourierSpeed, value: float, t1: float,
             grid: ShootingGrid, rounds: int, step: float, records: list, history: list, **shooting) -> tuple:
     """Trust-region rounds of `solve_shooting` on `model` from `speed`; (speed, optimiser value) of the
-    last accepted round, or the inputs. Appends a record per round to `records`."""
-    best = objective_peak(_verify(model, speed, 1e-7), problem.objective)
+    last accepted round, or the inputs. Appends a record per round to `records`.
+
+    Each round's node states are integrated from the periodic state of the current speed, taken
+    from its verifying re-simulation (the start's, then each accepted candidate's)."""
+    sim = _verify(model, speed, 1e-7)
+    best = objective_peak(sim, problem.objective)
     opts = {"ipopt.max_iter": REFINE_ITERATIONS, **(shooting.pop("ipopt_options") or {})}
     for k in range(rounds):
         t0 = time.perf_counter()
         rec = {"name": f"refine_{k + 1}", "coefficient_step": step, "iterations": 0, "objective": value}
         records.append(rec)
         try:
-            nodes, _ = _warm_nodes(model, speed, grid, shooting["method"], shooting["rtol"])
+            nodes = node_states(model, speed, sim.states[:, 0] / model.x_scale, grid, "cvodes", 1e-7)
             sol = solve_shooting(problem, model, speed, nodes, t1, grid, stage=rec["name"], ipopt_options=opts,
                                  coefficient_step=step, **shooting)
         except SimulationError as err:  # the verified answer so far stands
@@ -314,13 +318,13 @@ def _refine(problem: SpeedProblem, model: PressModel, speed: FourierSpeed, value
                        wall_time=time.perf_counter() - t0)
             break
         history.extend(sol.history)
-        sim, ratio, periodic = _screened(model, sol.last_speed, best, problem.objective, 1e-7)
-        viol = ram_speed_violation(sim, problem, t1)
+        cand, ratio, periodic = _screened(model, sol.last_speed, best, problem.objective, 1e-7)
+        viol = ram_speed_violation(cand, problem, t1)
         accepted = bool(periodic is True and ratio < 1.0 and viol <= 0.0)
         rec.update(status=sol.status, iterations=sol.iterations, accepted=accepted, clearance_value=ratio * best,
                    periodic=periodic, ram_speed_violation=max(viol, 0.0), wall_time=time.perf_counter() - t0)
         if accepted:
-            speed, best, step = sol.last_speed, ratio * best, step * REFINE_GROW
+            speed, sim, best, step = sol.last_speed, cand, ratio * best, step * REFINE_GROW
             value = rec["objective"] = float(sol.history[-1]) if sol.history else value
         else:
             step *= REFINE_SHRINK

@@ -364,5 +364,5 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     history = [h * scale for h in cb.history] if P.objective != "rms_torque" else \
         [float(np.sqrt(max(h, 0.0)) * scale) for h in cb.history]
     return ShootingSolution(speed=speed, nodes=Xo, value=value, success=success, status=status, iterations=iters,
-                            wall_time=time.perf_counter() - t_start, history=history, barrier=barrier, last_speed=last, violations_start=viol_start, violations=viol_end,
-                            failure=failure)
+                            wall_time=time.perf_counter() - t_start, history=history, barrier=barrier,
+                            last_speed=last, violations_start=viol_start, violations=viol_end, failure=failure)
