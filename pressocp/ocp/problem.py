@@ -40,11 +40,13 @@ class SpeedProblem:
     omega_max, alpha_max : float or None
         Optional motor limits |omega| <= omega_max (rad/s), |alpha| <= alpha_max (rad/s^2).
     min_tension : float or None
-        Lower bound on the rod's axial tension at both pins in the rigid model, N, in
-        [0, weight of rod and slider). The slider hangs from the rod; a bound > 0 forbids the
+        Lower bound on the rod's axial tension at both pins in the rigid model, N, below the
+        weight of rod and slider. The slider hangs from the rod; a bound >= 0 forbids the
         joint-force reversal (tension to compression, the ram falling faster than g) that makes the
-        journals cross their clearance and impact. Needs a press without process force (the
-        forming load compresses the rod). None: no bound.
+        journals cross their clearance and impact. A negative bound allows a shallow reversal, at
+        most -min_tension of compression (at 75 spm 30 N of it already impacts: README,
+        `benchmarks/bench_reversal.py`). Needs a press without process force (the forming load
+        compresses the rod). None: no bound.
     """
 
     params: PressParams
@@ -77,7 +79,7 @@ class SpeedProblem:
         if self.alpha_max is not None:
             chk.positive("alpha_max", self.alpha_max, "rad/s^2")
         if self.min_tension is not None:
-            chk.in_half_open_interval("min_tension", self.min_tension, 0.0, self.hanging_weight, "N")
+            chk.in_open_interval("min_tension", self.min_tension, -np.inf, self.hanging_weight, "N")
             if self.params.process_force.force != 0.0:
                 raise ValueError("min_tension needs process_force.force == 0: the forming load compresses the rod, "
                                  "so its axial force must change sign")
