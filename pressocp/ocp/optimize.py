@@ -33,7 +33,7 @@ from .. import _checks as chk
 from ..design import design_speed
 from ..model import PressModel, build_model
 from ..params import PressParams
-from ..rigid import rigid_response
+from ..rigid import rigid_inverse_dynamics, rigid_response
 from ..simulate import SimulationError, periodic_state, simulate
 from ..speed import DEFAULT_HARMONICS, FourierSpeed
 from .problem import SpeedProblem
@@ -370,6 +370,8 @@ def _check_on(model: PressModel, rigid: OcpResult, problem: SpeedProblem, record
     rigid_value = objective_peak(rigid.simulation, problem.objective)
     probe, ratio, periodic = _screened(model, rigid.speed, rigid_value, problem.objective, 1e-7)
     viol = ram_speed_violation(probe, problem, rigid.t1)
+    ne = rigid_inverse_dynamics(problem.params, *rigid.speed.evaluate(rigid.simulation.t))
+    record["min_rod_tension"] = float(min(ne["crank_pin_tension"].min(), ne["wrist_pin_tension"].min()))
     record.update({prefix + "clearance_peak_torque": probe.peak("torque"), prefix + "clearance_ratio": ratio,
                    prefix + "periodic": periodic, prefix + "ram_speed_violation": max(viol, 0.0)})
     return ratio, bool(periodic is True and ratio <= VERIFIED_RATIO and viol <= 0.0)

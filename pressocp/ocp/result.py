@@ -44,7 +44,11 @@ class OcpResult:
     stages : list of dict
         Per stage: name, status, iterations, wall time, objective; a shooting stage adds its
         constraint violations by group at the start and end, its grid, and ``barrier`` (IPOPT's
-        barrier parameter per iteration).
+        barrier parameter per iteration). A rigid-model stage checked on the clearance model
+        (``rigid``, ``no_reversal``) adds ``clearance_peak_torque`` (N m), ``clearance_ratio``
+        (to its rigid-model peak), ``periodic``, ``ram_speed_violation`` (m/s) and
+        ``min_rod_tension`` (N, the smaller axial tension of the two pins over the cycle on the
+        rigid model: negative means the joint forces reverse).
     simulation : SimResult or None
         Re-simulated (or re-evaluated) response of the optimum.
     initial_simulation : SimResult or None
