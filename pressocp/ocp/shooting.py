@@ -279,7 +279,6 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     X = ca.MX.sym("X", model.nx, N)
     p = ca.vertcat(c, T, 0.0)
     Xf, Y = Gm(X, ca.repmat(p, 1, N), ca.DM(grid.nodes).T)
-    ts = grid.times
     nl = len(names) - 1
     Yl, v = Y[:nl, :], Y[nl, :]
     if scale is None:
@@ -287,6 +286,32 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     cons = Constraints()
     nxt = ca.horzcat(X[:, 1:], X[:, :1]) if periodic else X[:, 1:]
     cons.add((Xf if periodic else Xf[:, :-1]) - nxt, 0.0, 0.0, "continuity")
+    f = sampled_problem(cons, P, c, s, Yl, v, grid.times, t1, scale, window_samples, omega_samples)
+
+    s0 = float(np.max(np.abs(y0[:nl]))) if P.objective != "rms_torque" else 0.0
+    w0 = np.concatenate([initial.padded(n).coefficients, [s0], nodes.ravel(order="F")])
+    fixed = slice(2 * n + 1, 2 * n + 1 + model.nx) if not periodic else None
+    r = solve_nlp(P, ca.vertcat(c, s, ca.vec(X)), f, cons, w0, scale, f"shooting_{stage}",
+                  f"{stage} ({N}x{S} {method})", ipopt_options, progress, coefficient_step, fixed)
+    Xo = r["w"][2 * n + 1 :].reshape((model.nx, N), order="F")
+    failure, status = None, r["status"]
+    if not r["success"]:
+        failure = locate_failure(G, Xo, model.parameters(r["speed"]), grid, stage, method)
+        if failure is not None:
+            status = f"{status}; {failure}"
+    return ShootingSolution(speed=r["speed"], nodes=Xo, value=r["value"], success=r["success"], status=status,
+                            iterations=r["iterations"], wall_time=time.perf_counter() - t_start,
+                            history=r["history"], barrier=r["barrier"], last_speed=r["last_speed"],
+                            violations_start=r["violations_start"],
+                            violations=r["violations"] if failure is None else {}, failure=failure)
+
+
+def sampled_problem(cons: Constraints, P: SpeedProblem, c, s, Yl, v, ts: np.ndarray, t1: float, scale: float,
+                    window_samples: int, omega_samples: int):
+    """Objective and the constraints a state transcription puts on its output samples and on the
+    coefficients: epigraph (or RMS) of the loads ``Yl`` at times ``ts``, ram speed ``v`` at the
+    samples inside the window, the kinematic window, crank speed bounds. Returns the objective."""
+    n, T = P.n_harmonics, P.period
     if P.objective == "rms_torque":
         f = ca.sumsqr(Yl) / Yl.numel() / scale**2
     else:
@@ -300,14 +325,22 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     tt, cc = ca.SX.sym("t"), ca.SX.sym("c", 2 * n)
     f_om = ca.Function("omega_alpha", [tt, cc], list(series(tt, cc[:n], cc[n:], T)[1:]))
     add_speed_bounds(cons, P, *f_om.map(omega_samples)(ca.DM(to).T, ca.repmat(c, 1, omega_samples)))
+    return f
 
-    w = ca.vertcat(c, s, ca.vec(X))
+
+def solve_nlp(P: SpeedProblem, w, f, cons: Constraints, w0: np.ndarray, scale: float, name: str, desc: str,
+              ipopt_options: dict | None, progress: bool, coefficient_step: float | None = None,
+              fixed: slice | None = None) -> dict:
+    """IPOPT (limited-memory Hessian, monotone barrier) on a state transcription whose variables
+    ``w`` start with the 2n coefficients and the epigraph variable. ``fixed`` variables stay at
+    ``w0``. Returns the solution (or the least-infeasible iterate when IPOPT fails) and its record."""
+    n, T = P.n_harmonics, P.period
     lbg_a, ubg_a = cons.lbg, cons.ubg
     bar = None
     if progress:
         from tqdm.auto import tqdm
 
-        bar = tqdm(desc=f"{stage} ({N}x{S} {method})", unit="it", leave=True)
+        bar = tqdm(desc=desc, unit="it", leave=True)
     cb = _Iterations(w.numel(), lbg_a.size, lbg_a, ubg_a, bar)
     # Warm start: a small initial barrier parameter and bound push keep IPOPT from pushing the epigraph
     # variable (and every other inequality) into the interior first. The monotone barrier strategy must
@@ -319,22 +352,16 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
             "ipopt.mu_init": 1e-4, "ipopt.bound_push": 1e-6, "ipopt.bound_frac": 1e-6, "iteration_callback": cb,
             **(ipopt_options or {})}
     gall = cons.g
-    solver = ca.nlpsol(f"shooting_{stage}", "ipopt", {"x": w, "f": f, "g": gall}, opts)
+    solver = ca.nlpsol(name, "ipopt", {"x": w, "f": f, "g": gall}, opts)
     g_fun = ca.Function("constraints", [w], [gall])
-
-    def violations(wv: np.ndarray) -> dict:
-        return cons.by_group(g_fun(wv))
-
-    s0 = float(np.max(np.abs(y0[:nl]))) if P.objective != "rms_torque" else 0.0
-    w0 = np.concatenate([initial.padded(n).coefficients, [s0], nodes.ravel(order="F")])
     lbw = np.full(w0.size, -np.inf)
     ubw = np.full(w0.size, np.inf)
     lbw[2 * n] = 0.0
     if coefficient_step is not None:
         lbw[: 2 * n], ubw[: 2 * n] = w0[: 2 * n] - coefficient_step, w0[: 2 * n] + coefficient_step
-    if not periodic:
-        lbw[2 * n + 1 : 2 * n + 1 + model.nx] = ubw[2 * n + 1 : 2 * n + 1 + model.nx] = nodes[:, 0]
-    viol_start = violations(w0)
+    if fixed is not None:
+        lbw[fixed] = ubw[fixed] = w0[fixed]
+    viol_start = cons.by_group(g_fun(w0))
     try:
         sol = solver(x0=w0, lbx=lbw, ubx=ubw, lbg=lbg_a, ubg=ubg_a)
         st = solver.stats()
@@ -350,19 +377,14 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     last = FourierSpeed(T, wo[:n], wo[n : 2 * n])
     if not success and cb.best is not None:
         wo = cb.best[2]
-    speed = FourierSpeed(T, wo[:n], wo[n : 2 * n])
-    Xo = wo[2 * n + 1 :].reshape((model.nx, N), order="F")
-    po = model.parameters(speed)
-    failure = None
-    if not success:
-        failure = locate_failure(G, Xo, po, grid, stage, method)
-        if failure is not None:
-            status = f"{status}; {failure}"
-    viol_end = violations(wo) if failure is None else {}
+    try:
+        viol_end = cons.by_group(g_fun(wo))
+    except RuntimeError:  # an integrator failing at the returned iterate: the caller locates it
+        viol_end = {}
     value = float(wo[2 * n]) if P.objective != "rms_torque" else float(np.sqrt(max(cb.history[-1], 0.0)) * scale) \
         if cb.history else np.nan
     history = [h * scale for h in cb.history] if P.objective != "rms_torque" else \
         [float(np.sqrt(max(h, 0.0)) * scale) for h in cb.history]
-    return ShootingSolution(speed=speed, nodes=Xo, value=value, success=success, status=status, iterations=iters,
-                            wall_time=time.perf_counter() - t_start, history=history, barrier=barrier,
-                            last_speed=last, violations_start=viol_start, violations=viol_end, failure=failure)
+    return {"w": wo, "speed": FourierSpeed(T, wo[:n], wo[n : 2 * n]), "last_speed": last, "value": value,
+            "success": success, "status": status, "iterations": iters, "barrier": barrier, "history": history,
+            "violations_start": viol_start, "violations": viol_end}
