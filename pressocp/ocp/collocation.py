@@ -1,0 +1,219 @@
+"""Direct-collocation transcription (Radau IIA) of the speed problem on a model with states, the
+alternative to multiple shooting for comparison.
+
+The period is cut into K equal elements. In each, the scaled state is a polynomial of degree d
+through its start value and d Radau points; the explicit ODE holds at the Radau points
+(collocation equations), the loads and the ram velocity are sampled there, and the end value of
+one element is the start of the next (the last one wraps to the first for a periodic response).
+The NLP variables are the Fourier coefficients, the epigraph variable and every state value; IPOPT
+solves it with the same constraints, barrier and options as the shooting stages (`solve_nlp`).
+
+No integrator runs inside the NLP, so an iteration is cheap, but the elements must resolve the
+contact dynamics (kHz modes of the rod on the bearing films): a too coarse grid is not a
+simulation of the model, and its optimum means nothing. Check it with `collocation_defect`.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from .. import _checks as chk
+from ..model import OUTPUT_NAMES, PressModel
+from ..simulate import _run
+from ..speed import FourierSpeed
+from .constraints import Constraints
+from .problem import SpeedProblem
+from .shooting import LOADS, ShootingSolution, sampled_problem, solve_nlp
+
+
+def radau_matrices(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Collocation points and matrices of the Radau IIA scheme of `degree` d.
+
+    Returns
+    -------
+    tau : ndarray, (d + 1,)
+        0 and the d Radau points in (0, 1] (the last is 1).
+    C : ndarray, (d + 1, d + 1)
+        ``C[j, r]``: derivative of the j-th Lagrange basis polynomial at ``tau[r]``, so that
+        ``sum_j C[j, r] x_j = h dx/dt(tau[r])`` on an element of length h.
+    D : ndarray, (d + 1,)
+        Basis polynomials at 1: the element's end value is ``sum_j D[j] x_j``.
+    """
+    d = chk.integer("degree", degree, 1, 9)
+    tau = np.append(0.0, ca.collocation_points(d, "radau"))
+    C = np.zeros((d + 1, d + 1))
+    D = np.zeros(d + 1)
+    for j in range(d + 1):
+        basis = np.poly1d([1.0])
+        for r in range(d + 1):
+            if r != j:
+                basis *= np.poly1d([1.0, -tau[r]]) / (tau[j] - tau[r])
+        D[j] = basis(1.0)
+        C[j] = np.polyder(basis)(tau)
+    return tau, C, D
+
+
+@dataclass(frozen=True)
+class CollocationGrid:
+    """K equal elements of Radau degree d over one period.
+
+    Attributes
+    ----------
+    period : float
+        s.
+    elements : int
+        K.
+    degree : int
+        d (3: order 5).
+    """
+
+    period: float
+    elements: int
+    degree: int = 3
+
+    def __post_init__(self) -> None:
+        chk.positive("period", self.period, "s")
+        chk.integer("elements", self.elements, 1, 100_000)
+        chk.integer("degree", self.degree, 1, 9)
+
+    @property
+    def h(self) -> float:
+        """Element length, s."""
+        return self.period / self.elements
+
+    @property
+    def starts(self) -> np.ndarray:
+        """Start times of the elements, s."""
+        return self.h * np.arange(self.elements)
+
+    @property
+    def points(self) -> np.ndarray:
+        """Times of every state value, element by element (start, then the d Radau points), s."""
+        tau = radau_matrices(self.degree)[0]
+        return (self.starts[:, None] + self.h * tau[None, :]).ravel()
+
+    @property
+    def times(self) -> np.ndarray:
+        """Times of the Radau points (where the loads are sampled), element by element, s."""
+        d = self.degree
+        return self.points.reshape(self.elements, d + 1)[:, 1:].ravel()
+
+
+def element_function(model: PressModel, grid: CollocationGrid, names: tuple[str, ...]) -> ca.Function:
+    """One element as a CasADi Function.
+
+    Returns
+    -------
+    ca.Function
+        ``(x [nx x (d+1)], p, t0) -> (defect [nx x d], xf [nx], y [len(names) x d])``: the
+        collocation defects ``sum_j C[j, r] x_j - h f(t_r, x_r)`` (scaled states), the end value and
+        the outputs `names` at the Radau points.
+    """
+    tau, C, D = radau_matrices(grid.degree)
+    d, h = grid.degree, grid.h
+    x = ca.SX.sym("x", model.nx, d + 1)
+    t0 = ca.SX.sym("t0")
+    p = ca.SX.sym("p", model.p.numel())
+    f = ca.Function("f", [model.t, model.x, model.p], [model.ode_explicit])
+    tr = t0 + h * ca.DM(tau[1:]).T
+    defect = ca.mtimes(x, ca.DM(C[:, 1:])) - h * f.map(d)(tr, x[:, 1:], ca.repmat(p, 1, d))
+    out = model.outputs.map(d)(tr, x[:, 1:], ca.repmat(p, 1, d))
+    y = ca.vertcat(*[out[OUTPUT_NAMES.index(n)] for n in names])
+    return ca.Function("element", [x, p, t0], [defect, ca.mtimes(x, ca.DM(D)), y], ["x", "p", "t0"],
+                       ["defect", "xf", "y"])
+
+
+def collocation_states(model: PressModel, speed: FourierSpeed, x_start: np.ndarray, grid: CollocationGrid,
+                       rtol: float = 1e-8) -> np.ndarray:
+    """Scaled states at every collocation time (`CollocationGrid.points`), integrated by CVODES from
+    ``x_start`` at t = 0: the warm start (nx x K(d+1))."""
+    pts = grid.points
+    X, _, _ = _run(model, "cvodes", np.asarray(x_start, float), model.parameters(speed), pts[1:], rtol, rtol,
+                   10**7, 1e-5)
+    return np.hstack([np.asarray(x_start, float)[:, None], X])
+
+
+def collocation_defect(model: PressModel, speed: FourierSpeed, states: np.ndarray, grid: CollocationGrid) -> float:
+    """Largest collocation defect of ``states`` (scaled, nx x K(d+1)) over the grid: near 0 when the
+    polynomials reproduce the model's solution, i.e. when the elements resolve its dynamics."""
+    E = element_function(model, grid, ("torque",)).map(grid.elements)
+    p = model.parameters(speed)
+    defect = E(states, np.tile(p[:, None], (1, grid.elements)), grid.starts[None, :])[0]
+    return float(np.max(np.abs(np.asarray(defect))))
+
+
+def solve_collocation(problem: SpeedProblem, model: PressModel, initial: FourierSpeed, states: np.ndarray,
+                      t1: float, grid: CollocationGrid, stage: str = "collocation", periodic: bool = True,
+                      window_samples: int = 200, omega_samples: int = 1000, ipopt_options: dict | None = None,
+                      progress: bool = False, scale: float | None = None,
+                      coefficient_step: float | None = None) -> ShootingSolution:
+    """One direct-collocation stage of the speed problem on `model`, warm-started at (initial, states).
+
+    Parameters
+    ----------
+    problem : SpeedProblem
+    model : PressModel
+        A model with states; its ``n_harmonics`` must equal the problem's.
+    initial : FourierSpeed
+        Warm-start speed.
+    states : ndarray
+        Warm-start scaled states at `CollocationGrid.points`, nx x K(d+1) (`collocation_states`).
+    t1 : float
+        Window start, s, held fixed.
+    grid : CollocationGrid
+    stage : str
+        Name used in reports.
+    periodic : bool
+        x(T) = x(0); otherwise the first state is held at ``states[:, 0]``.
+    window_samples, omega_samples, ipopt_options, progress, scale, coefficient_step
+        As in `solve_shooting`.
+
+    Returns
+    -------
+    ShootingSolution
+        ``nodes`` are the element start states (nx x K).
+    """
+    P, T, n, K, d = problem, problem.period, problem.n_harmonics, grid.elements, grid.degree
+    if model.n_harmonics != n:
+        raise ValueError(f"model.n_harmonics ({model.n_harmonics}) must equal the problem's n_harmonics ({n})")
+    if not np.isclose(grid.period, T):
+        raise ValueError(f"grid.period must equal the problem's period ({T:g} s), got {grid.period:g} s")
+    states = np.asarray(states, float)
+    if states.shape != (model.nx, K * (d + 1)):
+        raise ValueError(f"states must have shape ({model.nx}, {K * (d + 1)}), got {states.shape}")
+    if coefficient_step is not None:
+        chk.positive("coefficient_step", coefficient_step, "rad/s")
+    t_start = time.perf_counter()
+    names = LOADS[P.objective] + ("ram_velocity",)
+    E = element_function(model, grid, names).map(K)
+    c, s = ca.MX.sym("c", 2 * n), ca.MX.sym("s")
+    Z = ca.MX.sym("Z", model.nx, K * (d + 1))
+    p = ca.vertcat(c, T, 0.0)
+    defect, Xf, Y = E(Z, ca.repmat(p, 1, K), ca.DM(grid.starts).T)
+    nl = len(names) - 1
+    Yl, v = Y[:nl, :], Y[nl, :]
+    p0 = model.parameters(initial)
+    y0 = np.asarray(E(states, np.tile(p0[:, None], (1, K)), grid.starts[None, :])[2])
+    if scale is None:
+        scale = float(np.sqrt(np.mean(y0[0] ** 2))) if P.objective == "rms_torque" else float(np.max(np.abs(y0[:nl])))
+    cons = Constraints()
+    cons.add(defect, 0.0, 0.0, "collocation")
+    starts = Z[:, :: d + 1]
+    nxt = ca.horzcat(starts[:, 1:], starts[:, :1]) if periodic else starts[:, 1:]
+    cons.add((Xf if periodic else Xf[:, :-1]) - nxt, 0.0, 0.0, "continuity")
+    f = sampled_problem(cons, P, c, s, Yl, v, grid.times, t1, scale, window_samples, omega_samples)
+
+    s0 = float(np.max(np.abs(y0[:nl]))) if P.objective != "rms_torque" else 0.0
+    w0 = np.concatenate([initial.padded(n).coefficients, [s0], states.ravel(order="F")])
+    fixed = slice(2 * n + 1, 2 * n + 1 + model.nx) if not periodic else None
+    r = solve_nlp(P, ca.vertcat(c, s, ca.vec(Z)), f, cons, w0, scale, f"collocation_{stage}",
+                  f"{stage} ({K}x{d} radau)", ipopt_options, progress, coefficient_step, fixed)
+    Zo = r["w"][2 * n + 1 :].reshape((model.nx, K * (d + 1)), order="F")
+    return ShootingSolution(speed=r["speed"], nodes=Zo[:, :: d + 1], value=r["value"], success=r["success"],
+                            status=r["status"], iterations=r["iterations"], wall_time=time.perf_counter() - t_start,
+                            history=r["history"], barrier=r["barrier"], last_speed=r["last_speed"],
+                            violations_start=r["violations_start"], violations=r["violations"], failure=None)

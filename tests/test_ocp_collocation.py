@@ -1,0 +1,61 @@
+"""Direct-collocation transcription: the Radau IIA matrices against their defining properties,
+the collocation defects of a simulated response (CVODES, independent of the collocation code)
+shrink at the scheme's order as the elements get shorter, and bad input is rejected."""
+
+import numpy as np
+import pytest
+
+from pressocp import PressParams
+from pressocp.design import design_speed
+from pressocp.model import build_model
+from pressocp.ocp import SpeedProblem
+from pressocp.ocp.collocation import (CollocationGrid, collocation_defect, collocation_states, radau_matrices,
+                                      solve_collocation)
+
+
+@pytest.mark.parametrize("d", [1, 2, 3, 4])
+def test_radau_matrices_differentiate_and_extrapolate_polynomials_exactly(d):
+    tau, C, D = radau_matrices(d)
+    assert tau[0] == 0.0 and tau[-1] == pytest.approx(1.0)
+    # Radau IIA points: roots of P_d(2x-1) - P_{d-1}(2x-1) (Legendre), from numpy, not CasADi
+    leg = np.polynomial.legendre.Legendre
+    roots = np.sort((leg.basis(d) - leg.basis(d - 1)).roots().real)
+    np.testing.assert_allclose(tau[1:], (roots + 1) / 2, atol=1e-12)
+    for k in range(d + 1):  # x = tau^k: a polynomial of degree <= d is represented exactly
+        x = tau**k
+        np.testing.assert_allclose(x @ C, k * tau ** max(k - 1, 0) * (k > 0), atol=1e-10)
+        assert x @ D == pytest.approx(1.0)
+
+
+def test_collocation_defects_of_a_simulated_response_converge():
+    """A smooth case (soft contact, no impact): the defects of the CVODES solution sampled at the
+    collocation points fall with the element length h like h^(d+1) or faster while the elements
+    do not resolve the contact dynamics yet, and go to the integrator's noise once they do."""
+    from pressocp.ocp.optimize import soft_params
+    from pressocp.simulate import periodic_state
+
+    params = PressParams()
+    model = build_model(soft_params(params, 1e4), n_harmonics=4)
+    speed = design_speed(params, period=1.0, ram_speed=-0.15, n_harmonics=4).speed
+    x0, _ = periodic_state(model, speed, method="cvodes", rtol=1e-9)
+    defects = []
+    for K in (200, 400):
+        g = CollocationGrid(1.0, K, 3)
+        defects.append(collocation_defect(model, speed, collocation_states(model, speed, x0, g, 1e-10), g))
+    assert defects[1] < defects[0] / 8.0, defects  # order >= 3 in h
+
+
+def test_bad_input_rejected():
+    params = PressParams()
+    prob = SpeedProblem(params, period=1.0, ram_speed=-0.15, n_harmonics=4)
+    model = build_model(params, n_harmonics=4)
+    speed = design_speed(params, period=1.0, ram_speed=-0.15, n_harmonics=4).speed
+    g = CollocationGrid(1.0, 10, 3)
+    with pytest.raises(ValueError, match="states must have shape"):
+        solve_collocation(prob, model, speed, np.zeros((model.nx, 5)), 0.3, g)
+    with pytest.raises(ValueError, match="grid.period"):
+        solve_collocation(prob, model, speed, np.zeros((model.nx, 40)), 0.3, CollocationGrid(0.8, 10, 3))
+    with pytest.raises(ValueError, match="elements"):
+        CollocationGrid(1.0, 0)
+    with pytest.raises(ValueError, match="degree"):
+        radau_matrices(0)
