@@ -307,10 +307,12 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
 
 
 def sampled_problem(cons: Constraints, P: SpeedProblem, c, s, Yl, v, ts: np.ndarray, t1: float, scale: float,
-                    window_samples: int, omega_samples: int):
+                    window_samples: int, omega_samples: int, backoff: float = 1.0):
     """Objective and the constraints a state transcription puts on its output samples and on the
     coefficients: epigraph (or RMS) of the loads ``Yl`` at times ``ts``, ram speed ``v`` at the
-    samples inside the window, the kinematic window, crank speed bounds. Returns the objective."""
+    samples inside the window and the kinematic ram speed on the window, both within ``backoff`` x
+    tol, h(t1) = h1 H, crank speed bounds.
+    Returns the objective."""
     n, T = P.n_harmonics, P.period
     if P.objective == "rms_torque":
         f = ca.sumsqr(Yl) / Yl.numel() / scale**2
@@ -319,8 +321,8 @@ def sampled_problem(cons: Constraints, P: SpeedProblem, c, s, Yl, v, ts: np.ndar
         add_epigraph(cons, [Yl], s, scale)
     inside = np.nonzero((ts >= t1) & (ts <= t1 + P.window_duration))[0]
     if inside.size:
-        cons.add((v[:, inside] - P.ram_speed) / P.tol, -1.0, 1.0, "ram_speed_samples")
-    add_window(cons, P, _speed_functions(P)[1], c, t1, window_samples)
+        cons.add((v[:, inside] - P.ram_speed) / P.tol, -backoff, backoff, "ram_speed_samples")
+    add_window(cons, P, _speed_functions(P)[1], c, t1, window_samples, backoff)
     to = np.linspace(0.0, T, omega_samples, endpoint=False)
     tt, cc = ca.SX.sym("t"), ca.SX.sym("c", 2 * n)
     f_om = ca.Function("omega_alpha", [tt, cc], list(series(tt, cc[:n], cc[n:], T)[1:]))
