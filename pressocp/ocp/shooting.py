@@ -187,7 +187,7 @@ class _Iterations(ca.Callback):
 
 @dataclass
 class ShootingSolution:
-    """Raw output of one shooting stage (turned into an `OcpResult` by `optimize_speed`).
+    """Raw output of one shooting (or collocation) stage (turned into an `OcpResult` by `optimize_speed`).
 
     ``speed`` and ``nodes`` are the solution, or when IPOPT did not succeed its least infeasible
     iterate; ``last_speed`` is IPOPT's final iterate either way."""
