@@ -23,11 +23,10 @@ import numpy as np
 
 from .. import _checks as chk
 from ..model import OUTPUT_NAMES, PressModel
-from ..simulate import _run
 from ..speed import FourierSpeed
 from .constraints import Constraints
 from .problem import SpeedProblem
-from .shooting import LOADS, ShootingSolution, sampled_problem, solve_nlp
+from .shooting import LOADS, ShootingSolution, check_start, solve_states_nlp, states_at, to_solution
 
 #: Fraction of the ram speed tolerance held at the Radau points.
 RAM_SPEED_BACKOFF = 0.98
@@ -134,10 +133,7 @@ def collocation_states(model: PressModel, speed: FourierSpeed, x_start: np.ndarr
                        rtol: float = 1e-8) -> np.ndarray:
     """Scaled states at every collocation time (`CollocationGrid.points`), integrated by CVODES from
     ``x_start`` at t = 0: the warm start (nx x K(d+1))."""
-    pts = grid.points
-    X, _, _ = _run(model, "cvodes", np.asarray(x_start, float), model.parameters(speed), pts[1:], rtol, rtol,
-                   10**7, 1e-5)
-    return np.hstack([np.asarray(x_start, float)[:, None], X])
+    return states_at(model, speed, x_start, grid.points, "cvodes", rtol)
 
 
 def collocation_defect(model: PressModel, speed: FourierSpeed, states: np.ndarray, grid: CollocationGrid) -> float:
@@ -181,28 +177,17 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
         ``nodes`` are the element start states (nx x K).
     """
     P, T, n, K, d = problem, problem.period, problem.n_harmonics, grid.elements, grid.degree
-    if model.n_harmonics != n:
-        raise ValueError(f"model.n_harmonics ({model.n_harmonics}) must equal the problem's n_harmonics ({n})")
     if not np.isclose(grid.period, T):
         raise ValueError(f"grid.period must equal the problem's period ({T:g} s), got {grid.period:g} s")
-    states = np.asarray(states, float)
-    if states.shape != (model.nx, K * (d + 1)):
-        raise ValueError(f"states must have shape ({model.nx}, {K * (d + 1)}), got {states.shape}")
-    if coefficient_step is not None:
-        chk.positive("coefficient_step", coefficient_step, "rad/s")
+    states = check_start(P, model, states, K * (d + 1), "states", coefficient_step)
     t_start = time.perf_counter()
     names = LOADS[P.objective] + ("ram_velocity",)
     E = element_function(model, grid, names).map(K)
     c, s = ca.MX.sym("c", 2 * n), ca.MX.sym("s")
     Z = ca.MX.sym("Z", model.nx, K * (d + 1))
-    p = ca.vertcat(c, T, 0.0)
-    defect, Xf, Y = E(Z, ca.repmat(p, 1, K), ca.DM(grid.starts).T)
-    nl = len(names) - 1
-    Yl, v = Y[:nl, :], Y[nl, :]
+    defect, Xf, Y = E(Z, ca.repmat(ca.vertcat(c, T, 0.0), 1, K), ca.DM(grid.starts).T)
     p0 = model.parameters(initial)
     y0 = np.asarray(E(states, np.tile(p0[:, None], (1, K)), grid.starts[None, :])[2])
-    if scale is None:
-        scale = float(np.sqrt(np.mean(y0[0] ** 2))) if P.objective == "rms_torque" else float(np.max(np.abs(y0[:nl])))
     cons = Constraints()
     cons.add(defect, 0.0, 0.0, "collocation")
     starts = Z[:, :: d + 1]
@@ -211,16 +196,8 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
     # the model's ram speed is held at the Radau points only, and the first one lies after t1: 2 %
     # back-off (measured on a smooth case without it: 0.3 % of tol over at t1, where the kinematic
     # bound was active and the journals add their motion)
-    f = sampled_problem(cons, P, c, s, Yl, v, grid.times, t1, scale, window_samples, omega_samples,
-                        RAM_SPEED_BACKOFF)
-
-    s0 = float(np.max(np.abs(y0[:nl]))) if P.objective != "rms_torque" else 0.0
-    w0 = np.concatenate([initial.padded(n).coefficients, [s0], states.ravel(order="F")])
-    fixed = slice(2 * n + 1, 2 * n + 1 + model.nx) if not periodic else None
-    r = solve_nlp(P, ca.vertcat(c, s, ca.vec(Z)), f, cons, w0, scale, f"collocation_{stage}",
-                  f"{stage} ({K}x{d} radau)", ipopt_options, progress, coefficient_step, fixed)
-    Zo = r["w"][2 * n + 1 :].reshape((model.nx, K * (d + 1)), order="F")
-    return ShootingSolution(speed=r["speed"], nodes=Zo[:, :: d + 1], value=r["value"], success=r["success"],
-                            status=r["status"], iterations=r["iterations"], wall_time=time.perf_counter() - t_start,
-                            history=r["history"], barrier=r["barrier"], last_speed=r["last_speed"],
-                            violations_start=r["violations_start"], violations=r["violations"], failure=None)
+    r = solve_states_nlp(P, initial, c, s, Z, states, Y, y0, grid.times, t1, cons, scale, periodic,
+                         f"collocation_{stage}", f"{stage} ({K}x{d} radau)", window_samples, omega_samples,
+                         ipopt_options, progress, coefficient_step, RAM_SPEED_BACKOFF)
+    return to_solution(r, nodes=r["states"][:, :: d + 1], status=r["status"], wall_time=time.perf_counter() - t_start,
+                       violations=r["violations"], failure=None)

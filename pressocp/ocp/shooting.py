@@ -117,14 +117,21 @@ def interval_function(model: PressModel, grid: ShootingGrid, names: tuple[str, .
                        {"ad_weight": 0.0, "ad_weight_sp": 0.0})
 
 
+def states_at(model: PressModel, speed: FourierSpeed, x_start: np.ndarray, times: np.ndarray,
+              method: str = "cvodes", rtol: float = 1e-6) -> np.ndarray:
+    """Scaled states at ``times`` (the first 0), integrated from ``x_start`` at t = 0 (nx x len(times))."""
+    x_start = np.asarray(x_start, float)[:, None]
+    if len(times) == 1:
+        return x_start
+    X, _, _ = _run(model, method, x_start[:, 0], model.parameters(speed), np.asarray(times)[1:], rtol, rtol,
+                   10**7, 1e-5)
+    return np.hstack([x_start, X])
+
+
 def node_states(model: PressModel, speed: FourierSpeed, x_start: np.ndarray, grid: ShootingGrid,
                 method: str = "idas", rtol: float = 1e-6) -> np.ndarray:
     """Scaled states at the shooting nodes, integrated from ``x_start`` at t = 0 (nx x N)."""
-    if grid.intervals == 1:
-        return np.asarray(x_start, float)[:, None]
-    X, _, _ = _run(model, method, np.asarray(x_start, float), model.parameters(speed), grid.nodes[1:], rtol, rtol,
-                   10**7, 1e-5)
-    return np.hstack([np.asarray(x_start, float)[:, None], X])
+    return states_at(model, speed, x_start, grid.nodes, method, rtol)
 
 
 def locate_failure(G: ca.Function, X: np.ndarray, p: np.ndarray, grid: ShootingGrid, stage: str,
@@ -254,13 +261,7 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
         When the warm start itself cannot be integrated (no iterate to return).
     """
     P, T, n, N, S = problem, problem.period, problem.n_harmonics, grid.intervals, grid.samples
-    if model.n_harmonics != n:
-        raise ValueError(f"model.n_harmonics ({model.n_harmonics}) must equal the problem's n_harmonics ({n})")
-    nodes = np.asarray(nodes, float)
-    if nodes.shape != (model.nx, N):
-        raise ValueError(f"nodes must have shape ({model.nx}, {N}), got {nodes.shape}")
-    if coefficient_step is not None:
-        chk.positive("coefficient_step", coefficient_step, "rad/s")
+    nodes = check_start(P, model, nodes, N, "nodes", coefficient_step)
     t_start = time.perf_counter()
     names = LOADS[P.objective] + ("ram_velocity",)
     G = interval_function(model, grid, names, method, rtol, max_steps=max_steps)
@@ -279,31 +280,61 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     X = ca.MX.sym("X", model.nx, N)
     p = ca.vertcat(c, T, 0.0)
     Xf, Y = Gm(X, ca.repmat(p, 1, N), ca.DM(grid.nodes).T)
-    nl = len(names) - 1
-    Yl, v = Y[:nl, :], Y[nl, :]
-    if scale is None:
-        scale = float(np.sqrt(np.mean(y0[0] ** 2))) if P.objective == "rms_torque" else float(np.max(np.abs(y0[:nl])))
     cons = Constraints()
     nxt = ca.horzcat(X[:, 1:], X[:, :1]) if periodic else X[:, 1:]
     cons.add((Xf if periodic else Xf[:, :-1]) - nxt, 0.0, 0.0, "continuity")
-    f = sampled_problem(cons, P, c, s, Yl, v, grid.times, t1, scale, window_samples, omega_samples)
+    r = solve_states_nlp(P, initial, c, s, X, nodes, Y, y0, grid.times, t1, cons, scale, periodic,
+                         f"shooting_{stage}", f"{stage} ({N}x{S} {method})", window_samples, omega_samples,
+                         ipopt_options, progress, coefficient_step)
+    failure = None if r["success"] else locate_failure(G, r["states"], model.parameters(r["speed"]), grid, stage,
+                                                       method)
+    status = r["status"] if failure is None else f"{r['status']}; {failure}"
+    return to_solution(r, nodes=r["states"], status=status, wall_time=time.perf_counter() - t_start,
+                       violations=r["violations"] if failure is None else {}, failure=failure)
 
+
+def check_start(P: SpeedProblem, model: PressModel, states: np.ndarray, columns: int, name: str,
+                coefficient_step: float | None) -> np.ndarray:
+    """Checks shared by the state transcriptions, before any solve; ``states`` as a float array."""
+    n = P.n_harmonics
+    if model.n_harmonics != n:
+        raise ValueError(f"model.n_harmonics ({model.n_harmonics}) must equal the problem's n_harmonics ({n})")
+    states = np.asarray(states, float)
+    if states.shape != (model.nx, columns):
+        raise ValueError(f"{name} must have shape ({model.nx}, {columns}), got {states.shape}")
+    if coefficient_step is not None:
+        chk.positive("coefficient_step", coefficient_step, "rad/s")
+    return states
+
+
+def solve_states_nlp(P: SpeedProblem, initial: FourierSpeed, c, s, X, X0: np.ndarray, Y, y0: np.ndarray,
+                     ts: np.ndarray, t1: float, cons: Constraints, scale: float | None, periodic: bool, name: str,
+                     desc: str, window_samples: int, omega_samples: int, ipopt_options: dict | None,
+                     progress: bool, coefficient_step: float | None, backoff: float = 1.0) -> dict:
+    """The part a state transcription shares: given its state variables ``X`` (warm start ``X0``),
+    its output rows ``Y`` (loads, then the ram velocity; ``y0`` at the warm start) at times ``ts``
+    and its own state constraints in ``cons``, add the sample constraints (`sampled_problem`) and
+    solve (`solve_nlp`). Returns `solve_nlp`'s record plus ``states`` (the solution's X)."""
+    n, nx = P.n_harmonics, X0.shape[0]
+    nl = Y.shape[0] - 1
+    if scale is None:
+        scale = float(np.sqrt(np.mean(y0[0] ** 2))) if P.objective == "rms_torque" else float(np.max(np.abs(y0[:nl])))
+    f = sampled_problem(cons, P, c, s, Y[:nl, :], Y[nl, :], ts, t1, scale, window_samples, omega_samples, backoff)
     s0 = float(np.max(np.abs(y0[:nl]))) if P.objective != "rms_torque" else 0.0
-    w0 = np.concatenate([initial.padded(n).coefficients, [s0], nodes.ravel(order="F")])
-    fixed = slice(2 * n + 1, 2 * n + 1 + model.nx) if not periodic else None
-    r = solve_nlp(P, ca.vertcat(c, s, ca.vec(X)), f, cons, w0, scale, f"shooting_{stage}",
-                  f"{stage} ({N}x{S} {method})", ipopt_options, progress, coefficient_step, fixed)
-    Xo = r["w"][2 * n + 1 :].reshape((model.nx, N), order="F")
-    failure, status = None, r["status"]
-    if not r["success"]:
-        failure = locate_failure(G, Xo, model.parameters(r["speed"]), grid, stage, method)
-        if failure is not None:
-            status = f"{status}; {failure}"
-    return ShootingSolution(speed=r["speed"], nodes=Xo, value=r["value"], success=r["success"], status=status,
-                            iterations=r["iterations"], wall_time=time.perf_counter() - t_start,
+    w0 = np.concatenate([initial.padded(n).coefficients, [s0], X0.ravel(order="F")])
+    fixed = slice(2 * n + 1, 2 * n + 1 + nx) if not periodic else None
+    r = solve_nlp(P, ca.vertcat(c, s, ca.vec(X)), f, cons, w0, scale, name, desc, ipopt_options, progress,
+                  coefficient_step, fixed)
+    r["states"] = r["w"][2 * n + 1 :].reshape(X0.shape, order="F")
+    return r
+
+
+def to_solution(r: dict, **rest) -> ShootingSolution:
+    """A `ShootingSolution` from a `solve_states_nlp` record and the fields it does not hold (nodes,
+    status, wall_time, violations, failure)."""
+    return ShootingSolution(speed=r["speed"], value=r["value"], success=r["success"], iterations=r["iterations"],
                             history=r["history"], barrier=r["barrier"], last_speed=r["last_speed"],
-                            violations_start=r["violations_start"],
-                            violations=r["violations"] if failure is None else {}, failure=failure)
+                            violations_start=r["violations_start"], **rest)
 
 
 def sampled_problem(cons: Constraints, P: SpeedProblem, c, s, Yl, v, ts: np.ndarray, t1: float, scale: float,
