@@ -91,6 +91,10 @@ class PressModel:
         (t, x, p) -> (kinetic, potential) energy, J.
     accelerations : ca.Function
         (t, x, p) -> accelerations of the free coordinates (the consistent z of the DAE).
+    at_crank : ca.Function
+        (x, crank) -> (dx/dt, the outputs named in `OUTPUT_NAMES`) at a given crank motion
+        ``crank = [theta (rad), omega (rad/s), alpha (rad/s^2)]`` instead of the Fourier speed in p: the
+        form a transcription uses when it carries the crank motion as its own variables.
     x0 : ndarray
         Consistent scaled initial state: journals centred, no elastic deformation, no rates.
     """
@@ -113,6 +117,7 @@ class PressModel:
     outputs: ca.Function
     energy: ca.Function
     accelerations: ca.Function
+    at_crank: ca.Function
     x0: np.ndarray = field(repr=False)
 
     @property
@@ -200,7 +205,8 @@ def build_model(
     t = ca.SX.sym("t")
     p = ca.SX.sym("p", 2 * nh + 2)
     a, b, period, theta0 = p[:nh], p[nh : 2 * nh], p[2 * nh], p[2 * nh + 1]
-    theta_t, omega_t, alpha_t = series(t, a, b, period, theta0)
+    crank = ca.SX.sym("crank", 3)  # theta, omega, alpha: the prescribed crank motion, set from p at the end
+    theta_t, omega_t, alpha_t = crank[0], crank[1], crank[2]
     nw = 2 * ne if flexible else 0
     Q = ca.SX.sym("Q", 6 + nw)
     Qd = ca.SX.sym("Qd", 6 + nw)
@@ -300,6 +306,7 @@ def build_model(
     rhs = Ff - Mfl @ qdd_locked
     Mff_v, rhs_v = at_state([Mff, rhs]) if nf else (ca.SX(0, 0), ca.SX(0, 1))
     qdd_free_expl = ca.solve(Mff_v, rhs_v) if nf else ca.SX(0, 1)
+    ode_expl = ca.vertcat(qd_free / s_q, qdd_free_expl / s_v) if nf else ca.SX(0, 1)
 
     def reactions(qdd_free):
         lam = Mlf @ qdd_free + Mll @ qdd_locked - Fl if nf else Mll @ qdd_locked - Fl
@@ -329,8 +336,16 @@ def build_model(
         pin_force("crank_pin", (2, 3)), pin_force("wrist_pin", (4, 5)), ecc("crank_pin"), ecc("wrist_pin"),
         at_state([midspan])[0],
     ]
-    outputs = ca.Function("outputs", [t, x, p], out_exprs, ["t", "x", "p"], list(OUTPUT_NAMES))
-    energy = ca.Function("energy", [t, x, p], at_state([lag.T, lag.V]), ["t", "x", "p"], ["kinetic", "potential"])
+    at_crank = ca.Function("at_crank", [x, crank], [ode_expl, *out_exprs], ["x", "crank"],
+                           ["ode", *OUTPUT_NAMES])
+    motion = ca.vertcat(*series(t, a, b, period, theta0))
+
+    def timed(exprs):  # the crank motion of the Fourier speed in p at time t
+        return ca.substitute(exprs, [crank], [motion])
+
+    outputs = ca.Function("outputs", [t, x, p], timed(out_exprs), ["t", "x", "p"], list(OUTPUT_NAMES))
+    energy = ca.Function("energy", [t, x, p], timed(at_state([lag.T, lag.V])), ["t", "x", "p"],
+                         ["kinetic", "potential"])
 
     # --- quadratures: motor, contact and process power ----------------------------------------
     e_of = {"crank_pin": eA, "wrist_pin": eB}
@@ -343,13 +358,13 @@ def build_model(
     # --- DAE ----------------------------------------------------------------------------------
     ode = ca.vertcat(qd_free / s_q, z / s_v) if nf else ca.SX(0, 1)
     alg = Mff_v @ z - rhs_v if nf else ca.SX(0, 1)
-    ode_expl = ca.vertcat(qd_free / s_q, qdd_free_expl / s_v) if nf else ca.SX(0, 1)
+    ode_expl, ode, alg, quad, qdd_free_expl = timed([ode_expl, ode, alg, quad, qdd_free_expl])
     state_names = [names[i] for i in free] + [names[i] + "_dot" for i in free]
     x_scale = np.concatenate([s_q, s_v]) if nf else np.zeros(0)
 
     return PressModel(
         params=P, rod=rod, clearance=clearance, n_elements=ne, n_harmonics=nh, t=t, x=x, z=z, p=p,
         ode=ode, alg=alg, quad=quad, ode_explicit=ode_expl, state_names=state_names, x_scale=x_scale,
-        outputs=outputs, energy=energy, x0=np.zeros(2 * nf),
+        outputs=outputs, energy=energy, at_crank=at_crank, x0=np.zeros(2 * nf),
         accelerations=ca.Function("accelerations", [t, x, p], [qdd_free_expl], ["t", "x", "p"], ["qdd"]),
     )

@@ -23,7 +23,7 @@ import numpy as np
 
 from .. import _checks as chk
 from ..model import OUTPUT_NAMES, PressModel
-from ..speed import FourierSpeed
+from ..speed import FourierSpeed, series
 from .constraints import Constraints
 from .problem import SpeedProblem
 from .shooting import LOADS, ShootingSolution, check_start, solve_states_nlp, states_at, to_solution
@@ -106,27 +106,40 @@ class CollocationGrid:
 
 
 def element_function(model: PressModel, grid: CollocationGrid, names: tuple[str, ...]) -> ca.Function:
-    """One element as a CasADi Function.
+    """One element as a CasADi Function of its states and the crank motion at its Radau points.
 
     Returns
     -------
     ca.Function
-        ``(x [nx x (d+1)], p, t0) -> (defect [nx x d], xf [nx], y [len(names) x d])``: the
-        collocation defects ``sum_j C[j, r] x_j - h f(t_r, x_r)`` (scaled states), the end value and
-        the outputs `names` at the Radau points.
+        ``(x [nx x (d+1)], crank [3 x d]) -> (defect [nx x d], xf [nx], y [len(names) x d])``: the
+        collocation defects ``sum_j C[j, r] x_j - h f(x_r, crank_r)`` (scaled states), the end value
+        and the outputs `names` at the Radau points; ``crank`` holds theta (rad), omega (rad/s) and
+        alpha (rad/s^2) (`PressModel.at_crank`).
     """
     tau, C, D = radau_matrices(grid.degree)
     d, h = grid.degree, grid.h
     x = ca.SX.sym("x", model.nx, d + 1)
-    t0 = ca.SX.sym("t0")
-    p = ca.SX.sym("p", model.p.numel())
-    f = ca.Function("f", [model.t, model.x, model.p], [model.ode_explicit])
-    tr = t0 + h * ca.DM(tau[1:]).T
-    defect = ca.mtimes(x, ca.DM(C[:, 1:])) - h * f.map(d)(tr, x[:, 1:], ca.repmat(p, 1, d))
-    out = model.outputs.map(d)(tr, x[:, 1:], ca.repmat(p, 1, d))
-    y = ca.vertcat(*[out[OUTPUT_NAMES.index(n)] for n in names])
-    return ca.Function("element", [x, p, t0], [defect, ca.mtimes(x, ca.DM(D)), y], ["x", "p", "t0"],
+    crank = ca.SX.sym("crank", 3, d)
+    out = model.at_crank.map(d)(x[:, 1:], crank)
+    defect = ca.mtimes(x, ca.DM(C[:, 1:])) - h * out[0]
+    y = ca.vertcat(*[out[1 + OUTPUT_NAMES.index(n)] for n in names])
+    return ca.Function("element", [x, crank], [defect, ca.mtimes(x, ca.DM(D)), y], ["x", "crank"],
                        ["defect", "xf", "y"])
+
+
+def crank_motion(speed: FourierSpeed, times: np.ndarray) -> np.ndarray:
+    """Crank angle, speed and acceleration (rows; rad, rad/s, rad/s^2) of `speed` at `times`, s."""
+    return np.array(series(times, speed.a, speed.b, speed.period, speed.theta0))
+
+
+def crank_map(n: int, period: float, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The crank motion at `times` as an affine map of the 2n Fourier coefficients (theta0 = 0):
+    ``vec(motion) = m0 + A @ c`` with motion 3 x len(times) stacked by column (`crank_motion`)."""
+    zero = np.zeros(n)
+    m0 = crank_motion(FourierSpeed(period, zero, zero), times).ravel(order="F")
+    A = np.column_stack([crank_motion(FourierSpeed(period, e[:n], e[n:]), times).ravel(order="F") - m0
+                         for e in np.eye(2 * n)])
+    return m0, A
 
 
 def collocation_states(model: PressModel, speed: FourierSpeed, x_start: np.ndarray, grid: CollocationGrid,
@@ -140,8 +153,7 @@ def collocation_defect(model: PressModel, speed: FourierSpeed, states: np.ndarra
     """Largest collocation defect of ``states`` (scaled, nx x K(d+1)) over the grid: near 0 when the
     polynomials reproduce the model's solution, i.e. when the elements resolve its dynamics."""
     E = element_function(model, grid, ("torque",)).map(grid.elements)
-    p = model.parameters(speed)
-    defect = E(states, np.tile(p[:, None], (1, grid.elements)), grid.starts[None, :])[0]
+    defect = E(states, crank_motion(speed, grid.times))[0]
     return float(np.max(np.abs(np.asarray(defect))))
 
 
@@ -183,21 +195,32 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
     t_start = time.perf_counter()
     names = LOADS[P.objective] + ("ram_velocity",)
     E = element_function(model, grid, names).map(K)
+    # the crank motion at every collocation time is lifted into variables W (scaled rows) tied to the
+    # coefficients by a linear constraint: each element then depends on its own variables only, and
+    # the exact Hessian is block-diagonal instead of having 2n dense rows over all the states
+    w_bar = 2 * np.pi / T
+    crank_scale = np.array([1.0, w_bar, w_bar**2])
     c, s = ca.MX.sym("c", 2 * n), ca.MX.sym("s")
-    Z = ca.MX.sym("Z", model.nx, K * (d + 1))
-    defect, Xf, Y = E(Z, ca.repmat(ca.vertcat(c, T, 0.0), 1, K), ca.DM(grid.starts).T)
-    p0 = model.parameters(initial)
-    y0 = np.asarray(E(states, np.tile(p0[:, None], (1, K)), grid.starts[None, :])[2])
+    X = ca.MX.sym("X", model.nx + 3, K * (d + 1))
+    Z, W = X[: model.nx, :], X[model.nx :, :] * ca.DM(crank_scale)
+    radau = np.ones(K * (d + 1), bool)
+    radau[:: d + 1] = False
+    defect, Xf, Y = E(Z, W[:, np.nonzero(radau)[0].tolist()])
+    m0, A = crank_map(n, T, grid.points)
+    W0 = crank_motion(initial.padded(n), grid.points)
+    y0 = np.asarray(E(states, W0[:, radau])[2])
+    X0 = np.vstack([states, W0 / crank_scale[:, None]])
     cons = Constraints()
     cons.add(defect, 0.0, 0.0, "collocation")
+    cons.add((ca.vec(W) - ca.mtimes(ca.DM(A), c) - m0) / np.tile(crank_scale, K * (d + 1)), 0.0, 0.0, "crank_motion")
     starts = Z[:, :: d + 1]
     nxt = ca.horzcat(starts[:, 1:], starts[:, :1]) if periodic else starts[:, 1:]
     cons.add((Xf if periodic else Xf[:, :-1]) - nxt, 0.0, 0.0, "continuity")
     # the model's ram speed is held at the Radau points only, and the first one lies after t1: 2 %
     # back-off (measured on a smooth case without it: 0.3 % of tol over at t1, where the kinematic
     # bound was active and the journals add their motion)
-    r = solve_states_nlp(P, initial, c, s, Z, states, Y, y0, grid.times, t1, cons, scale, periodic,
+    r = solve_states_nlp(P, initial, c, s, X, X0, Y, y0, grid.times, t1, cons, scale, periodic,
                          f"collocation_{stage}", f"{stage} ({K}x{d} radau)", window_samples, omega_samples,
-                         ipopt_options, progress, coefficient_step, RAM_SPEED_BACKOFF)
-    return to_solution(r, nodes=r["states"][:, :: d + 1], status=r["status"], wall_time=time.perf_counter() - t_start,
+                         ipopt_options, progress, coefficient_step, RAM_SPEED_BACKOFF, model.nx)
+    return to_solution(r, nodes=r["states"][: model.nx, :: d + 1], status=r["status"], wall_time=time.perf_counter() - t_start,
                        violations=r["violations"], failure=None)

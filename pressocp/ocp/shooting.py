@@ -310,12 +310,14 @@ def check_start(P: SpeedProblem, model: PressModel, states: np.ndarray, columns:
 def solve_states_nlp(P: SpeedProblem, initial: FourierSpeed, c, s, X, X0: np.ndarray, Y, y0: np.ndarray,
                      ts: np.ndarray, t1: float, cons: Constraints, scale: float | None, periodic: bool, name: str,
                      desc: str, window_samples: int, omega_samples: int, ipopt_options: dict | None,
-                     progress: bool, coefficient_step: float | None, backoff: float = 1.0) -> dict:
+                     progress: bool, coefficient_step: float | None, backoff: float = 1.0,
+                     n_fixed: int | None = None) -> dict:
     """The part a state transcription shares: given its state variables ``X`` (warm start ``X0``),
     its output rows ``Y`` (loads, then the ram velocity; ``y0`` at the warm start) at times ``ts``
     and its own state constraints in ``cons``, add the sample constraints (`sampled_problem`) and
-    solve (`solve_nlp`). Returns `solve_nlp`'s record plus ``states`` (the solution's X)."""
-    n, nx = P.n_harmonics, X0.shape[0]
+    solve (`solve_nlp`). Without `periodic`, the first ``n_fixed`` rows (default: all) of the first
+    column stay at ``X0``. Returns `solve_nlp`'s record plus ``states`` (the solution's X)."""
+    n, nx = P.n_harmonics, X0.shape[0] if n_fixed is None else n_fixed
     nl = Y.shape[0] - 1
     if scale is None:
         scale = float(np.sqrt(np.mean(y0[0] ** 2))) if P.objective == "rms_torque" else float(np.max(np.abs(y0[:nl])))
