@@ -43,6 +43,14 @@ def in_open_interval(name: str, value: Any, lo: float, hi: float, unit: str = ""
     return x
 
 
+def in_closed_interval(name: str, value: Any, lo: float, hi: float, unit: str = "") -> float:
+    """Finite and inside [lo, hi]."""
+    x = finite(name, value)
+    if not lo <= x <= hi:
+        raise ValueError(f"{name} must be in [{lo:g}, {hi:g}]{' ' + unit if unit else ''}, got {x!r}")
+    return x
+
+
 def in_half_open_interval(name: str, value: Any, lo: float, hi: float, unit: str = "") -> float:
     """Finite and inside [lo, hi)."""
     x = finite(name, value)

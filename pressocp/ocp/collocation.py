@@ -161,7 +161,8 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
                       t1: float, grid: CollocationGrid, stage: str = "collocation", periodic: bool = True,
                       window_samples: int = 200, omega_samples: int = 1000, ipopt_options: dict | None = None,
                       progress: bool = False, scale: float | None = None,
-                      coefficient_step: float | None = None) -> ShootingSolution:
+                      coefficient_step: float | None = None,
+                      min_eccentricity: float | None = None) -> ShootingSolution:
     """One direct-collocation stage of the speed problem on `model`, warm-started at (initial, states).
 
     Parameters
@@ -182,6 +183,10 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
         x(T) = x(0); otherwise the first state is held at ``states[:, 0]``.
     window_samples, omega_samples, ipopt_options, progress, scale, coefficient_step
         As in `solve_shooting`.
+    min_eccentricity : float, optional
+        Keep contact: the eccentricity ratio |e|/c of every clearance joint stays at or above this at
+        every Radau point (in [0, 1]; 1 = the journal never leaves the bearing wall, so the joint
+        force can only turn by sliding round the wall, never by a free flight and impact).
 
     Returns
     -------
@@ -193,8 +198,11 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
         raise ValueError(f"grid.period must equal the problem's period ({T:g} s), got {grid.period:g} s")
     states = check_start(P, model, states, K * (d + 1), "states", coefficient_step)
     t_start = time.perf_counter()
+    if min_eccentricity is not None:
+        min_eccentricity = chk.in_closed_interval("min_eccentricity", min_eccentricity, 0.0, 1.0)
     names = LOADS[P.objective] + ("ram_velocity",)
-    E = element_function(model, grid, names).map(K)
+    ecc = tuple(f"{j}_eccentricity" for j in model.clearance) if min_eccentricity is not None else ()
+    E = element_function(model, grid, names + ecc).map(K)
     # the crank motion at every collocation time is lifted into variables W (scaled rows) tied to the
     # coefficients by a linear constraint: each element then depends on its own variables only, and
     # the exact Hessian is block-diagonal instead of having 2n dense rows over all the states
@@ -206,12 +214,15 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
     radau = np.ones(K * (d + 1), bool)
     radau[:: d + 1] = False
     defect, Xf, Y = E(Z, W[:, np.nonzero(radau)[0].tolist()])
+    Y, Y_ecc = Y[: len(names), :], Y[len(names) :, :]
     m0, A = crank_map(n, T, grid.points)
     W0 = crank_motion(initial.padded(n), grid.points)
-    y0 = np.asarray(E(states, W0[:, radau])[2])
+    y0 = np.asarray(E(states, W0[:, radau])[2])[: len(names)]
     X0 = np.vstack([states, W0 / crank_scale[:, None]])
     cons = Constraints()
     cons.add(defect, 0.0, 0.0, "collocation")
+    if ecc:
+        cons.add(Y_ecc, min_eccentricity, np.inf, "eccentricity")
     cons.add((ca.vec(W) - ca.mtimes(ca.DM(A), c) - m0) / np.tile(crank_scale, K * (d + 1)), 0.0, 0.0, "crank_motion")
     starts = Z[:, :: d + 1]
     nxt = ca.horzcat(starts[:, 1:], starts[:, :1]) if periodic else starts[:, 1:]
