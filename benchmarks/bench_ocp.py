@@ -9,7 +9,7 @@ ocp_<case>.png):
 * ``default_all``  the same with every shooting stage forced ("all").
 * ``seed``         T = 0.8 s (75 spm): the rigid-designed speed impacts (model issue); stages "auto".
 * ``seed_collocation``  the seed case with the clearance stage run ("all") as collocation
-                   (``method="collocation"``, 1 ms elements, journals kept on their bearing walls).
+                   (``method="collocation"``, 0.5 ms elements, journals kept on their bearing walls).
 * ``slsqp``        the baseline on the case named by ``--ref`` (default ``seed``), from the same
                    rigid-designed speed, to the objective that case reached, capped at ``--cap`` s.
 * ``flexible``     the seed case on the flexible rod (4 elements), stages "auto", warm-started by

@@ -65,7 +65,7 @@ def test_optimum_keeps_the_rod_in_tension(seed):
 
 @pytest.mark.slow
 def test_seed_by_collocation_improves_on_the_no_reversal_answer_and_keeps_contact(seed):
-    """The seed case with the clearance stage run as collocation (1 ms elements, journals kept on
+    """The seed case with the clearance stage run as collocation (0.5 ms elements, journals kept on
     their walls), a few minutes: it converges, and the independent periodic re-simulation of its
     optimum keeps contact everywhere, has the reported peak, holds the ram speed and lowers the peak
     of the verified no-reversal answer (the default call's)."""

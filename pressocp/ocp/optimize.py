@@ -49,9 +49,11 @@ from .shooting import SHOOTING_METHODS, ShootingGrid, node_states, solve_shootin
 
 #: Transcriptions of the clearance stages: multiple shooting through an integrator, or collocation.
 METHODS = SHOOTING_METHODS + ("collocation",)
-#: Default collocation elements per second of period (1 ms elements: on the seed case, T = 0.8 s, the
-#: warm start's defect is 1e-3 at 800 elements and the optimum re-simulates within 0.3 %).
-ELEMENTS_PER_SECOND = 1000
+#: Default collocation elements per second of period (0.5 ms elements). Measured on the seed case
+#: (T = 0.8 s, benchmarks/bench_collocation.py): the solve time is about the same from 600 to 1600
+#: elements (finer grids need fewer iterations), and at 1600 the optimum re-simulates within 0.02 %
+#: (0.26 % at 800; 400 did not converge).
+ELEMENTS_PER_SECOND = 2000
 
 #: The soft stage runs only when the rigid optimum's peak torque on the clearance model exceeds the
 #: rigid peak by this factor (it impacts); otherwise the target stage starts at once.
