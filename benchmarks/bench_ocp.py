@@ -10,6 +10,7 @@ ocp_<case>.png):
 * ``seed``         T = 0.8 s (75 spm): the rigid-designed speed impacts (model issue); stages "auto".
 * ``seed_collocation``  the seed case with the clearance stage run ("all") as collocation
                    (``method="collocation"``, 0.5 ms elements, journals kept on their bearing walls).
+* ``seed_collocation_jit``  the same with ``jit=True`` (compiled model functions).
 * ``slsqp``        the baseline on the case named by ``--ref`` (default ``seed``), from the same
                    rigid-designed speed, to the objective that case reached, capped at ``--cap`` s.
 * ``flexible``     the seed case on the flexible rod (4 elements), stages "auto", warm-started by
@@ -57,10 +58,12 @@ def summary(r, case: str, kwargs: dict) -> dict:
 
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("case", choices=["default", "default_all", "seed", "seed_collocation", "slsqp", "flexible"])
+    ap.add_argument("case", choices=["default", "default_all", "seed", "seed_collocation", "seed_collocation_jit", "slsqp",
+                                       "flexible"])
     ap.add_argument("--max-iter", type=int, default=100)
     ap.add_argument("--cap", type=float, default=1800.0, help="SLSQP time cap, s")
-    ap.add_argument("--ref", default="seed", choices=["default", "default_all", "seed", "seed_collocation"],
+    ap.add_argument("--ref", default="seed", choices=["default", "default_all", "seed", "seed_collocation",
+                                                      "seed_collocation_jit"],
                     help="case whose optimum the SLSQP baseline must reach within 1 %%")
     a = ap.parse_args()
     OUT.mkdir(exist_ok=True)
@@ -81,11 +84,11 @@ def main() -> None:
         row = {"case": "slsqp", "ref": a.ref, **res, "optimizer_wall_time_s": ref["wall_time_s"],
                "speedup": (">" if not res["reached"] else "") + f"{res['wall_time'] / ref['wall_time_s']:.1f}"}
     else:
-        if a.case in ("default_all", "seed_collocation"):
+        if a.case.startswith("seed_collocation"):
+            kwargs.update(stages="all", method="collocation", jit=a.case.endswith("_jit"))
+        if a.case == "default_all":
             kwargs["stages"] = "all"
-        if a.case == "seed_collocation":
-            kwargs["method"] = "collocation"
-        if a.case in ("seed", "seed_collocation", "flexible"):
+        if a.case.startswith("seed") or a.case == "flexible":
             kwargs["period"] = 0.8
         if a.case == "flexible":
             kwargs["model"] = build_model(PressParams(), rod="flexible", n_elements=4)

@@ -120,3 +120,19 @@ def test_optimize_speed_collocation_arguments_checked():
         optimize_speed(method="collocation", elements=5, progress=False)
     with pytest.raises(ValueError, match="method"):
         optimize_speed(method="radau", progress=False)
+
+
+def test_compiled_point_function_agrees_with_the_virtual_machine():
+    """`jit=True` (CasADi JIT through the system C compiler) evaluates the same residuals."""
+    from pressocp.ocp.collocation import collocation_residuals, crank_motion
+
+    model = build_model(PressParams(), n_harmonics=4)
+    speed = design_speed(model.params, period=1.0, ram_speed=-0.15, n_harmonics=4).speed
+    g = CollocationGrid(1.0, 20, 3)
+    rng = np.random.default_rng(1)
+    X = rng.normal(0.0, 0.5, (model.nx, g.points.size)) + np.array([1.0] + [0.0] * (model.nx - 1))[:, None]
+    crank = crank_motion(speed, g.times)
+    vm = collocation_residuals(model, g, ("torque", "ram_velocity"), X, crank)
+    jit = collocation_residuals(model, g, ("torque", "ram_velocity"), X, crank, jit=True)
+    for a, b in zip(vm, jit):
+        np.testing.assert_allclose(np.asarray(b), np.asarray(a), rtol=1e-10, atol=1e-9)
