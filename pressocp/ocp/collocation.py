@@ -1,12 +1,15 @@
-"""Direct-collocation transcription (Radau IIA) of the speed problem on a model with states, the
-alternative to multiple shooting for comparison.
+"""Direct-collocation transcription (Radau IIA) of the speed problem on a model with states: the
+transcription that converges on the clearance model (with the journals kept on their walls).
 
 The period is cut into K equal elements. In each, the scaled state is a polynomial of degree d
 through its start value and d Radau points; the explicit ODE holds at the Radau points
 (collocation equations), the loads and the ram velocity are sampled there, and the end value of
 one element is the start of the next (the last one wraps to the first for a periodic response).
-The NLP variables are the Fourier coefficients, the epigraph variable and every state value; IPOPT
-solves it with the same constraints, barrier and options as the shooting stages (`solve_nlp`).
+The NLP variables are the Fourier coefficients, the epigraph variable, every state value and the
+crank motion (theta, omega, alpha) at every point, tied linearly to the coefficients, so the model
+terms couple only the variables of one point. IPOPT solves it with the same constraints, barrier
+and options as the shooting stages (`solve_nlp`), plus optionally ``min_eccentricity``: contact
+kept in every clearance joint, so no iterate has a free flight the grid cannot resolve.
 
 No integrator runs inside the NLP, so an iteration is cheap, but the elements must resolve the
 contact dynamics (kHz modes of the rod on the bearing films): a too coarse grid is not a
@@ -125,8 +128,8 @@ def collocation_residuals(model: PressModel, grid: CollocationGrid, names: tuple
     """Collocation defects, element end values and outputs of the whole grid.
 
     The model is evaluated point by point (one mapped `point_function`) and the Radau matrices act
-    as sparse linear maps across the grid, so each nonlinear term depends on the 11-odd variables
-    of one point: the exact Hessian is block-diagonal by point and cheap to colour.
+    as sparse linear maps across the grid, so each nonlinear term depends on the variables of one
+    point only (its nx states and 3 crank values): the exact Hessian is block-diagonal by point.
 
     Parameters
     ----------
@@ -235,7 +238,7 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
     names = LOADS[P.objective] + ("ram_velocity",)
     ecc = tuple(f"{j}_eccentricity" for j in model.clearance) if min_eccentricity is not None else ()
     # the crank motion at every collocation time is lifted into variables W (scaled rows) tied to the
-    # coefficients by a linear constraint: each element then depends on its own variables only, and
+    # coefficients by a linear constraint: each point then depends on its own variables only, and
     # the exact Hessian is block-diagonal instead of having 2n dense rows over all the states
     w_bar = 2 * np.pi / T
     crank_scale = np.array([1.0, w_bar, w_bar**2])
