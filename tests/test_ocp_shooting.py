@@ -81,6 +81,8 @@ def test_bad_nodes_shape_rejected(case):
     prob = SpeedProblem(params, period=1.0, ram_speed=-0.15, n_harmonics=N_HARM)
     with pytest.raises(ValueError, match="nodes must have shape"):
         solve_shooting(prob, model, speed, np.zeros((3, 3)), 0.3, ShootingGrid(1.0, 4, 2))
+    with pytest.raises(ValueError, match=r"min_eccentricity must be in \[0, 1\]"):
+        solve_shooting(prob, model, speed, np.zeros((model.nx, 4)), 0.3, ShootingGrid(1.0, 4, 2), min_eccentricity=-0.1)
 
 
 def test_coefficient_trust_region_holds(case):

@@ -29,7 +29,8 @@ from ..model import OUTPUT_NAMES, PressModel
 from ..speed import FourierSpeed, series
 from .constraints import Constraints
 from .problem import SpeedProblem
-from .shooting import LOADS, ShootingSolution, check_start, solve_states_nlp, states_at, to_solution
+from .shooting import (LOADS, ShootingSolution, check_start, contact_outputs, keep_contact, solve_states_nlp,
+                       states_at, to_solution)
 
 #: Fraction of the ram speed tolerance held at the Radau points.
 RAM_SPEED_BACKOFF = 0.98
@@ -233,10 +234,8 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
         raise ValueError(f"grid.period must equal the problem's period ({T:g} s), got {grid.period:g} s")
     states = check_start(P, model, states, K * (d + 1), "states", coefficient_step)
     t_start = time.perf_counter()
-    if min_eccentricity is not None:
-        min_eccentricity = chk.in_closed_interval("min_eccentricity", min_eccentricity, 0.0, 1.0)
     names = LOADS[P.objective] + ("ram_velocity",)
-    ecc = tuple(f"{j}_eccentricity" for j in model.clearance) if min_eccentricity is not None else ()
+    ecc = contact_outputs(model, min_eccentricity)
     # the crank motion at every collocation time is lifted into variables W (scaled rows) tied to the
     # coefficients by a linear constraint: each point then depends on its own variables only, and
     # the exact Hessian is block-diagonal instead of having 2n dense rows over all the states
@@ -249,15 +248,13 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
     radau[:: d + 1] = False
     defect, Xf, Y = collocation_residuals(model, grid, names + ecc, Z, W[:, np.nonzero(radau)[0].tolist()],
                                             jit)
-    Y, Y_ecc = Y[: len(names), :], Y[len(names) :, :]
     m0, A = crank_map(n, T, grid.points)
     W0 = crank_motion(initial.padded(n), grid.points)
     y0 = np.asarray(collocation_residuals(model, grid, names, states, W0[:, radau])[2])
     X0 = np.vstack([states, W0 / crank_scale[:, None]])
     cons = Constraints()
     cons.add(defect, 0.0, 0.0, "collocation")
-    if ecc:
-        cons.add(Y_ecc, min_eccentricity, np.inf, "eccentricity")
+    Y = keep_contact(cons, Y, len(names), min_eccentricity)
     cons.add((ca.vec(W) - ca.mtimes(ca.DM(A), c) - m0) / np.tile(crank_scale, K * (d + 1)), 0.0, 0.0, "crank_motion")
     starts = Z[:, :: d + 1]
     nxt = ca.horzcat(starts[:, 1:], starts[:, :1]) if periodic else starts[:, 1:]

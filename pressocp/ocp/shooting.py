@@ -219,7 +219,8 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
                    method: str = "idas", rtol: float = 1e-6, window_samples: int = 200,
                    omega_samples: int = 1000, ipopt_options: dict | None = None, progress: bool = False,
                    scale: float | None = None, max_steps: int = 10**6,
-                   coefficient_step: float | None = None) -> ShootingSolution:
+                   coefficient_step: float | None = None,
+                   min_eccentricity: float | None = None) -> ShootingSolution:
     """One multiple-shooting stage of the speed problem on `model`, warm-started at (initial, nodes).
 
     Parameters
@@ -254,6 +255,8 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     coefficient_step : float, optional
         Trust region, rad/s: every Fourier coefficient stays within this distance of the warm
         start's (an outer loop re-centres it on each verified iterate; see the README).
+    min_eccentricity : float, optional
+        Keep contact at the output samples (as in `solve_collocation`), in [0, 1].
 
     Raises
     ------
@@ -264,11 +267,12 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     nodes = check_start(P, model, nodes, N, "nodes", coefficient_step)
     t_start = time.perf_counter()
     names = LOADS[P.objective] + ("ram_velocity",)
-    G = interval_function(model, grid, names, method, rtol, max_steps=max_steps)
+    ecc = contact_outputs(model, min_eccentricity)
+    G = interval_function(model, grid, names + ecc, method, rtol, max_steps=max_steps)
     p0 = model.parameters(initial)
     Gm = G.map(N, "thread", 2)
     try:
-        y0 = np.asarray(Gm(nodes, np.tile(p0[:, None], (1, N)), grid.nodes[None, :])[1])
+        y0 = np.asarray(Gm(nodes, np.tile(p0[:, None], (1, N)), grid.nodes[None, :])[1])[: len(names)]
     except RuntimeError:
         y0 = None
     if y0 is None or not np.all(np.isfinite(y0)):  # find the interval, one at a time
@@ -283,6 +287,7 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     cons = Constraints()
     nxt = ca.horzcat(X[:, 1:], X[:, :1]) if periodic else X[:, 1:]
     cons.add((Xf if periodic else Xf[:, :-1]) - nxt, 0.0, 0.0, "continuity")
+    Y = keep_contact(cons, Y, len(names), min_eccentricity)
     r = solve_states_nlp(P, initial, c, s, X, nodes, Y, y0, grid.times, t1, cons, scale, periodic,
                          f"shooting_{stage}", f"{stage} ({N}x{S} {method})", window_samples, omega_samples,
                          ipopt_options, progress, coefficient_step)
@@ -291,6 +296,23 @@ def solve_shooting(problem: SpeedProblem, model: PressModel, initial: FourierSpe
     status = r["status"] if failure is None else f"{r['status']}; {failure}"
     return to_solution(r, nodes=r["states"], status=status, wall_time=time.perf_counter() - t_start,
                        violations=r["violations"] if failure is None else {}, failure=failure)
+
+
+def contact_outputs(model: PressModel, min_eccentricity: float | None) -> tuple[str, ...]:
+    """Output names of the contact-keeping constraint: the eccentricity of every clearance joint
+    when `min_eccentricity` is given (checked: in [0, 1]), else none."""
+    if min_eccentricity is None:
+        return ()
+    chk.in_closed_interval("min_eccentricity", min_eccentricity, 0.0, 1.0)
+    return tuple(f"{j}_eccentricity" for j in model.clearance)
+
+
+def keep_contact(cons: Constraints, Y, n_rows: int, min_eccentricity: float | None):
+    """Constrain the rows of `Y` after the first `n_rows` (the `contact_outputs`) to at least
+    `min_eccentricity`; returns the first `n_rows`."""
+    if Y.shape[0] > n_rows:
+        cons.add(Y[n_rows:, :], min_eccentricity, np.inf, "eccentricity")
+    return Y[:n_rows, :]
 
 
 def check_start(P: SpeedProblem, model: PressModel, states: np.ndarray, columns: int, name: str,
