@@ -107,10 +107,15 @@ class CollocationGrid:
         return (self.starts[:, None] + self.h * tau[None, :]).ravel()
 
     @property
+    def radau(self) -> list[int]:
+        """Indices of the Radau points in `points` (every point but the element starts)."""
+        d = self.degree
+        return [k * (d + 1) + j for k in range(self.elements) for j in range(1, d + 1)]
+
+    @property
     def times(self) -> np.ndarray:
         """Times of the Radau points (where the loads are sampled), element by element, s."""
-        d = self.degree
-        return self.points.reshape(self.elements, d + 1)[:, 1:].ravel()
+        return self.points[self.radau]
 
 
 def point_function(model: PressModel, names: tuple[str, ...], jit: bool = False) -> ca.Function:
@@ -151,8 +156,7 @@ def collocation_residuals(model: PressModel, grid: CollocationGrid, names: tuple
     K, d = grid.elements, grid.degree
     X = X if isinstance(X, ca.MX) else ca.DM(np.asarray(X, float))
     crank = crank if isinstance(crank, ca.MX) else ca.DM(np.asarray(crank, float))
-    radau = [k * (d + 1) + j for k in range(K) for j in range(1, d + 1)]
-    F, Y = point_function(model, names, jit).map(K * d)(X[:, radau], crank)
+    F, Y = point_function(model, names, jit).map(K * d)(X[:, grid.radau], crank)
     # block-diagonal C (K(d+1) x Kd) and D (K(d+1) x K) as sparse matrices
     k, j, m = (a.ravel() for a in np.meshgrid(np.arange(K), np.arange(d + 1), np.arange(d), indexing="ij"))
     Cb = ca.DM.triplet((k * (d + 1) + j).tolist(), (k * d + m).tolist(), C[j, 1 + m].tolist(), K * (d + 1), K * d)
@@ -244,10 +248,8 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
     c, s = ca.MX.sym("c", 2 * n), ca.MX.sym("s")
     X = ca.MX.sym("X", model.nx + 3, K * (d + 1))
     Z, W = X[: model.nx, :], X[model.nx :, :] * ca.DM(crank_scale)
-    radau = np.ones(K * (d + 1), bool)
-    radau[:: d + 1] = False
-    defect, Xf, Y = collocation_residuals(model, grid, names + ecc, Z, W[:, np.nonzero(radau)[0].tolist()],
-                                            jit)
+    radau = grid.radau
+    defect, Xf, Y = collocation_residuals(model, grid, names + ecc, Z, W[:, radau], jit)
     m0, A = crank_map(n, T, grid.points)
     W0 = crank_motion(initial.padded(n), grid.points)
     y0 = np.asarray(collocation_residuals(model, grid, names, states, W0[:, radau])[2])

@@ -12,15 +12,15 @@ Stages, each warm-starting the next:
    shooting (`solve_shooting`), node states from a simulation of the previous stage's speed.
 3. ``target``: the clearance model as given.
 4. ``flexible``: when the model's rod is flexible, the same problem on it.
+5. ``refine_k`` (opt-in, ``refine_rounds``): trust-region rounds of shooting on the clearance model
+   from the answer so far (`solve_shooting` with ``coefficient_step``, a few IPOPT iterations each);
+   a round's final iterate is kept only when its periodic re-simulation lowers the objective with
+   the ram speed in tolerance. Slow (minutes per round) but every accepted step is verified.
 
 With ``method="collocation"``, stages 3 and 4 are Radau collocation (`solve_collocation`) with the
 journals kept on their bearing walls (``min_eccentricity``): a contact-keeping start (the
 no-reversal optimum) needs no soft stage, and every iterate is a smooth response the elements
 resolve, so the solve converges on the clearance model (measured on the seed case; see the README).
-5. ``refine_k`` (opt-in, ``refine_rounds``): trust-region rounds of shooting on the clearance model
-   from the answer so far (`solve_shooting` with ``coefficient_step``, a few IPOPT iterations each);
-   a round's final iterate is kept only when its periodic re-simulation lowers the objective with
-   the ram speed in tolerance. Slow (minutes per round) but every accepted step is verified.
 
 The optimum is then re-simulated with `simulate(..., periodic=True)` at ``verify_rtol`` on a fine
 grid; ``peak_torque``, the ram-speed violation and ``simulation`` come from that run, not from the
@@ -43,8 +43,8 @@ from ..simulate import SimulationError, periodic_state, simulate
 from ..speed import DEFAULT_HARMONICS, FourierSpeed
 from .problem import SpeedProblem
 from .result import OcpResult
-from .rigid import solve_rigid
 from .collocation import CollocationGrid, collocation_defect, collocation_states, solve_collocation
+from .rigid import solve_rigid
 from .shooting import SHOOTING_METHODS, ShootingGrid, node_states, solve_shooting
 
 #: Transcriptions of the clearance stages: multiple shooting through an integrator, or collocation.
@@ -333,8 +333,8 @@ def optimize_speed(
 
     if refine_rounds and success:
         speed, value = _refine(problem, base, speed, value, t1, grid, refine_rounds, refine_step, records, history,
-                               method=method if method in SHOOTING_METHODS else "cvodes", rtol=rtol, ipopt_options=ipopt_options, progress=progress,
-                               max_steps=max_steps)
+                               method=method if method in SHOOTING_METHODS else "cvodes", rtol=rtol,
+                               ipopt_options=ipopt_options, progress=progress, max_steps=max_steps)
     t2 = t1 + problem.window_duration
     sim = _verify(model, speed, verify_rtol)
     init_rigid = rigid_response(model.params, initial, np.linspace(0.0, period, 20001))

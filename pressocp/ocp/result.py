@@ -49,6 +49,9 @@ class OcpResult:
         (to its rigid-model peak), ``periodic``, ``ram_speed_violation`` (m/s) and
         ``min_rod_tension`` (N, the smaller axial tension of the two pins over the cycle on the
         rigid model: negative means the joint forces reverse).
+        A collocation stage adds ``elements``, ``degree``, ``min_eccentricity``, ``jit`` and
+        ``defect_start`` (the largest collocation defect of its warm start: near 0 when the grid
+        resolves the response).
     simulation : SimResult or None
         Re-simulated (or re-evaluated) response of the optimum.
     initial_simulation : SimResult or None
