@@ -18,7 +18,7 @@ from scipy.optimize import minimize
 from pressocp.model import PressModel
 from pressocp.ocp import SpeedProblem
 from pressocp.ocp.optimize import settled_state
-from pressocp.ocp.rigid import _speed_functions
+from pressocp.ocp.rigid import _ram_function
 from pressocp.simulate import SimulationError, simulate
 from pressocp.speed import FourierSpeed
 
@@ -38,7 +38,7 @@ def slsqp_baseline(model: PressModel, problem: SpeedProblem, initial: FourierSpe
     t = np.linspace(0.0, T, samples, endpoint=False)
     t2 = t1 + P.window_duration
     win = (t >= t1) & (t <= t2)
-    _, f_kin = _speed_functions(P)
+    f_kin = _ram_function(P)
     to = np.linspace(0.0, T, 1000, endpoint=False)
     state = {"x0": None, "evals": 0, "cache": {}}
     t_start = time.perf_counter()

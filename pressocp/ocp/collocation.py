@@ -26,8 +26,8 @@ import numpy as np
 
 from .. import _checks as chk
 from ..model import OUTPUT_NAMES, PressModel
-from ..speed import FourierSpeed, series
-from .constraints import Constraints
+from ..speed import FourierSpeed
+from .constraints import Constraints, add_crank_motion, crank_motion, crank_scale
 from .problem import SpeedProblem
 from .shooting import (LOADS, ShootingSolution, check_start, contact_outputs, keep_contact, solve_states_nlp,
                        states_at, to_solution)
@@ -165,21 +165,6 @@ def collocation_residuals(model: PressModel, grid: CollocationGrid, names: tuple
     return ca.mtimes(X, Cb) - grid.h * F, ca.mtimes(X, Db), Y
 
 
-def crank_motion(speed: FourierSpeed, times: np.ndarray) -> np.ndarray:
-    """Crank angle, speed and acceleration (rows; rad, rad/s, rad/s^2) of `speed` at `times`, s."""
-    return np.array(series(times, speed.a, speed.b, speed.period, speed.theta0))
-
-
-def crank_map(n: int, period: float, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The crank motion at `times` as an affine map of the 2n Fourier coefficients (theta0 = 0):
-    ``vec(motion) = m0 + A @ c`` with motion 3 x len(times) stacked by column (`crank_motion`)."""
-    zero = np.zeros(n)
-    m0 = crank_motion(FourierSpeed(period, zero, zero), times).ravel(order="F")
-    A = np.column_stack([crank_motion(FourierSpeed(period, e[:n], e[n:]), times).ravel(order="F") - m0
-                         for e in np.eye(2 * n)])
-    return m0, A
-
-
 def collocation_states(model: PressModel, speed: FourierSpeed, x_start: np.ndarray, grid: CollocationGrid,
                        rtol: float = 1e-8) -> np.ndarray:
     """Scaled states at every collocation time (`CollocationGrid.points`), integrated by CVODES from
@@ -243,21 +228,19 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
     # the crank motion at every collocation time is lifted into variables W (scaled rows) tied to the
     # coefficients by a linear constraint: each point then depends on its own variables only, and
     # the exact Hessian is block-diagonal instead of having 2n dense rows over all the states
-    w_bar = 2 * np.pi / T
-    crank_scale = np.array([1.0, w_bar, w_bar**2])
+    w_scale = crank_scale(T)
     c, s = ca.MX.sym("c", 2 * n), ca.MX.sym("s")
     X = ca.MX.sym("X", model.nx + 3, K * (d + 1))
-    Z, W = X[: model.nx, :], X[model.nx :, :] * ca.DM(crank_scale)
+    Z, W = X[: model.nx, :], X[model.nx :, :] * ca.DM(w_scale)
     radau = grid.radau
     defect, Xf, Y = collocation_residuals(model, grid, names + ecc, Z, W[:, radau], jit)
-    m0, A = crank_map(n, T, grid.points)
     W0 = crank_motion(initial.padded(n), grid.points)
     y0 = np.asarray(collocation_residuals(model, grid, names, states, W0[:, radau])[2])
-    X0 = np.vstack([states, W0 / crank_scale[:, None]])
+    X0 = np.vstack([states, W0 / w_scale[:, None]])
     cons = Constraints()
     cons.add(defect, 0.0, 0.0, "collocation")
     Y = keep_contact(cons, Y, len(names), min_eccentricity)
-    cons.add((ca.vec(W) - ca.mtimes(ca.DM(A), c) - m0) / np.tile(crank_scale, K * (d + 1)), 0.0, 0.0, "crank_motion")
+    add_crank_motion(cons, W, c, T, grid.points)
     starts = Z[:, :: d + 1]
     nxt = ca.horzcat(starts[:, 1:], starts[:, :1]) if periodic else starts[:, 1:]
     cons.add((Xf if periodic else Xf[:, :-1]) - nxt, 0.0, 0.0, "continuity")

@@ -1,11 +1,13 @@
-"""Constraint pieces shared by the transcriptions: a named collector and the closed-form constraints
-on the Fourier coefficients (epigraph, working window, crank speed and acceleration bounds)."""
+"""Constraint pieces shared by the transcriptions: a named collector, the closed-form constraints
+on the Fourier coefficients (epigraph, working window, crank speed and acceleration bounds) and the
+lifted crank motion (theta, omega, alpha at sample times as variables tied linearly to them)."""
 
 from __future__ import annotations
 
 import casadi as ca
 import numpy as np
 
+from ..speed import FourierSpeed, series
 from .problem import SpeedProblem
 
 
@@ -81,3 +83,36 @@ def add_speed_bounds(cons: Constraints, problem: SpeedProblem, omega, alpha) -> 
     cons.add(omega / wbar, P.omega_lower / wbar, np.inf if P.omega_max is None else P.omega_max / wbar, "omega")
     if P.alpha_max is not None:
         cons.add(alpha / P.alpha_max, -1.0, 1.0, "alpha")
+
+
+def crank_motion(speed: FourierSpeed, times: np.ndarray) -> np.ndarray:
+    """Crank angle, speed and acceleration (rows; rad, rad/s, rad/s^2) of `speed` at `times`, s."""
+    return np.array(series(times, speed.a, speed.b, speed.period, speed.theta0))
+
+
+def crank_map(n: int, period: float, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The crank motion at `times` as an affine map of the 2n Fourier coefficients (theta0 = 0):
+    ``vec(motion) = m0 + A @ c`` with motion 3 x len(times) stacked by column (`crank_motion`)."""
+    zero = np.zeros(n)
+    m0 = crank_motion(FourierSpeed(period, zero, zero), times).ravel(order="F")
+    A = np.column_stack([crank_motion(FourierSpeed(period, e[:n], e[n:]), times).ravel(order="F") - m0
+                         for e in np.eye(2 * n)])
+    return m0, A
+
+
+def crank_scale(period: float) -> np.ndarray:
+    """Scales of (theta, omega, alpha) for a period T: 1 rad, the mean speed 2 pi/T and its square."""
+    w_bar = 2 * np.pi / period
+    return np.array([1.0, w_bar, w_bar**2])
+
+
+def add_crank_motion(cons: Constraints, W, c, period: float, times: np.ndarray) -> None:
+    """W (3 x len(times): theta, omega, alpha) equals the Fourier series of the coefficients ``c``
+    at ``times``: a linear equality (group "crank_motion"), scaled by `crank_scale`.
+
+    Lifting the crank motion into variables makes each sample's loads depend on its own three
+    variables only, so the exact Hessian of the Lagrangian is block-diagonal instead of dense in
+    the 2n coefficients over all samples."""
+    m0, A = crank_map(c.numel() // 2, period, times)
+    scale = np.tile(crank_scale(period), len(times))
+    cons.add((ca.vec(W) - ca.mtimes(ca.DM(A), c) - m0) / scale, 0.0, 0.0, "crank_motion")

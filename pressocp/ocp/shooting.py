@@ -25,7 +25,7 @@ from ..simulate import HINT, SimulationError, _first_line, _run
 from ..speed import FourierSpeed, series
 from .constraints import Constraints, add_epigraph, add_speed_bounds, add_window, violation
 from .problem import SpeedProblem
-from .rigid import IPOPT_DEFAULTS, _speed_functions
+from .rigid import IPOPT_DEFAULTS, _ram_function
 
 #: Outputs each objective bounds at every sample.
 LOADS = {"peak_torque": ("torque",), "peak_slider_normal_force": ("slider_normal_force",),
@@ -377,7 +377,7 @@ def sampled_problem(cons: Constraints, P: SpeedProblem, c, s, Yl, v, ts: np.ndar
     inside = np.nonzero((ts >= t1) & (ts <= t1 + P.window_duration))[0]
     if inside.size:
         cons.add((v[:, inside] - P.ram_speed) / P.tol, -backoff, backoff, "ram_speed_samples")
-    add_window(cons, P, _speed_functions(P)[1], c, t1, window_samples, backoff)
+    add_window(cons, P, _ram_function(P), c, t1, window_samples, backoff)
     to = np.linspace(0.0, T, omega_samples, endpoint=False)
     tt, cc = ca.SX.sym("t"), ca.SX.sym("c", 2 * n)
     f_om = ca.Function("omega_alpha", [tt, cc], list(series(tt, cc[:n], cc[n:], T)[1:]))
