@@ -34,6 +34,10 @@ from .shooting import (LOADS, ShootingSolution, check_start, contact_outputs, ke
 
 #: Fraction of the ram speed tolerance held at the Radau points.
 RAM_SPEED_BACKOFF = 0.98
+#: IPOPT options of the collocation NLP on top of the shooting stages' (`solve_nlp`): zero initial
+#: constraint multipliers instead of IPOPT's least-squares estimate, whose extra linear system took
+#: 7 s of the seed case's solve (1600 elements) and changed nothing (66 -> 67 iterations, same optimum).
+IPOPT_OPTIONS = {"ipopt.constr_mult_init_max": 0.0}
 #: CasADi JIT of the point function and its derivatives (``jit=True``). Measured on the seed case,
 #: 1600 elements: ≈ 45 s of compilation, then the Hessian takes 0.17 s instead of 2.0 s and the
 #: Jacobian 0.10 s instead of 0.93 s per iteration (-O0: 8 s to compile, 0.48 and 0.37 s).
@@ -111,6 +115,16 @@ class CollocationGrid:
         """Indices of the Radau points in `points` (every point but the element starts)."""
         d = self.degree
         return [k * (d + 1) + j for k in range(self.elements) for j in range(1, d + 1)]
+
+    def layout(self, nx: int, nw: int) -> tuple[np.ndarray, np.ndarray]:
+        """Positions in one variable vector of a state (nx rows) at every point and of nw more
+        variables at every Radau point, stored point by point: (nx x K(d+1), nw x Kd) indices."""
+        d, per = self.degree, nx + self.degree * (nx + nw)
+        k, j = np.meshgrid(np.arange(self.elements), np.arange(d + 1), indexing="ij")
+        first = k * per + np.where(j == 0, 0, nx + (j - 1) * (nx + nw))  # first state entry of each point
+        zi = first.ravel()[None, :] + np.arange(nx)[:, None]
+        wi = first[:, 1:].ravel()[None, :] + nx + np.arange(nw)[:, None]
+        return zi, wi
 
     @property
     def times(self) -> np.ndarray:
@@ -204,7 +218,7 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
     periodic : bool
         x(T) = x(0); otherwise the first state is held at ``states[:, 0]``.
     window_samples, omega_samples, ipopt_options, progress, scale, coefficient_step
-        As in `solve_shooting`.
+        As in `solve_shooting` (``ipopt_options`` on top of `IPOPT_OPTIONS`).
     min_eccentricity : float, optional
         Keep contact: the eccentricity ratio |e|/c of every clearance joint stays at or above this at
         every Radau point (in [0, 1]; 1 = the journal never leaves the bearing wall, so the joint
@@ -225,22 +239,24 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
     t_start = time.perf_counter()
     names = LOADS[P.objective] + ("ram_velocity",)
     ecc = contact_outputs(model, min_eccentricity)
-    # the crank motion at every collocation time is lifted into variables W (scaled rows) tied to the
+    # the crank motion at every Radau point is lifted into variables W (scaled rows) tied to the
     # coefficients by a linear constraint: each point then depends on its own variables only, and
     # the exact Hessian is block-diagonal instead of having 2n dense rows over all the states
     w_scale = crank_scale(T)
     c, s = ca.MX.sym("c", 2 * n), ca.MX.sym("s")
-    X = ca.MX.sym("X", model.nx + 3, K * (d + 1))
-    Z, W = X[: model.nx, :], X[model.nx :, :] * ca.DM(w_scale)
-    radau = grid.radau
-    defect, Xf, Y = collocation_residuals(model, grid, names + ecc, Z, W[:, radau], jit)
-    W0 = crank_motion(initial.padded(n), grid.points)
-    y0 = np.asarray(collocation_residuals(model, grid, names, states, W0[:, radau])[2])
-    X0 = np.vstack([states, W0 / w_scale[:, None]])
+    zi, wi = grid.layout(model.nx, 3)
+    X = ca.MX.sym("X", zi.size + wi.size)
+    Z, W = X[zi.ravel(order="F").tolist()].reshape(zi.shape), X[wi.ravel(order="F").tolist()].reshape(wi.shape)
+    W = W * ca.DM(w_scale)
+    defect, Xf, Y = collocation_residuals(model, grid, names + ecc, Z, W, jit)
+    W0 = crank_motion(initial.padded(n), grid.times)
+    y0 = np.asarray(collocation_residuals(model, grid, names, states, W0)[2])
+    X0 = np.zeros((X.numel(), 1))
+    X0[zi, 0], X0[wi, 0] = states, W0 / w_scale[:, None]
     cons = Constraints()
     cons.add(defect, 0.0, 0.0, "collocation")
     Y = keep_contact(cons, Y, len(names), min_eccentricity)
-    add_crank_motion(cons, W, c, T, grid.points)
+    add_crank_motion(cons, W, c, T, grid.times)
     starts = Z[:, :: d + 1]
     nxt = ca.horzcat(starts[:, 1:], starts[:, :1]) if periodic else starts[:, 1:]
     cons.add((Xf if periodic else Xf[:, :-1]) - nxt, 0.0, 0.0, "continuity")
@@ -249,6 +265,8 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
     # bound was active and the journals add their motion)
     r = solve_states_nlp(P, initial, c, s, X, X0, Y, y0, grid.times, t1, cons, scale, periodic,
                          f"collocation_{stage}", f"{stage} ({K}x{d} radau)", window_samples, omega_samples,
-                         ipopt_options, progress, coefficient_step, RAM_SPEED_BACKOFF, model.nx)
-    return to_solution(r, nodes=r["states"][: model.nx, :: d + 1], status=r["status"], wall_time=time.perf_counter() - t_start,
+                         {**IPOPT_OPTIONS, **(ipopt_options or {})}, progress, coefficient_step, RAM_SPEED_BACKOFF,
+                         model.nx)
+    Zo = r["states"][zi, 0]
+    return to_solution(r, nodes=Zo[:, :: d + 1], status=r["status"], wall_time=time.perf_counter() - t_start,
                        violations=r["violations"], failure=None)
