@@ -159,7 +159,8 @@ def plot_speed_design(result, title: str = "") -> "plt.Figure":
         ax.axvspan(result.t1, result.t2, color="0.9", zorder=0)
         ax.set_ylabel(name)
         ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=7, loc="upper right")
+    # upper centre: over the working window, where the crank runs slowly (upper right hid the return peak)
+    axes[0].legend(fontsize=7, loc="upper center")
     axes[-1].set_xlabel("time, s (grey: working window)")
     if title:
         axes[0].set_title(title, fontsize=9)
