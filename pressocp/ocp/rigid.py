@@ -1,6 +1,7 @@
 """Rigid-model transcription: the press has no states, so the loads are closed-form functions of the
-Fourier coefficients at sample times. IPOPT with the exact Hessian solves it in seconds; its
-optimum is the floor the clearance stages compare with and their warm start.
+crank motion at sample times, which is lifted into variables tied linearly to the Fourier
+coefficients (`add_crank_motion`). IPOPT with the exact Hessian solves it in seconds; its optimum
+is the floor the clearance stages compare with and their warm start.
 """
 
 from __future__ import annotations
