@@ -163,4 +163,7 @@ def test_refine_round_keeps_only_a_verified_improvement(case):
         assert rec["clearance_value"] < start_peak and r.peak_torque < 1.001 * start_peak
         assert 0.0 < np.max(moved) <= 0.05 + 1e-7 and r.max_ram_speed_violation == 0.0
     else:
-        assert np.max(moved) == 0.0 and r.peak_torque == pytest.approx(start_peak, rel=1e-3)
+        # the answer is the rigid optimum, and its peak is that of a tighter periodic simulation (not
+        # the stage check's: at rtol 1e-7 it was measured 0.4 % off, 76.30 against 75.97 N m)
+        ref = simulate(model, r.rigid.speed, periodic=True, method="cvodes", rtol=1e-10, n_out=20001)
+        assert np.max(moved) == 0.0 and r.peak_torque == pytest.approx(ref.peak("torque"), rel=1e-3)
