@@ -22,8 +22,8 @@ import numpy as np
 from .. import _checks as chk
 from ..model import OUTPUT_NAMES, PressModel
 from ..simulate import HINT, SimulationError, _first_line, _run
-from ..speed import FourierSpeed, series
-from .constraints import Constraints, add_epigraph, add_speed_bounds, add_window, violation
+from ..speed import FourierSpeed
+from .constraints import Constraints, add_epigraph, add_speed_bounds, add_window, crank_map, violation
 from .problem import SpeedProblem
 from .rigid import IPOPT_DEFAULTS, _ram_function
 
@@ -378,10 +378,9 @@ def sampled_problem(cons: Constraints, P: SpeedProblem, c, s, Yl, v, ts: np.ndar
     if inside.size:
         cons.add((v[:, inside] - P.ram_speed) / P.tol, -backoff, backoff, "ram_speed_samples")
     add_window(cons, P, _ram_function(P), c, t1, window_samples, backoff)
-    to = np.linspace(0.0, T, omega_samples, endpoint=False)
-    tt, cc = ca.SX.sym("t"), ca.SX.sym("c", 2 * n)
-    f_om = ca.Function("omega_alpha", [tt, cc], list(series(tt, cc[:n], cc[n:], T)[1:]))
-    add_speed_bounds(cons, P, *f_om.map(omega_samples)(ca.DM(to).T, ca.repmat(c, 1, omega_samples)))
+    m0, A = crank_map(n, T, np.linspace(0.0, T, omega_samples, endpoint=False))
+    motion = ca.reshape(ca.mtimes(ca.DM(A), c) + m0, 3, omega_samples)  # theta, omega, alpha rows
+    add_speed_bounds(cons, P, motion[1, :], motion[2, :])
     return f
 
 
