@@ -34,14 +34,26 @@ from .shooting import (LOADS, ShootingSolution, check_start, contact_outputs, ke
 
 #: Fraction of the ram speed tolerance held at the Radau points.
 RAM_SPEED_BACKOFF = 0.98
-#: IPOPT options of the collocation NLP on top of the shooting stages' (`solve_nlp`): zero initial
-#: constraint multipliers instead of IPOPT's least-squares estimate, whose extra linear system took
-#: 7 s of the seed case's solve (1600 elements) and changed nothing (66 -> 67 iterations, same optimum).
-IPOPT_OPTIONS = {"ipopt.constr_mult_init_max": 0.0}
+#: IPOPT options of the collocation NLP on top of the shooting stages' (`solve_nlp`), measured on the
+#: seed case (1600 elements, exact Hessian, jit):
+#: - zero initial constraint multipliers instead of IPOPT's least-squares estimate, whose extra linear
+#:   system took 7 s and changed nothing (66 -> 67 iterations, same optimum);
+#: - no MUMPS scaling (its automatic choice, 77, is the default): IPOPT's own time (mostly MUMPS)
+#:   0.54 s per iteration instead of 0.86 s (back-solves 0.13 instead of 0.35 s), 67 iterations against 75,
+#:   the same optimum to 1e-10. (The rigid stages are left at 77: there it changed the default case's
+#:   exit from Solve_Succeeded to Solved_To_Acceptable_Level.)
+IPOPT_OPTIONS = {"ipopt.constr_mult_init_max": 0.0, "ipopt.mumps_scaling": 0}
 #: CasADi JIT of the point function and its derivatives (``jit=True``). Measured on the seed case,
-#: 1600 elements: ≈ 45 s of compilation, then the Hessian takes 0.17 s instead of 2.0 s and the
-#: Jacobian 0.10 s instead of 0.93 s per iteration (-O0: 8 s to compile, 0.48 and 0.37 s).
+#: 1600 elements: ≈ 8 s of compilation (with `JIT_DIRECTIONS`; 45 s without), then the Hessian takes
+#: 0.2 s instead of 2.0 s and the Jacobian 0.10 s instead of 0.93 s per iteration.
 JIT_OPTIONS = {"jit": True, "compiler": "shell", "jit_options": {"flags": ["-O1"], "verbose": False}}
+#: Directions per derivative sweep of the NLP functions when the point function is compiled (the
+#: oracle's ``max_num_dir``; CasADi's default 64 let the exact Hessian take all 9 colours in one
+#: ``fwd9_adj1_point``). Measured on the seed model, gcc -O1, 4800 points: 9 directions compile in
+#: 31 s and evaluate the Hessian in 46 us per point; 3 directions in 5 s and 43-48 us per point
+#: (three calls); 1 direction in 1.6 s and 59 us. Without ``jit`` the virtual machine is 23 % slower
+#: with 3 directions (2.4 against 2.0 s per Hessian), so the default stays there.
+JIT_DIRECTIONS = 3
 
 
 def radau_matrices(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -265,7 +277,8 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
     # bound was active and the journals add their motion)
     r = solve_states_nlp(P, initial, c, s, X, X0, Y, y0, grid.times, t1, cons, scale, periodic,
                          f"collocation_{stage}", f"{stage} ({K}x{d} radau)", window_samples, omega_samples,
-                         {**IPOPT_OPTIONS, **(ipopt_options or {})}, progress, coefficient_step, RAM_SPEED_BACKOFF,
+                         {**IPOPT_OPTIONS, **({"oracle_options": {"max_num_dir": JIT_DIRECTIONS}} if jit else {}),
+                          **(ipopt_options or {})}, progress, coefficient_step, RAM_SPEED_BACKOFF,
                          model.nx)
     Zo = r["states"][zi, 0]
     return to_solution(r, nodes=Zo[:, :: d + 1], status=r["status"], wall_time=time.perf_counter() - t_start,
