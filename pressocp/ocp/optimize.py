@@ -222,7 +222,7 @@ def optimize_speed(
     jit : bool
         Collocation only: compile the model's point function and its derivatives with the system C
         compiler (``cc``; CasADi JIT, -O1). Measured on the seed case at 1600 elements: ≈ 8 s to
-        compile, then ≈ 3× faster iterations (the whole call: 93 s median, against ≈ 4 min without).
+        compile, then ≈ 3× faster iterations (the whole call: 93 s median, against 250 s without).
 
     Returns
     -------
