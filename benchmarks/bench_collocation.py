@@ -92,7 +92,8 @@ def figure(out: dict):
     err = np.abs([r["reported_vs_resimulated"] for r in rows])
     ok = np.array([r["success"] for r in rows])
     ax.semilogy(wall[ok], 100 * err[ok], "o", label="converged")
-    ax.semilogy(wall[~ok], 100 * err[~ok], "x", color="C3", label="not converged")
+    if (~ok).any():
+        ax.semilogy(wall[~ok], 100 * err[~ok], "x", color="C3", label="not converged")
     for k, w, e in zip(K, wall, err):
         ax.annotate(f"{k}", (w, 100 * e), textcoords="offset points", xytext=(4, 4), fontsize=8)
     jit = " (compiled, compilation included)" if out.get("jit") else ""
@@ -101,7 +102,8 @@ def figure(out: dict):
     ax.legend()
     peak = np.array([r["resimulated_peak_torque"] for r in rows])
     bx.plot(K[ok], peak[ok], "o-", label="collocation optimum (re-simulated)")
-    bx.plot(K[~ok], peak[~ok], "x", color="C3", label="not converged (its last iterate)")
+    if (~ok).any():
+        bx.plot(K[~ok], peak[~ok], "x", color="C3", label="not converged (its last iterate)")
     bx.axhline(out["start_peak_torque"], color="C1", ls="--", label="start: no-reversal optimum")
     bx.axhline(out["rigid_floor"], color="k", ls=":", label="rigid floor")
     bx.set(xlabel="elements per period", ylabel="peak motor torque, N·m", title="optimum on the clearance model")
