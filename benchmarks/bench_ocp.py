@@ -72,6 +72,8 @@ def main() -> None:
                     help="case whose optimum the SLSQP baseline must reach within 1 %%")
     ap.add_argument("--repeat", type=int, default=1, help="runs of an optimisation case (median time)")
     a = ap.parse_args()
+    if a.repeat < 1:
+        ap.error(f"--repeat must be >= 1, got {a.repeat}")
     OUT.mkdir(exist_ok=True)
     kwargs: dict = {"ipopt_options": {"ipopt.max_iter": a.max_iter}}
     if a.case == "slsqp":
@@ -99,7 +101,7 @@ def main() -> None:
         if a.case == "flexible":
             kwargs["model"] = build_model(PressParams(), rod="flexible", n_elements=4)
         times, peaks = [], []
-        for i in range(max(a.repeat, 1)):
+        for i in range(a.repeat):
             r = optimize_speed(**kwargs)
             times.append(r.wall_time)
             peaks.append(r.peak_torque)

@@ -136,3 +136,28 @@ def test_compiled_point_function_agrees_with_the_virtual_machine():
     jit = collocation_residuals(model, g, ("torque", "ram_velocity"), X, crank, jit=True)
     for a, b in zip(vm, jit):
         np.testing.assert_allclose(np.asarray(b), np.asarray(a), rtol=1e-10, atol=1e-9)
+
+
+def test_compiled_hessian_with_few_directions_agrees_with_the_virtual_machine():
+    """The exact Hessian of a collocation NLP compiled with `JIT_DIRECTIONS` directions per sweep (how
+    `solve_collocation(..., jit=True)` builds it) equals the virtual machine's with CasADi's default."""
+    import casadi as ca
+
+    from pressocp.ocp.collocation import JIT_DIRECTIONS, collocation_residuals
+
+    model = build_model(PressParams(), n_harmonics=4)
+    g = CollocationGrid(1.0, 4, 3)
+    rng = np.random.default_rng(2)
+    X = ca.MX.sym("X", model.nx, g.points.size)
+    crank = ca.MX.sym("crank", 3, g.times.size)
+    w = ca.veccat(X, crank)
+    x0 = rng.normal(0.0, 0.5, w.numel()) + 1.0
+    lam = rng.normal(0.0, 1.0, model.nx * g.times.size)
+    hessians = []
+    for jit, opts in ((False, {}), (True, {"oracle_options": {"max_num_dir": JIT_DIRECTIONS}})):
+        defect, _, Y = collocation_residuals(model, g, ("torque", "ram_velocity"), X, crank, jit=jit)
+        solver = ca.nlpsol("h", "ipopt", {"x": w, "f": ca.sumsqr(Y), "g": ca.vec(defect)}, opts)
+        H = solver.get_function("nlp_hess_l")(x0, [], 1.0, lam)
+        hessians.append(np.asarray(ca.densify(H)))
+    assert np.abs(hessians[0]).max() > 0.0
+    np.testing.assert_allclose(hessians[1], hessians[0], rtol=1e-9, atol=1e-9 * np.abs(hessians[0]).max())
