@@ -139,11 +139,12 @@ def test_compiled_point_function_agrees_with_the_virtual_machine():
 
 
 def test_compiled_hessian_with_few_directions_agrees_with_the_virtual_machine():
-    """The exact Hessian of a collocation NLP compiled with `JIT_DIRECTIONS` directions per sweep (how
-    `solve_collocation(..., jit=True)` builds it) equals the virtual machine's with CasADi's default."""
+    """The exact Hessian of a collocation NLP compiled with the options `solve_collocation(..., jit=True)`
+    uses (`nlp_options`: `JIT_DIRECTIONS` directions per sweep) equals the virtual machine's with
+    CasADi's default directions."""
     import casadi as ca
 
-    from pressocp.ocp.collocation import JIT_DIRECTIONS, collocation_residuals
+    from pressocp.ocp.collocation import collocation_residuals, nlp_options
 
     model = build_model(PressParams(), n_harmonics=4)
     g = CollocationGrid(1.0, 4, 3)
@@ -154,9 +155,9 @@ def test_compiled_hessian_with_few_directions_agrees_with_the_virtual_machine():
     x0 = rng.normal(0.0, 0.5, w.numel()) + 1.0
     lam = rng.normal(0.0, 1.0, model.nx * g.times.size)
     hessians = []
-    for jit, opts in ((False, {}), (True, {"oracle_options": {"max_num_dir": JIT_DIRECTIONS}})):
+    for jit in (False, True):
         defect, _, Y = collocation_residuals(model, g, ("torque", "ram_velocity"), X, crank, jit=jit)
-        solver = ca.nlpsol("h", "ipopt", {"x": w, "f": ca.sumsqr(Y), "g": ca.vec(defect)}, opts)
+        solver = ca.nlpsol("h", "ipopt", {"x": w, "f": ca.sumsqr(Y), "g": ca.vec(defect)}, nlp_options(jit))
         H = solver.get_function("nlp_hess_l")(x0, [], 1.0, lam)
         hessians.append(np.asarray(ca.densify(H)))
     assert np.abs(hessians[0]).max() > 0.0

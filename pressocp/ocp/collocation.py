@@ -56,6 +56,12 @@ JIT_OPTIONS = {"jit": True, "compiler": "shell", "jit_options": {"flags": ["-O1"
 JIT_DIRECTIONS = 3
 
 
+def nlp_options(jit: bool) -> dict:
+    """nlpsol options of the collocation NLP: `IPOPT_OPTIONS`, and with `jit` at most `JIT_DIRECTIONS`
+    directions per derivative sweep (the oracle's ``max_num_dir``)."""
+    return {**IPOPT_OPTIONS, **({"oracle_options": {"max_num_dir": JIT_DIRECTIONS}} if jit else {})}
+
+
 def radau_matrices(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Collocation points and matrices of the Radau IIA scheme of `degree` d.
 
@@ -230,7 +236,7 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
     periodic : bool
         x(T) = x(0); otherwise the first state is held at ``states[:, 0]``.
     window_samples, omega_samples, ipopt_options, progress, scale, coefficient_step
-        As in `solve_shooting` (``ipopt_options`` on top of `IPOPT_OPTIONS`).
+        As in `solve_shooting` (``ipopt_options`` on top of `nlp_options`).
     min_eccentricity : float, optional
         Keep contact: the eccentricity ratio |e|/c of every clearance joint stays at or above this at
         every Radau point (in [0, 1]; 1 = the journal never leaves the bearing wall, so the joint
@@ -277,9 +283,8 @@ def solve_collocation(problem: SpeedProblem, model: PressModel, initial: Fourier
     # bound was active and the journals add their motion)
     r = solve_states_nlp(P, initial, c, s, X, X0, Y, y0, grid.times, t1, cons, scale, periodic,
                          f"collocation_{stage}", f"{stage} ({K}x{d} radau)", window_samples, omega_samples,
-                         {**IPOPT_OPTIONS, **({"oracle_options": {"max_num_dir": JIT_DIRECTIONS}} if jit else {}),
-                          **(ipopt_options or {})}, progress, coefficient_step, RAM_SPEED_BACKOFF,
-                         model.nx)
+                         {**nlp_options(jit), **(ipopt_options or {})}, progress, coefficient_step,
+                         RAM_SPEED_BACKOFF, model.nx)
     Zo = r["states"][zi, 0]
     return to_solution(r, nodes=Zo[:, :: d + 1], status=r["status"], wall_time=time.perf_counter() - t_start,
                        violations=r["violations"], failure=None)
