@@ -1,11 +1,26 @@
-"""pressocp: servo mechanical presses with joint clearance, and optimal crank-speed design."""
+"""pressocp: servo mechanical presses with joint clearance, and optimal crank-speed design.
 
+    import pressocp as po
+    problem = po.SpeedProblem(po.PressParams(), period=0.8)
+    result = po.optimize_speed(problem)
+"""
+
+from .design import DesignSettings, SpeedDesign, design_speed
+from .model import ModelSpec, PressModel, build_model
+from .objectives import OBJECTIVES, Objective
+from .ocp import (Collocation, MultipleShooting, OcpResult, Rigid, StageResult, Strategy, WarmStart,
+                  optimize_speed)
 from .params import Bearing, PressParams, ProcessForce, hertz_internal_stiffness
+from .problem import SpeedProblem
 from .result import SimResult
 from .rigid import crank_angle_at_height, rigid_inverse_dynamics, rigid_kinematics, rigid_response
+from .simulate import SimulationError, simulate
 from .speed import FourierSpeed
 
 __all__ = [
-    "Bearing", "FourierSpeed", "PressParams", "ProcessForce", "SimResult", "crank_angle_at_height",
-    "hertz_internal_stiffness", "rigid_inverse_dynamics", "rigid_kinematics", "rigid_response",
+    "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "FourierSpeed", "ModelSpec", "MultipleShooting",
+    "Objective", "OcpResult", "PressModel", "PressParams", "ProcessForce", "Rigid", "SimResult", "SimulationError",
+    "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "WarmStart", "build_model", "crank_angle_at_height",
+    "design_speed", "hertz_internal_stiffness", "optimize_speed", "rigid_inverse_dynamics", "rigid_kinematics",
+    "rigid_response", "simulate",
 ]

@@ -17,14 +17,9 @@ import numpy as np
 
 from . import _checks as chk
 from .params import PressParams
-from .rigid import _kinematics_function, crank_angle_at_height, rigid_kinematics
+from .problem import SpeedProblem
+from .rigid import crank_angle_at_height, kinematics_function, rigid_kinematics
 from .speed import DEFAULT_HARMONICS, FourierSpeed, series
-
-#: The working window must leave this share of the period for the rest of the revolution.
-MAX_WINDOW_SHARE = 0.8
-#: The mean crank speed in the window may be at most this multiple of the mean speed 2 pi / T.
-MAX_WINDOW_SPEED_RATIO = 3.0
-
 
 @dataclass(frozen=True)
 class SpeedDesign:
@@ -62,52 +57,29 @@ class SpeedDesign:
     status: str
 
 
-def check_window(window: Any) -> tuple[float, float]:
-    """Validate a working window (h1/H, h2/H) on the downstroke: 0 < h2 < h1 < 1."""
-    try:
-        w0, w1 = (float(x) for x in window)
-    except (TypeError, ValueError):
-        raise ValueError(f"window must be a pair (h1/H, h2/H), got {window!r}") from None
-    chk.in_open_interval("window[0] (h1/H)", w0, 0.0, 1.0)
-    chk.in_open_interval("window[1] (h2/H)", w1, 0.0, 1.0)
-    if not w1 < w0:
-        raise ValueError(f"window must be (h1/H, h2/H) with h2/H < h1/H on the downstroke, got {window!r}")
-    return w0, w1
+@dataclass(frozen=True)
+class DesignSettings:
+    """Settings of `design_speed`.
 
-
-def ram_speed_range(params: PressParams, period: float, window: tuple[float, float]) -> tuple[float, float]:
-    """Reachable ram speeds (m/s, negative) for a window and a period.
-
-    The window must take at most `MAX_WINDOW_SHARE` of the period (slow limit) and the crank may
-    turn through it at most `MAX_WINDOW_SPEED_RATIO` times faster than its mean speed (fast limit).
-
-    Returns
-    -------
-    (fastest, slowest) : tuple of float
-        The allowed range is fastest <= ram_speed <= slowest < 0.
+    Attributes
+    ----------
+    band : float
+        Share of the problem's ram-speed tolerance held at the design's samples, in (0, 1]
+        (0.5: the default problem's 1 % becomes a +-0.5 % band).
+    samples : int
+        Samples in the window (the period has 4x as many for the crank-speed bound), 10..5000.
+    smoothing_weight : float
+        Weight of the smoothness term (integral of the squared crank acceleration), >= 0.
     """
-    w0, w1 = window
-    dh = (w0 - w1) * params.stroke
-    th0, th1 = crank_angle_at_height(params, np.array([w0, w1]) * params.stroke, "down")
-    fastest = MAX_WINDOW_SPEED_RATIO * (2 * np.pi / period) * dh / (th1 - th0)
-    slowest = dh / (MAX_WINDOW_SHARE * period)
-    return -fastest, -slowest
 
+    band: float = 0.5
+    samples: int = 200
+    smoothing_weight: float = 1e-6
 
-def check_ram_speed(params: PressParams, period: float, ram_speed: float, window: tuple[float, float]) -> float:
-    """Validate a window ram speed: negative and within `ram_speed_range` (ValueError otherwise)."""
-    v = chk.finite("ram_speed", ram_speed)
-    if v >= 0:
-        raise ValueError(f"ram_speed must be negative (downstroke, dh/dt < 0), got {v!r} m/s")
-    fastest, slowest = ram_speed_range(params, period, window)
-    if not fastest <= v <= slowest:
-        raise ValueError(
-            f"ram_speed must be in [{fastest:.4g}, {slowest:.4g}] m/s for period={period:g} s and window="
-            f"({window[0]:g}, {window[1]:g}): the crank cannot deliver {v!r} m/s over that window at that period "
-            f"(the window may take at most {MAX_WINDOW_SHARE:.0%} of the period and the crank may cross it at most "
-            f"{MAX_WINDOW_SPEED_RATIO:g}x faster than its mean speed)"
-        )
-    return v
+    def __post_init__(self) -> None:
+        chk.in_half_open_interval("band", self.band, 1e-6, 1.0 + 1e-12)
+        chk.integer("samples", self.samples, 10, 5000)
+        chk.nonnegative("smoothing_weight", self.smoothing_weight)
 
 
 def _window_trajectory(params: PressParams, period: float, ram_speed: float, window, n: int = 2000):
@@ -140,60 +112,33 @@ def _window_trajectory(params: PressParams, period: float, ram_speed: float, win
     return float(np.mod(-t_tdc, period)), t[order], np.unwrap(theta[order])
 
 
-def design_speed(
-    params: PressParams,
-    period: float = 1.0,
-    ram_speed: float = -0.1,
-    window: tuple[float, float] = (0.7, 0.3),
-    n_harmonics: int = DEFAULT_HARMONICS,
-    tolerance: float = 0.005,
-    omega_min: float | None = None,
-    samples: int = 200,
-    smoothing_weight: float = 1e-6,
-) -> SpeedDesign:
-    """Fourier crank speed that holds a constant rigid ram speed over a working window.
+def design_speed(problem: SpeedProblem, settings: DesignSettings | None = None) -> SpeedDesign:
+    """Fourier crank speed that holds a constant rigid ram speed over the problem's working window.
 
     The window starts when the ram passes ``window[0]*H`` on the downstroke (time t1) and ends at
     ``window[1]*H`` (time t2 = t1 + (h1 - h2)/|v|). IPOPT minimises the mean squared relative ram
-    speed error on the window plus ``smoothing_weight`` times the normalised integral of the
-    squared crank acceleration, subject to |v/ram_speed - 1| <= tolerance at the samples and
-    omega >= omega_min over the period; the mean speed is 2 pi/T by construction.
+    speed error on the window plus ``settings.smoothing_weight`` times the normalised integral of
+    the squared crank acceleration, subject to |v - ram_speed| <= band x tol at the samples and
+    omega >= omega_min over the period; the mean speed is 2 pi/T by construction. The problem's
+    objective, limits other than omega_min, and caps are not used: this is the kinematic design
+    an optimisation starts from.
 
     Parameters
     ----------
-    params : PressParams
-        The press.
-    period : float
-        Cycle time T, s.
-    ram_speed : float
-        Ram velocity in the window, m/s; negative (downstroke), within `ram_speed_range`.
-    window : (float, float)
-        (h1/H, h2/H) with 0 < h2 < h1 < 1.
-    n_harmonics : int
-        Number of harmonics, 1..50.
-    tolerance : float
-        Allowed relative ram speed deviation at the samples, in (0, 0.5).
-    omega_min : float, optional
-        Lower bound of the crank speed, rad/s; default 5 % of the mean speed.
-    samples : int
-        Samples in the window (the period has 4x as many for the speed bound), 10..5000.
-    smoothing_weight : float
-        Weight of the smoothness term, >= 0.
+    problem : SpeedProblem
+        Press, period, ram speed, window, harmonics, tolerance and omega_min.
+    settings : DesignSettings, optional
 
     Returns
     -------
     SpeedDesign
     """
-    T = chk.positive("period", period, "s")
-    v = chk.finite("ram_speed", ram_speed)
-    w0, w1 = check_window(window)
-    n = chk.integer("n_harmonics", n_harmonics, 1, 50)
-    tol = chk.in_open_interval("tolerance", tolerance, 0.0, 0.5)
-    m = chk.integer("samples", samples, 10, 5000)
-    mu = chk.nonnegative("smoothing_weight", smoothing_weight)
+    S = DesignSettings() if settings is None else settings
+    params, T, v, (w0, w1), n = problem.press, problem.period, problem.ram_speed, problem.window, problem.n_harmonics
+    tol = S.band * problem.tol / abs(v)
+    m, mu = S.samples, S.smoothing_weight
     wbar = 2 * np.pi / T
-    wmin = 0.05 * wbar if omega_min is None else chk.in_open_interval("omega_min", omega_min, 0.0, wbar, "rad/s")
-    check_ram_speed(params, T, v, (w0, w1))
+    wmin = problem.omega_lower
     H = params.stroke
     tau = (w0 - w1) * H / abs(v)
 
@@ -206,7 +151,7 @@ def design_speed(
     t1 = ca.SX.sym("t1")
     ts = ca.SX.sym("t")
     th, om, al = series(ts, c[:n], c[n:], T)
-    kin = _kinematics_function(params)(theta=th, omega=om, alpha=al)
+    kin = kinematics_function(params)(theta=th, omega=om, alpha=al)
     h, hd = kin["ram_height"], kin["ram_velocity"]
     f = ca.Function("f", [ts, c], [h, hd, om, th])
     s = np.linspace(0.0, 1.0, m)

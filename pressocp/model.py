@@ -58,6 +58,51 @@ OUTPUT_NAMES = (
 QUADRATURE_NAMES = ("motor_work", "contact_work", "contact_elastic_work", "process_work", "rod_damping_work")
 
 
+@dataclass(frozen=True)
+class ModelSpec:
+    """Which model level: the arguments of `build_model` other than the press.
+
+    Attributes
+    ----------
+    rod : {"rigid", "flexible"}
+    clearance : tuple of str
+        Joints with clearance (``()``: the rigid press).
+    n_elements : int
+        Elements of a flexible rod.
+    """
+
+    rod: str = "rigid"
+    clearance: tuple[str, ...] = JOINTS
+    n_elements: int = 4
+
+    def __post_init__(self) -> None:
+        chk.choice("rod", self.rod, RODS)
+        clearance = (self.clearance,) if isinstance(self.clearance, str) else tuple(self.clearance)
+        for j in clearance:
+            chk.choice("clearance joint", j, JOINTS)
+        if len(set(clearance)) != len(clearance):
+            raise ValueError(f"clearance names a joint twice: {clearance!r}")
+        object.__setattr__(self, "clearance", clearance)
+        chk.integer("n_elements", self.n_elements, 1, 64)
+
+    def build(self, params: PressParams, n_harmonics: int = DEFAULT_HARMONICS) -> "PressModel":
+        """`build_model` of this level for a press."""
+        return build_model(params, self.rod, self.clearance, self.n_elements, n_harmonics)
+
+    def describe(self) -> str:
+        """E.g. "rigid rod, clearance in crank_pin and wrist_pin"."""
+        joints = " and ".join(self.clearance) if self.clearance else "no joint (ideal joints)"
+        rod = f"flexible rod ({self.n_elements} elements)" if self.rod == "flexible" else "rigid rod"
+        return f"{rod}, clearance in {joints}"
+
+    def to_dict(self) -> dict:
+        return {"rod": self.rod, "clearance": list(self.clearance), "n_elements": self.n_elements}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "ModelSpec":
+        return cls(data.get("rod", "rigid"), tuple(data.get("clearance", JOINTS)), data.get("n_elements", 4))
+
+
 @dataclass
 class PressModel:
     """A press model as a symbolic DAE plus its output and energy functions.
@@ -130,6 +175,17 @@ class PressModel:
         """True when the model has no states (ideal joints, rigid rod)."""
         return self.nx == 0
 
+    @property
+    def spec(self) -> ModelSpec:
+        """The model level (`ModelSpec`)."""
+        return ModelSpec(self.rod, self.clearance, self.n_elements)
+
+    @property
+    def ram_drop(self) -> float:
+        """How much lower the ram can hang than on the ideal press, m: the sum of the clearances of
+        the joints that have one (the rod in tension rests the journals on their bearing walls)."""
+        return float(sum(getattr(self.params, j).clearance for j in self.clearance))
+
     def parameters(self, speed: FourierSpeed) -> np.ndarray:
         """The parameter vector p for a speed (harmonics padded with zeros)."""
         s = speed.padded(self.n_harmonics)
@@ -187,15 +243,8 @@ def build_model(
     -------
     PressModel
     """
-    chk.choice("rod", rod, RODS)
-    if isinstance(clearance, str):
-        clearance = (clearance,)
-    clearance = tuple(clearance)
-    for j in clearance:
-        chk.choice("clearance joint", j, JOINTS)
-    if len(set(clearance)) != len(clearance):
-        raise ValueError(f"clearance names a joint twice: {clearance!r}")
-    ne = chk.integer("n_elements", n_elements, 1, 64)
+    spec = ModelSpec(rod, clearance, n_elements)
+    clearance, ne = spec.clearance, spec.n_elements
     nh = chk.integer("n_harmonics", n_harmonics, 1, 50)
     flexible = rod == "flexible"
     P = params

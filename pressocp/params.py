@@ -14,7 +14,7 @@ All quantities are SI. Conventions used throughout pressocp:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import asdict, dataclass, field, fields, replace
 
 from . import _checks as chk
 
@@ -320,6 +320,28 @@ class PressParams:
     def replace(self, **changes) -> "PressParams":
         """A copy with some fields changed (validated again)."""
         return replace(self, **changes)
+
+    def to_dict(self) -> dict:
+        """Plain-data form (JSON/TOML-safe), bearings and process force as nested dicts."""
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "PressParams":
+        """Inverse of `to_dict`; missing keys take their defaults, unknown keys are an error."""
+        nested = {"crank_pin": Bearing, "wrist_pin": Bearing, "process_force": ProcessForce}
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(set(data) - known)
+        if unknown:
+            raise ValueError(f"unknown press field(s) {unknown}; known: {sorted(known)}")
+        d = dict(data)
+        for key, kind in nested.items():
+            if isinstance(d.get(key), dict):
+                sub = d[key]
+                bad = sorted(set(sub) - {f.name for f in fields(kind)})
+                if bad:
+                    raise ValueError(f"unknown {key} field(s) {bad}; known: {sorted(f.name for f in fields(kind))}")
+                d[key] = replace(getattr(cls(), key), **sub)  # missing keys: that joint's defaults
+        return cls(**d)
 
     @classmethod
     def flores(cls, clearance: float = 5e-4) -> "PressParams":

@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
+from pathlib import Path
 
 import numpy as np
+
+from .io import atomic_write
 
 #: Time series every response carries, with units.
 SERIES_UNITS = {
@@ -92,3 +95,12 @@ class SimResult:
     def as_dict(self) -> dict[str, np.ndarray]:
         """The series as a dict of arrays."""
         return {n: getattr(self, n) for n in SERIES_UNITS}
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write the time series as CSV, one column per series, headers with units (``torque [N m]``).
+
+        Written atomically (a temporary file, then renamed). Returns the path."""
+        import pandas as pd
+
+        frame = pd.DataFrame({f"{n} [{u}]": getattr(self, n) for n, u in SERIES_UNITS.items()})
+        return atomic_write(path, frame.to_csv(index=False, float_format="%.10g"))

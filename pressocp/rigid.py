@@ -22,7 +22,7 @@ from .speed import FourierSpeed
 
 
 @lru_cache(maxsize=32)
-def _kinematics_function(params: PressParams) -> ca.Function:
+def kinematics_function(params: PressParams) -> ca.Function:
     theta, omega, alpha = ca.SX.sym("theta"), ca.SX.sym("omega"), ca.SX.sym("alpha")
     pos = mech.slider_crank_positions(params, theta)
     h, phi = pos["ram_height"], pos["rod_angle"]
@@ -73,7 +73,7 @@ def rigid_kinematics(params: PressParams, theta: Any, omega: Any = 0.0, alpha: A
     """
     for name, v in (("theta", theta), ("omega", omega), ("alpha", alpha)):
         chk.finite_array(name, v, ndim=None)
-    return _evaluate(_kinematics_function(params), theta, omega, alpha)
+    return _evaluate(kinematics_function(params), theta, omega, alpha)
 
 
 def crank_angle_at_height(params: PressParams, height: Any, stroke: str = "down") -> np.ndarray:
@@ -100,7 +100,7 @@ def crank_angle_at_height(params: PressParams, height: Any, stroke: str = "down"
 
 
 @lru_cache(maxsize=32)
-def _inverse_dynamics_function(params: PressParams) -> ca.Function:
+def inverse_dynamics_function(params: PressParams) -> ca.Function:
     l, g = params.rod_length, params.gravity
     theta, omega, alpha = ca.SX.sym("theta"), ca.SX.sym("omega"), ca.SX.sym("alpha")
 
@@ -163,7 +163,7 @@ def rigid_inverse_dynamics(params: PressParams, theta: Any, omega: Any, alpha: A
     """
     for name, v in (("theta", theta), ("omega", omega), ("alpha", alpha)):
         chk.finite_array(name, v, ndim=None)
-    return _evaluate(_inverse_dynamics_function(params), theta, omega, alpha)
+    return _evaluate(inverse_dynamics_function(params), theta, omega, alpha)
 
 
 def rigid_response(params: PressParams, speed: FourierSpeed, t: Any = None) -> SimResult:

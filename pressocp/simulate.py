@@ -11,6 +11,7 @@ import casadi as ca
 import numpy as np
 
 from . import _checks as chk
+from .interrupt import interruptible
 from .model import OUTPUT_NAMES, QUADRATURE_NAMES, PressModel
 from .result import SimResult
 from .speed import FourierSpeed
@@ -69,7 +70,7 @@ def _stats(raw: dict, wall: float) -> dict:
     return out
 
 
-def _run(model, method, x0, p, grid, rtol, atol, max_steps, step):
+def integrate(model, method, x0, p, grid, rtol, atol, max_steps, step):
     """Integrate from t = 0 over `grid` (the first entry > 0). Returns (X, Qf, stats)."""
     if method.startswith("scipy"):
         return _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps)
@@ -79,10 +80,11 @@ def _run(model, method, x0, p, grid, rtol, atol, max_steps, step):
         args["z0"] = model.z0(x0, p)
     t0 = time.perf_counter()
     try:
-        res = F(**args)
+        with interruptible():
+            res = F(**args)
     except RuntimeError as err:
         raw = F.stats()
-        raise SimulationError(_first_line(err), time=float(raw.get("tcur", np.nan)) if isinstance(raw, dict) else np.nan,
+        raise SimulationError(first_line(err), time=float(raw.get("tcur", np.nan)) if isinstance(raw, dict) else np.nan,
                               method=method, hint=HINT) from None
     wall = time.perf_counter() - t0
     raw = F.stats()
@@ -92,7 +94,7 @@ def _run(model, method, x0, p, grid, rtol, atol, max_steps, step):
     return X, Qf, _stats(raw, wall)
 
 
-def _first_line(err: Exception) -> str:
+def first_line(err: Exception) -> str:
     lines = [s for s in str(err).splitlines() if s.strip()]
     useful = [s for s in lines if any(k in s for k in ("IDA_", "CV_", "failed", "Maximum", "error"))]
     return (useful or lines or ["integrator error"])[-1].strip()[:500]
@@ -182,9 +184,10 @@ def periodic_state(model: PressModel, speed: FourierSpeed, method: str = "cvodes
 
     def shoot(xs: np.ndarray) -> np.ndarray:
         try:
-            return np.asarray(F(x0=xs, p=np.tile(p[:, None], (1, xs.shape[1])) if xs.ndim > 1 else p)["xf"])
+            with interruptible():
+                return np.asarray(F(x0=xs, p=np.tile(p[:, None], (1, xs.shape[1])) if xs.ndim > 1 else p)["xf"])
         except RuntimeError as err:
-            raise SimulationError(_first_line(err), method=method + " (periodic shooting)", hint=HINT) from None
+            raise SimulationError(first_line(err), method=method + " (periodic shooting)", hint=HINT) from None
 
     res = np.inf
     for cycle in range(1, max_settle + 1):
@@ -198,9 +201,10 @@ def periodic_state(model: PressModel, speed: FourierSpeed, method: str = "cvodes
     for it in range(1, max_newton + 1):
         shots = np.hstack([x[:, None], x[:, None] + h * np.eye(model.nx)])
         try:
-            Y = np.asarray(Fmap(x0=shots, p=np.tile(p[:, None], (1, model.nx + 1)))["xf"])
+            with interruptible():
+                Y = np.asarray(Fmap(x0=shots, p=np.tile(p[:, None], (1, model.nx + 1)))["xf"])
         except RuntimeError as err:
-            raise SimulationError(_first_line(err), method=method + " (periodic shooting)", hint=HINT) from None
+            raise SimulationError(first_line(err), method=method + " (periodic shooting)", hint=HINT) from None
         r = Y[:, 0] - x
         J = (Y[:, 1:] - Y[:, [0]]) / h
         dx = np.linalg.lstsq(J - np.eye(model.nx), -r, rcond=None)[0]
@@ -303,7 +307,7 @@ def simulate(
         stats["wall_time"] = time.perf_counter() - t_start
         Qf = None
     else:
-        X, Qf, run_stats = _run(model, method, x_init, p, t[1:], r, a, max_steps, step)
+        X, Qf, run_stats = integrate(model, method, x_init, p, t[1:], r, a, max_steps, step)
         X = np.hstack([x_init[:, None], X])
         stats.update(run_stats)
     out = model.outputs.map(n)(t[None, :], X if X.size else np.zeros((0, n)), np.tile(p[:, None], (1, n)))

@@ -217,6 +217,19 @@ class FourierSpeed:
         """Minimum crank speed over a period on a uniform grid, rad/s."""
         return float(np.min(self.omega(np.linspace(0.0, self.period, samples, endpoint=False))))
 
+    # Saving ---------------------------------------------------------------------------------
+    def to_dict(self) -> dict:
+        """Plain-data form (JSON-safe): period (s), theta0 (rad), a and b (rad/s) as lists."""
+        return {"period": self.period, "theta0": self.theta0, "a": self.a.tolist(), "b": self.b.tolist()}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "FourierSpeed":
+        """Inverse of `to_dict` (validated as in the constructor)."""
+        try:
+            return cls(data["period"], data["a"], data["b"], data.get("theta0", 0.0))
+        except KeyError as err:
+            raise ValueError(f"a speed needs the key {err.args[0]!r} (period, a, b; theta0 optional)") from None
+
     def __repr__(self) -> str:
         return (
             f"FourierSpeed(period={self.period:g}, n_harmonics={self.n_harmonics}, theta0={self.theta0:g}, "

@@ -3,18 +3,15 @@
 import numpy as np
 import pytest
 
-from pressocp import FourierSpeed, PressParams, rigid_kinematics
-from pressocp.design import design_speed, ram_speed_range, speed_for_ram_motion
-
-
-def exact_height(p, theta):
-    r, l = p.crank_radius, p.rod_length
-    return r * np.cos(theta) - np.sqrt(l**2 - (r * np.sin(theta)) ** 2) + r + l
+from pressocp import DesignSettings, FourierSpeed, PressParams, SpeedProblem
+from pressocp.design import design_speed, speed_for_ram_motion
+from pressocp.problem import ram_speed_range
+from tests.references.press import exact_height
 
 
 @pytest.fixture(scope="module")
 def default_design():
-    return design_speed(PressParams())
+    return design_speed(SpeedProblem(PressParams()))
 
 
 def test_default_design_holds_ram_speed(default_design):
@@ -39,7 +36,7 @@ def test_default_design_no_crank_reversal(default_design):
 
 
 def test_design_other_speed_and_harmonics():
-    d = design_speed(PressParams(), period=0.8, ram_speed=-0.2, window=(0.6, 0.2), n_harmonics=10)
+    d = design_speed(SpeedProblem(PressParams(), period=0.8, ram_speed=-0.2, window=(0.6, 0.2), n_harmonics=10))
     assert d.converged and d.max_error < 0.01 and d.speed.n_harmonics == 10
     assert d.t2 - d.t1 == pytest.approx(0.04 / 0.2)
 
@@ -62,7 +59,14 @@ def test_design_other_speed_and_harmonics():
 )
 def test_design_bad_input(kwargs, match):
     with pytest.raises(ValueError, match=match):
-        design_speed(PressParams(), **kwargs)
+        design_speed(SpeedProblem(PressParams(), **kwargs))
+
+
+@pytest.mark.parametrize("kwargs, match", [(dict(band=0.0), "band"), (dict(samples=5), "samples"),
+                                           (dict(smoothing_weight=-1.0), "smoothing_weight")])
+def test_design_settings_bad_input(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        DesignSettings(**kwargs)
 
 
 def test_reachable_range_is_consistent():

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from pressocp import Bearing, FourierSpeed, PressParams, beam, rigid_response
+from pressocp import Bearing, FourierSpeed, PressParams, SpeedProblem, beam, rigid_response
 from pressocp.design import design_speed
 from pressocp.model import build_model
 from pressocp.simulate import SimulationError, simulate
@@ -58,7 +58,7 @@ def test_flexible_rod_with_large_EI_is_rigid():
 @pytest.fixture(scope="module")
 def impact_speed():
     """The rigid-designed speed at T = 0.8 s, -0.1 m/s: its wrist-pin force reverses (see README)."""
-    return design_speed(PressParams(), period=0.8, ram_speed=-0.1).speed
+    return design_speed(SpeedProblem(PressParams(), period=0.8, ram_speed=-0.1)).speed
 
 
 @pytest.mark.parametrize("rod", ["rigid", "flexible"])

@@ -1,43 +1,65 @@
-"""Rigid-stage speed optimisation (smoke size): constraints hold when re-checked independently,
-the peak torque drops, and bad requests are rejected before solving."""
+"""`Rigid` transcription (smoke size): constraints hold when re-checked with hand-written references,
+the objective drops, the pin-force cap and the tension bound hold between the samples, and bad
+requests are rejected before solving."""
 
 import numpy as np
 import pytest
 
-from pressocp import PressParams, rigid_response
-from pressocp.ocp import SpeedProblem, solve_rigid
-from tests.test_design import exact_height
-from tests.test_rigid import _newton_euler
+from pressocp import PressParams, Rigid, SpeedProblem, WarmStart, build_model, rigid_response
+from pressocp.params import ProcessForce
+from tests.references.press import exact_height, newton_euler
 
 
 @pytest.fixture(scope="module")
 def small():
     prob = SpeedProblem(PressParams(), period=1.0, ram_speed=-0.15, n_harmonics=6)
-    return prob, solve_rigid(prob, samples=200, window_samples=40)
+    return prob, Rigid(samples=200, window_samples=40).solve(prob)
 
 
 def test_rigid_optimum_constraints_and_improvement(small):
     prob, r = small
     assert r.success, r.status
-    assert r.peak_torque < 0.95 * r.initial_peak_torque
+    p = prob.press
+    t_all = np.linspace(0, 1, 20001)
+    from pressocp.design import design_speed
+
+    initial = rigid_response(p, design_speed(prob).speed, t_all).peak("torque")
+    dense = rigid_response(p, r.speed, t_all)
+    assert dense.peak("torque") < 0.95 * initial
     # ram speed re-checked with the hand-written kinematics on a dense grid
-    p = prob.params
-    t = np.linspace(r.t1, r.t2, 3001)
+    t2 = r.t1 + prob.window_duration
+    t = np.linspace(r.t1, t2, 3001)
     dt = 1e-6
     v = (exact_height(p, r.speed.theta(t + dt)) - exact_height(p, r.speed.theta(t - dt))) / (2 * dt)
     assert np.max(np.abs(v - prob.ram_speed)) <= prob.tol * 1.05  # samples are 40; allow 5 % between them
     assert exact_height(p, r.speed.theta(r.t1)) == pytest.approx(0.7 * p.stroke, abs=1e-6)
     assert np.min(r.speed.omega(np.linspace(0, 1, 5001))) >= prob.omega_lower * 0.99
-    # the epigraph value is the sampled peak; the dense peak is within a few per cent of it
-    dense = rigid_response(p, r.speed, np.linspace(0, 1, 20001))
-    assert dense.peak("torque") == pytest.approx(r.objective_value, rel=0.03)
-    assert r.amplitude.shape == (6,) and r.objective_history
+    # the reported value is the sampled peak; the dense peak is within a few per cent of it
+    assert dense.peak("torque") == pytest.approx(r.objective, rel=0.03)
+    assert r.speed.n_harmonics == 6 and r.history and r.history[-1] == pytest.approx(r.objective, rel=1e-6)
+
+
+def test_window_widened_by_the_ram_drop_of_a_clearance_model():
+    """For a clearance model the rigid window starts the model's ram drop (the two clearances) higher
+    and is that much longer, so the model's lower-hanging ram is covered from its window entry on."""
+    prob = SpeedProblem(PressParams(), period=1.0, ram_speed=-0.15, n_harmonics=4)
+    model = build_model(prob.press, n_harmonics=4)
+    assert model.ram_drop == pytest.approx(2e-4)
+    r = Rigid(samples=200, window_samples=40).solve(prob, model)
+    assert r.success
+    h1 = exact_height(prob.press, r.speed.theta(r.t1))
+    assert h1 == pytest.approx(0.7 * prob.press.stroke + 2e-4, abs=1e-6)
+    t = np.linspace(r.t1, r.t1 + prob.window_duration + 2e-4 / 0.15, 2001)
+    v = (exact_height(prob.press, r.speed.theta(t + 1e-6)) - exact_height(prob.press, r.speed.theta(t - 1e-6))) / 2e-6
+    assert np.max(np.abs(v - prob.ram_speed)) <= prob.tol * 1.05
 
 
 def test_rms_objective_runs():
     prob = SpeedProblem(PressParams(), period=1.0, ram_speed=-0.15, n_harmonics=4, objective="rms_torque")
-    r = solve_rigid(prob, samples=100, window_samples=20)
-    assert r.success and r.objective_value > 0
+    r = Rigid(samples=100, window_samples=20).solve(prob)
+    assert r.success and r.objective > 0
+    dense = rigid_response(prob.press, r.speed, np.linspace(0, 1, 100, endpoint=False))
+    assert r.objective == pytest.approx(np.sqrt(np.mean(dense.torque**2)), rel=1e-9)
 
 
 @pytest.mark.parametrize(
@@ -46,10 +68,11 @@ def test_rms_objective_runs():
         (dict(ram_speed=0.1), "ram_speed must be negative"),
         (dict(ram_speed=-0.01), "cannot deliver"),
         (dict(window=(0.3, 0.7)), "window"),
-        (dict(objective="peak_power"), "objective"),
+        (dict(objective="peak_jerk"), "objective"),
         (dict(omega_min=100.0), "omega_min"),
         (dict(ram_speed_tol=0.5), "ram_speed_tol"),
         (dict(n_harmonics=0), "n_harmonics"),
+        (dict(max_pin_force=100.0), r"max_pin_force must be in \(1502"),
     ],
 )
 def test_bad_problems_rejected_before_solving(kwargs, match):
@@ -57,44 +80,63 @@ def test_bad_problems_rejected_before_solving(kwargs, match):
         SpeedProblem(PressParams(), **kwargs)
 
 
+@pytest.mark.parametrize("kwargs, match", [(dict(samples=10), "samples"), (dict(backoff=0.0), "backoff")])
+def test_bad_settings_rejected(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        Rigid(**kwargs)
+
+
 @pytest.fixture(scope="module")
 def free_075():
     """The rigid optimum at 75 spm (10 harmonics: with 6 or 8, IPOPT finds no speed without reversal)."""
-    return solve_rigid(SpeedProblem(PressParams(), period=0.8, n_harmonics=10), samples=300, window_samples=40)
+    prob = SpeedProblem(PressParams(), period=0.8, n_harmonics=10)
+    return prob, Rigid(samples=300, window_samples=40).solve(prob)
 
 
 @pytest.mark.parametrize("bound", [20.0, -300.0])
 def test_tension_bound_holds_on_an_independent_newton_euler_solution(free_075, bound):
-    """At 75 spm the rigid optimum lets the rod go into compression (the joint forces reverse, by
-    about 1.7 kN); with ``min_tension`` the tension, recomputed by the hand-written Newton-Euler
-    reference, stays above the bound between the samples too (20 N: no reversal; -300 N: a shallow
-    one), and the peak torque pays for it."""
-    p = PressParams()
-    free = free_075
-    prob = SpeedProblem(p, period=0.8, n_harmonics=10, min_tension=bound)
-    held = solve_rigid(prob, free.speed, samples=300, window_samples=40)
+    """At 75 spm the rigid optimum lets the rod go into compression (the joint forces reverse); with
+    ``min_tension`` the tension, recomputed by the hand-written Newton-Euler reference, stays above
+    the bound between the samples too, and the objective pays for it."""
+    prob, free = free_075
+    p = prob.press
+    held = Rigid(samples=300, window_samples=40).solve(prob.replace(min_tension=bound), start=WarmStart(free.speed))
     assert free.success and held.success, (free.status, held.status)
     t = np.linspace(0, 0.8, 8001)
 
     def tension(speed):
-        ne = _newton_euler(p, *speed.evaluate(t))
+        ne = newton_euler(p, *speed.evaluate(t))
         return np.minimum(ne["crank_pin_tension"], ne["wrist_pin_tension"])
 
     assert tension(free.speed).min() < bound  # the free optimum reverses deeper: the bound is active
     # 300 samples (2.7 ms apart): between them it may dip by a fraction of a per cent of the weight
     assert tension(held.speed).min() >= bound - 0.005 * prob.hanging_weight
-    assert held.peak_torque > free.peak_torque
+    assert held.objective > free.objective
 
 
-@pytest.mark.parametrize("value, match", [(2000.0, r"min_tension must be in \(-inf, 1502"),
-                                          (float("nan"), "min_tension must be finite")])
-def test_min_tension_range(value, match):
-    with pytest.raises(ValueError, match=match):
-        SpeedProblem(PressParams(), min_tension=value)
+def test_pin_force_cap_holds_on_an_independent_newton_euler_solution(free_075):
+    """`max_pin_force` below the free optimum's peak pin force: the capped optimum's pin forces,
+    recomputed by the Newton-Euler reference on a dense grid, stay at the cap (to the sampling),
+    and the peak torque rises."""
+    prob, free = free_075
+    p = prob.press
+    t = np.linspace(0, 0.8, 8001)
+
+    def pin_peak(speed):
+        ne = newton_euler(p, *speed.evaluate(t))
+        return max(ne["crank_pin_force"].max(), ne["wrist_pin_force"].max())
+
+    cap = 0.9 * pin_peak(free.speed)
+    capped = Rigid(samples=300, window_samples=40).solve(prob.replace(max_pin_force=cap), start=WarmStart(free.speed))
+    assert capped.success, capped.status
+    assert pin_peak(capped.speed) <= cap * 1.01
+    assert capped.objective > free.objective
 
 
-def test_min_tension_needs_no_process_force():
-    from pressocp.params import ProcessForce
-
+def test_min_tension_range():
+    with pytest.raises(ValueError, match=r"min_tension must be in \(-inf, 1502"):
+        SpeedProblem(PressParams(), min_tension=2000.0)
+    with pytest.raises(ValueError, match="min_tension must be finite"):
+        SpeedProblem(PressParams(), min_tension=float("nan"))
     with pytest.raises(ValueError, match="process_force"):
         SpeedProblem(PressParams(process_force=ProcessForce(force=1e4)), min_tension=10.0)

@@ -11,14 +11,9 @@ import pytest
 
 from pressocp import FourierSpeed, PressParams, crank_angle_at_height, rigid_kinematics, rigid_response
 from pressocp.rigid import rigid_inverse_dynamics
-from tests.references.newton_euler import slider_crank_newton_euler
+from tests.references.press import exact_height, newton_euler
 
 FLORES_RPM = 5000.0
-
-
-def exact_height(p, theta):
-    r, l = p.crank_radius, p.rod_length
-    return r * np.cos(theta) - np.sqrt(l**2 - (r * np.sin(theta)) ** 2) + r + l
 
 
 def test_dead_centres():
@@ -57,21 +52,14 @@ def test_crank_angle_at_height_inverts_kinematics():
         crank_angle_at_height(p, 0.05, "sideways")
 
 
-def _newton_euler(p, th, om, al):
-    return slider_crank_newton_euler(
-        p.crank_radius, p.rod_length, p.crank_mass, p.crank_com, p.crank_inertia, p.rod_mass,
-        p.rod_inertia_value, p.slider_mass, p.gravity, th, om, al,
-    )
-
-
 @pytest.mark.parametrize("press", ["flores", "default", "default-heavy-crank"])
-def test_inverse_dynamics_against_newton_euler(press):
+def test_inverse_dynamics_againstnewton_euler(press):
     p = {"flores": PressParams.flores(), "default": PressParams(),
          "default-heavy-crank": PressParams(crank_com=0.02, gravity=9.81)}[press]
     s = FourierSpeed(0.7, [2.0, -1.0, 0.4], [1.0, 0.5, -0.3], theta0=0.2)
     t = np.linspace(0, 0.7, 301)
     r = rigid_response(p, s, t)
-    ref = _newton_euler(p, *s.evaluate(t))
+    ref = newton_euler(p, *s.evaluate(t))
     for name in ("torque", "crank_pin_force", "wrist_pin_force", "slider_normal_force", "ram_height",
                  "ram_velocity", "ram_acceleration"):
         scale = np.max(np.abs(ref[name]))

@@ -6,7 +6,7 @@ from pressocp import PressParams
 from pressocp.design import emulate_sixbar
 from pressocp.plots import plot_sixbar_emulation, save
 from pressocp.sixbar import SixBarPress, working_zone_interval, working_zone_speed
-from tests.test_design import exact_height
+from tests.references.press import exact_height
 
 
 def test_fourbar_follows_sixbar(tmp_path):

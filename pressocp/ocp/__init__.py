@@ -1,11 +1,14 @@
-"""Optimal control of the crank speed: problem statement, transcriptions, results (rockit style)."""
+"""Optimal control of the crank speed (rockit style): the problem (`pressocp.SpeedProblem`), the
+transcriptions (`Rigid`, `MultipleShooting`, `Collocation`), the stage chain (`Strategy`) and the
+result (`OcpResult`)."""
 
-from .collocation import CollocationGrid, solve_collocation
+from .collocation import Collocation, CollocationGrid
 from .optimize import optimize_speed
-from .problem import OBJECTIVES, SpeedProblem
 from .result import OcpResult
-from .rigid import solve_rigid
-from .shooting import ShootingError, ShootingGrid, solve_shooting
+from .rigid import Rigid
+from .shooting import MultipleShooting, ShootingError, ShootingGrid
+from .stage import Check, StageResult, WarmStart
+from .strategy import Strategy
 
-__all__ = ["OBJECTIVES", "CollocationGrid", "OcpResult", "ShootingError", "ShootingGrid", "SpeedProblem",
-           "optimize_speed", "solve_collocation", "solve_rigid", "solve_shooting"]
+__all__ = ["Check", "Collocation", "CollocationGrid", "MultipleShooting", "OcpResult", "Rigid", "ShootingError",
+           "ShootingGrid", "StageResult", "Strategy", "WarmStart", "optimize_speed"]

@@ -1,94 +1,152 @@
-"""Result of a speed optimisation."""
+"""`OcpResult`: an optimal crank speed, how it was found and how it was verified; saved and reloaded
+as JSON."""
 
 from __future__ import annotations
 
+import json
+import platform
 from dataclasses import dataclass, field
+from importlib import metadata
+from pathlib import Path
 
 import numpy as np
 
+from ..io import write_json
+from ..model import ModelSpec
+from ..problem import SpeedProblem
 from ..result import SimResult
 from ..speed import FourierSpeed
+from .stage import StageResult
+from .verify import verify_speed
+
+#: Version of the JSON layout written by `OcpResult.to_json`.
+FORMAT = 1
+#: Loads reported before and after (peak magnitudes of these `SimResult` series).
+PEAK_SERIES = ("torque", "slider_normal_force", "crank_pin_force", "wrist_pin_force")
+
+
+def versions() -> dict[str, str]:
+    """Versions of pressocp, CasADi, numpy and Python."""
+    out = {"python": platform.python_version()}
+    for pkg in ("pressocp", "casadi", "numpy"):
+        try:
+            out[pkg] = metadata.version(pkg)
+        except metadata.PackageNotFoundError:
+            out[pkg] = "unknown"
+    return out
+
+
+def peaks_of(sim: SimResult) -> dict[str, float]:
+    """Peak magnitudes of `PEAK_SERIES`, keyed by series name (N m or N)."""
+    return {k: sim.peak(k) for k in PEAK_SERIES}
 
 
 @dataclass
 class OcpResult:
-    """Optimal crank speed and how it was found.
+    """An optimal (or best-iterate) crank speed, its stages and its verification.
 
     Attributes
     ----------
+    problem : SpeedProblem
+        What was asked.
+    model : ModelSpec
+        The target model level (the press is ``problem.press``).
+    transcription, strategy : str
+        The clearance-stage transcription and the strategy, with their settings.
     speed : FourierSpeed
-        Optimal (or best-iterate) speed; ``speed.amplitude`` and ``speed.phase`` give r_k, phi_k.
-    objective : str
-        What was minimised.
-    peak_torque, initial_peak_torque, rigid_peak_torque : float
-        Peak |torque| of the optimum, of the initial speed and of the rigid optimum (the floor), N m,
-        each evaluated on the model the stage solved (see `stages`).
+        The answer; ``speed.amplitude`` and ``speed.phase`` give r_k, phi_k.
+    initial_speed : FourierSpeed
+        Where the chain started (the kinematic design unless given).
     objective_value : float
-        The epigraph variable s (or the RMS torque), in the objective's unit.
+        The objective as the last stage that ran reported it (its samples, its model), in its unit.
+    verified_objective : float
+        The objective on the verification re-simulation, in its unit.
+    peaks, initial_peaks : dict
+        Peak |torque| (N m) and peak slider normal, crank-pin and wrist-pin forces (N) of the answer and
+        of the initial speed on the target model (periodic re-simulation).
+    rigid_peak_torque : float
+        Peak torque of the rigid-press optimum on the rigid press, N m: the floor.
     t1, t2 : float
-        Working window, s.
+        When the re-simulated ram enters and leaves the height window, s.
     success : bool
-        IPOPT's success flag of the last stage; when False the speed is the best iterate.
+        Every stage that ran converged; when False ``speed`` is the failing stage's least-infeasible
+        iterate and ``status`` names the stage.
     status : str
-        IPOPT return status of the last stage.
-    iterations : int
-        IPOPT iterations, summed over stages.
-    wall_time : float
-        Total wall time, s.
+    periodic : bool or str
+        True: the verification found a periodic steady state; otherwise why not.
     max_ram_speed_violation : float
-        max(|v - ram_speed| - tol, 0) on a dense grid over the window, m/s.
+        max(|v - ram_speed| - tol, 0) over the re-simulated ram's height window, m/s.
     min_omega : float
         Smallest crank speed over the period, rad/s.
-    objective_history : list of float
-        Objective per IPOPT iteration (all stages, in order).
-    stages : list of dict
-        Per stage: name, status, iterations, wall time, objective; a shooting stage adds its
-        constraint violations by group at the start and end, its grid, and ``barrier`` (IPOPT's
-        barrier parameter per iteration). A rigid-model stage checked on the clearance model
-        (``rigid``, ``no_reversal``) adds ``clearance_peak_torque`` (N m), ``clearance_ratio``
-        (to its rigid-model peak), ``periodic``, ``ram_speed_violation`` (m/s) and
-        ``min_rod_tension`` (N, the smaller axial tension of the two pins over the cycle on the
-        rigid model: negative means the joint forces reverse).
-        A collocation stage adds ``elements``, ``degree``, ``min_eccentricity``, ``jit`` and
-        ``defect_start`` (the largest collocation defect of its warm start: near 0 when the grid
-        resolves the response).
-    simulation : SimResult or None
-        Re-simulated (or re-evaluated) response of the optimum.
-    initial_simulation : SimResult or None
-        The same for the initial speed.
-    rigid : OcpResult or None
-        The rigid stage's own result (shooting stages only).
+    iterations : int
+        IPOPT iterations over all stages.
+    wall_time : float
+        s.
+    stages : list of StageResult
+    verify_rtol : float
+        Tolerance of the verification.
+    versions : dict
+        Package versions that produced it.
+    simulation, initial_simulation : SimResult or None
+        The verification responses (not saved in JSON; `resimulate` recomputes).
     """
 
+    problem: SpeedProblem
+    model: ModelSpec
+    transcription: str
+    strategy: str
     speed: FourierSpeed
-    objective: str
-    peak_torque: float
-    initial_peak_torque: float
-    rigid_peak_torque: float
+    initial_speed: FourierSpeed
     objective_value: float
+    verified_objective: float
+    peaks: dict
+    initial_peaks: dict
+    rigid_peak_torque: float
     t1: float
     t2: float
     success: bool
     status: str
-    iterations: int
-    wall_time: float
+    periodic: bool | str
     max_ram_speed_violation: float
     min_omega: float
-    objective_history: list = field(default_factory=list)
+    iterations: int
+    wall_time: float
     stages: list = field(default_factory=list)
-    simulation: SimResult | None = None
-    initial_simulation: SimResult | None = None
-    rigid: "OcpResult | None" = None
+    verify_rtol: float = 1e-9
+    versions: dict = field(default_factory=versions)
+    simulation: SimResult | None = field(default=None, repr=False)
+    initial_simulation: SimResult | None = field(default=None, repr=False)
+
+    # Views -------------------------------------------------------------------------------------
+    @property
+    def objective(self) -> str:
+        """Name of the objective."""
+        return self.problem.objective
 
     @property
-    def max_speed_change(self) -> float:
-        """max |omega_opt - omega_initial| / mean speed over the period (needs `initial_simulation`)."""
-        if self.initial_simulation is None or self.simulation is None:
-            raise ValueError("max_speed_change needs both simulations")
-        t = self.simulation.t
-        wbar = 2 * np.pi / self.speed.period
-        return float(np.max(np.abs(self.speed.omega(t) - np.interp(t, self.initial_simulation.t,
-                                                                    self.initial_simulation.omega))) / wbar)
+    def peak_torque(self) -> float:
+        """Peak |motor torque| of the answer on the target model, N m."""
+        return float(self.peaks["torque"])
+
+    @property
+    def initial_peak_torque(self) -> float:
+        """Peak |motor torque| of the initial speed on the target model, N m."""
+        return float(self.initial_peaks["torque"])
+
+    @property
+    def verified(self) -> bool:
+        """Periodic re-simulation found, ram speed in tolerance over the model's window."""
+        return self.periodic is True and self.max_ram_speed_violation <= 0.0
+
+    @property
+    def rigid(self) -> StageResult:
+        """The rigid-press stage."""
+        return self.stages[0]
+
+    @property
+    def history(self) -> list[float]:
+        """Objective per IPOPT iteration, every stage in order, in its unit."""
+        return [h for s in self.stages for h in s.history]
 
     @property
     def amplitude(self) -> np.ndarray:
@@ -99,3 +157,61 @@ class OcpResult:
     def phase(self) -> np.ndarray:
         """phi_k, rad."""
         return self.speed.phase
+
+    def stage(self, name: str) -> StageResult:
+        """The stage called `name`."""
+        for s in self.stages:
+            if s.name == name:
+                return s
+        raise KeyError(f"no stage {name!r}; stages: {[s.name for s in self.stages]}")
+
+    def resimulate(self, rtol: float | None = None) -> SimResult:
+        """The answer re-simulated (periodic, CVODES) on the target model, at `verify_rtol` by default."""
+        model = self.model.build(self.problem.press, self.problem.n_harmonics)
+        return verify_speed(model, self.speed, self.verify_rtol if rtol is None else rtol)
+
+    # Saving ------------------------------------------------------------------------------------
+    def to_dict(self) -> dict:
+        """Plain data (JSON-safe), without the time series."""
+        return {
+            "format": FORMAT, "versions": self.versions, "problem": self.problem.to_dict(),
+            "model": self.model.to_dict(), "transcription": self.transcription, "strategy": self.strategy,
+            "speed": self.speed.to_dict(), "initial_speed": self.initial_speed.to_dict(),
+            "objective_value": self.objective_value, "verified_objective": self.verified_objective,
+            "peaks": self.peaks, "initial_peaks": self.initial_peaks, "rigid_peak_torque": self.rigid_peak_torque,
+            "t1": self.t1, "t2": self.t2, "success": self.success, "status": self.status,
+            "verification": {"periodic": self.periodic, "max_ram_speed_violation": self.max_ram_speed_violation,
+                             "rtol": self.verify_rtol},
+            "min_omega": self.min_omega, "iterations": self.iterations, "wall_time": self.wall_time,
+            "stages": [s.to_dict() for s in self.stages],
+        }
+
+    def to_json(self, path: str | Path) -> Path:
+        """Write `to_dict` as JSON (atomically). Returns the path."""
+        return write_json(path, self.to_dict())
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "OcpResult":
+        """Inverse of `to_dict` (no time series: `resimulate` recomputes them)."""
+        if data.get("format") != FORMAT:
+            raise ValueError(f"unknown result format {data.get('format')!r} (this pressocp reads {FORMAT})")
+        d = dict(data)
+        ver = d.pop("verification")
+        d.pop("format")
+        return cls(problem=SpeedProblem.from_dict(d.pop("problem")), model=ModelSpec.from_dict(d.pop("model")),
+                   speed=FourierSpeed.from_dict(d.pop("speed")),
+                   initial_speed=FourierSpeed.from_dict(d.pop("initial_speed")),
+                   stages=[StageResult.from_dict(s) for s in d.pop("stages")], periodic=ver["periodic"],
+                   max_ram_speed_violation=ver["max_ram_speed_violation"], verify_rtol=ver["rtol"], **d)
+
+    @classmethod
+    def from_json(cls, path: str | Path) -> "OcpResult":
+        """Read a file written by `to_json`."""
+        path = Path(path)
+        try:
+            data = json.loads(path.read_text())
+        except FileNotFoundError:
+            raise FileNotFoundError(f"no result file at {path}") from None
+        except json.JSONDecodeError as err:
+            raise ValueError(f"{path}: not JSON ({err})") from None
+        return cls.from_dict(data)

@@ -1,0 +1,43 @@
+"""Ctrl-C through CasADi: SUNDIALS and IPOPT run in C++ and poll Python for signals; CasADi turns a
+KeyboardInterrupt raised there into an integrator failure or IPOPT's "User_Requested_Stop". Inside
+`interruptible` a SIGINT is remembered, and `interruptible` raises `KeyboardInterrupt` when the call
+returns, so a Ctrl-C always stops the program instead of becoming a failed or stopped result."""
+
+from __future__ import annotations
+
+import signal
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+
+@contextmanager
+def interruptible() -> Iterator[list]:
+    """Context manager around one CasADi call: yields a list that holds True once SIGINT arrived;
+    on leaving, raises `KeyboardInterrupt` if it did (also when the call raised something else).
+
+    Outside the main thread, or where SIGINT is ignored, it changes nothing."""
+    hit: list = []
+    if threading.current_thread() is not threading.main_thread():
+        yield hit
+        return
+    previous = signal.getsignal(signal.SIGINT)
+    if previous in (signal.SIG_IGN, None):
+        yield hit
+        return
+
+    def handler(signum, frame):
+        hit.append(True)
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGINT, handler)
+    try:
+        yield hit
+    except Exception:
+        if hit:
+            raise KeyboardInterrupt from None
+        raise
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if hit:
+        raise KeyboardInterrupt

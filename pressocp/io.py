@@ -1,0 +1,41 @@
+"""Writing result files: atomically (temporary file in the same folder, then rename), so a run never
+leaves a half-written file, and JSON with numpy values."""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+
+def atomic_write(path: str | Path, text: str) -> Path:
+    """Write `text` to `path` through a temporary file and an atomic rename; creates the folder."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, (np.floating, np.integer, np.bool_)):
+        return value.item()
+    raise TypeError(f"{type(value).__name__} is not JSON-serialisable")
+
+
+def write_json(path: str | Path, data: Any) -> Path:
+    """`atomic_write` of `data` as indented JSON (numpy arrays and scalars as plain values)."""
+    return atomic_write(path, json.dumps(data, indent=2, default=_plain) + "\n")

@@ -1,0 +1,341 @@
+"""NLP pieces every transcription uses: a named constraint collector, the lifted crank motion,
+the objective (epigraph or RMS) from the registry, the crank-speed bounds and pin-force cap, the
+IPOPT option sets, and `solve_nlp` (IPOPT with an iteration record, a progress bar in the
+objective's unit, the least-infeasible iterate kept, and Ctrl-C raised as `KeyboardInterrupt`)."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from ..interrupt import interruptible
+from ..objectives import Objective
+from ..problem import SpeedProblem
+from ..rigid import kinematics_function
+from ..simulate import first_line
+from ..speed import FourierSpeed, series
+
+#: Options of every IPOPT call (quiet, MUMPS).
+IPOPT_BASE = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False, "ipopt.max_iter": 300,
+              "ipopt.tol": 1e-8, "ipopt.linear_solver": "mumps"}
+#: Rigid transcription: exact Hessian, adaptive barrier (with the monotone one the 15-harmonic
+#: default case stalled at 300 iterations).
+IPOPT_RIGID = {**IPOPT_BASE, "ipopt.mu_strategy": "adaptive"}
+#: Transcriptions with states, warm-started at a good point: a small initial barrier parameter and
+#: bound push keep IPOPT from pushing every inequality into the interior first. The monotone barrier
+#: strategy is asked for: with a limited-memory Hessian IPOPT defaults to the adaptive one, which
+#: ignores mu_init (mu rose to 0.25 on the 75 spm case and the second step left the smooth region).
+IPOPT_WARM = {**IPOPT_BASE, "ipopt.mu_strategy": "monotone", "ipopt.tol": 1e-6, "ipopt.acceptable_tol": 1e-4,
+              "ipopt.acceptable_iter": 5, "ipopt.max_iter": 200, "ipopt.mu_init": 1e-4, "ipopt.bound_push": 1e-6,
+              "ipopt.bound_frac": 1e-6}
+
+
+def violation(g: np.ndarray, lbg: np.ndarray, ubg: np.ndarray) -> np.ndarray:
+    """Amount by which each constraint value lies outside [lbg, ubg] (0 inside)."""
+    return np.maximum(lbg - g, 0.0) + np.maximum(g - ubg, 0.0)
+
+
+class Constraints:
+    """lbg <= g <= ubg built group by group; ``groups`` keeps (name, first index, size)."""
+
+    def __init__(self) -> None:
+        self._g: list = []
+        self._lb: list[np.ndarray] = []
+        self._ub: list[np.ndarray] = []
+        self.groups: list[tuple[str, int, int]] = []
+        self.size = 0
+
+    def add(self, expr, lo, hi, name: str = "") -> None:
+        """Append ``vec(expr)`` with bounds ``lo``, ``hi`` (scalars or arrays)."""
+        k = expr.numel()
+        self.groups.append((name, self.size, k))
+        self._g.append(ca.vec(expr))
+        self._lb.append(np.broadcast_to(lo, (k,)))
+        self._ub.append(np.broadcast_to(hi, (k,)))
+        self.size += k
+
+    @property
+    def g(self):
+        return ca.vertcat(*self._g)
+
+    @property
+    def lbg(self) -> np.ndarray:
+        return np.concatenate(self._lb)
+
+    @property
+    def ubg(self) -> np.ndarray:
+        return np.concatenate(self._ub)
+
+    def by_group(self, g: np.ndarray) -> dict[str, float]:
+        """Largest violation per group name for constraint values ``g``."""
+        d = violation(np.asarray(g).ravel(), self.lbg, self.ubg)
+        out: dict[str, float] = {}
+        for name, i0, k in self.groups:
+            out[name] = max(out.get(name, 0.0), float(np.max(d[i0 : i0 + k], initial=0.0)))
+        return out
+
+
+# The crank motion ------------------------------------------------------------------------------
+def crank_motion(speed: FourierSpeed, times: np.ndarray) -> np.ndarray:
+    """Crank angle, speed and acceleration (rows; rad, rad/s, rad/s^2) of `speed` at `times`, s."""
+    return np.array(series(times, speed.a, speed.b, speed.period, speed.theta0))
+
+
+def crank_map(n: int, period: float, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The crank motion at `times` as an affine map of the 2n Fourier coefficients (theta0 = 0):
+    ``vec(motion) = m0 + A @ c`` with motion 3 x len(times) stacked by column (`crank_motion`)."""
+    zero = np.zeros(n)
+    m0 = crank_motion(FourierSpeed(period, zero, zero), times).ravel(order="F")
+    A = np.column_stack([crank_motion(FourierSpeed(period, e[:n], e[n:]), times).ravel(order="F") - m0
+                         for e in np.eye(2 * n)])
+    return m0, A
+
+
+def crank_scale(period: float) -> np.ndarray:
+    """Scales of (theta, omega, alpha) for a period T: 1 rad, the mean speed 2 pi/T and its square."""
+    w_bar = 2 * np.pi / period
+    return np.array([1.0, w_bar, w_bar**2])
+
+
+def lifted_crank(cons: Constraints, c, period: float, times: np.ndarray) -> tuple:
+    """Crank motion variables at `times`, tied to the Fourier coefficients ``c`` by a linear
+    equality (group "crank_motion", scaled by `crank_scale`).
+
+    Lifting the crank motion into variables makes each sample's loads depend on its own three
+    variables only, so the exact Hessian of the Lagrangian is block-diagonal instead of dense in the
+    2n coefficients over all samples.
+
+    Returns
+    -------
+    Wv : ca.MX, 3 x len(times)
+        The scaled variables (to put into the NLP's x).
+    W : ca.MX
+        theta (rad), omega (rad/s), alpha (rad/s^2) rows: ``Wv`` times the scales.
+    """
+    Wv = ca.MX.sym("W", 3, len(times))
+    W = Wv * ca.DM(crank_scale(period))
+    tie(cons, W, c, period, times)
+    return Wv, W
+
+
+def tie(cons: Constraints, W, c, period: float, times: np.ndarray) -> None:
+    """The linear equality W = Fourier series of ``c`` at ``times`` (group "crank_motion")."""
+    m0, A = crank_map(c.numel() // 2, period, times)
+    scale = np.tile(crank_scale(period), len(times))
+    cons.add((ca.vec(W) - ca.mtimes(ca.DM(A), c) - m0) / scale, 0.0, 0.0, "crank_motion")
+
+
+def scaled_crank_start(speed: FourierSpeed, times: np.ndarray) -> np.ndarray:
+    """Start values of the lifted crank variables: `crank_motion` divided by `crank_scale` (3 x m)."""
+    return crank_motion(speed, times) / crank_scale(speed.period)[:, None]
+
+
+def ram_function(problem: SpeedProblem) -> ca.Function:
+    """(t, c) -> (ram height, ram velocity, theta) of the ideal press driven by the Fourier speed with
+    coefficients c (SX)."""
+    n, T = problem.n_harmonics, problem.period
+    t, c = ca.SX.sym("t"), ca.SX.sym("c", 2 * n)
+    th, om, al = series(t, c[:n], c[n:], T)
+    kin = kinematics_function(problem.press)(theta=th, omega=om, alpha=al)
+    return ca.Function("ram", [t, c], [kin["ram_height"], kin["ram_velocity"], th])
+
+
+def add_kinematic_window(cons: Constraints, problem: SpeedProblem, c, t1, duration: float, samples: int,
+                         backoff: float, h_start: float | None = None) -> None:
+    """The ideal press's ram speed within ``backoff`` x tol at `samples` points of [t1, t1 + duration]
+    (``t1`` a number or a symbol); with `h_start` (m) also h(t1) = h_start on the downstroke."""
+    f = ram_function(problem)
+    tw = t1 + duration * ca.DM(np.linspace(0.0, 1.0, samples)).T
+    _, vw, _ = f.map(samples)(tw, ca.repmat(c, 1, samples))
+    cons.add((vw - problem.ram_speed) / problem.tol, -backoff, backoff, "ram_speed_kinematic")
+    if h_start is not None:
+        h1, _, th1 = f(t1, c)
+        cons.add((h1 - h_start) / problem.press.stroke, 0.0, 0.0, "window_start")
+        cons.add(th1, 0.0, np.pi, "window_start")
+
+
+# Objective, bounds and caps ----------------------------------------------------------------------
+def add_objective(cons: Constraints, objective: Objective, y: Mapping, s, scale: float):
+    """The objective on the sample rows ``y[name]``: the epigraph -s <= term <= s of every term
+    (returns s/scale), or the mean square of the RMS term (returns mean(term^2)/scale^2)."""
+    terms = objective.terms(y)
+    if objective.kind == "rms":
+        return ca.sumsqr(terms[0]) / terms[0].numel() / scale**2
+    for q in terms:
+        cons.add((q - s) / scale, -np.inf, 0.0, "epigraph")
+        cons.add((-q - s) / scale, -np.inf, 0.0, "epigraph")
+    return s / scale
+
+
+def unscaled(objective: Objective, f: float, scale: float) -> float:
+    """The objective's value (its unit) from the NLP objective f (`add_objective`)."""
+    return float(np.sqrt(max(f, 0.0)) * scale) if objective.kind == "rms" else float(f * scale)
+
+
+def add_speed_bounds(cons: Constraints, problem: SpeedProblem, omega, alpha) -> None:
+    """omega_min <= omega (<= omega_max) and |alpha| <= alpha_max at the given samples."""
+    P = problem
+    wbar = 2 * np.pi / P.period
+    cons.add(omega / wbar, P.omega_lower / wbar, np.inf if P.omega_max is None else P.omega_max / wbar, "omega")
+    if P.alpha_max is not None:
+        cons.add(alpha / P.alpha_max, -1.0, 1.0, "alpha")
+
+
+def add_dense_speed_bounds(cons: Constraints, problem: SpeedProblem, c, samples: int) -> None:
+    """`add_speed_bounds` at `samples` uniform times, the crank motion an affine map of ``c``."""
+    m0, A = crank_map(problem.n_harmonics, problem.period, np.linspace(0.0, problem.period, samples, endpoint=False))
+    motion = ca.reshape(ca.mtimes(ca.DM(A), c) + m0, 3, samples)  # theta, omega, alpha rows
+    add_speed_bounds(cons, problem, motion[1, :], motion[2, :])
+
+
+def add_pin_cap(cons: Constraints, problem: SpeedProblem, y: Mapping) -> None:
+    """crank-pin and wrist-pin force <= problem.max_pin_force at every sample (if a cap is set)."""
+    if problem.max_pin_force is not None:
+        for name in PIN_FORCES:
+            cons.add(y[name] / problem.max_pin_force, -np.inf, 1.0, "max_pin_force")
+
+
+PIN_FORCES = ("crank_pin_force", "wrist_pin_force")
+
+
+def needed_outputs(problem: SpeedProblem, objective: Objective, extra: tuple[str, ...] = ()) -> tuple[str, ...]:
+    """Output names a transcription must sample: the objective's, the pin forces under a cap, and
+    `extra`, each once in that order."""
+    names = list(objective.outputs) + (list(PIN_FORCES) if problem.max_pin_force is not None else []) + list(extra)
+    return tuple(dict.fromkeys(names))
+
+
+# Solving ---------------------------------------------------------------------------------------
+class IterationRecord(ca.Callback):
+    """IPOPT iteration callback: objective history, the least-infeasible iterate, optional tqdm bar
+    showing the objective in its own unit."""
+
+    def __init__(self, nx: int, cons: Constraints, objective: Objective, scale: float, bar=None):
+        ca.Callback.__init__(self)
+        self.nx, self.ng, self.lbg, self.ubg, self.bar = nx, cons.size, cons.lbg, cons.ubg, bar
+        self.objective, self.scale = objective, scale
+        self.history: list[float] = []
+        self.best: tuple[float, float, np.ndarray] | None = None
+        self.construct("iterations", {})
+
+    def get_n_in(self):
+        return ca.nlpsol_n_out()
+
+    def get_n_out(self):
+        return 1
+
+    def get_name_in(self, i):
+        return ca.nlpsol_out(i)
+
+    def get_name_out(self, i):
+        return "ret"
+
+    def get_sparsity_in(self, i):
+        n = ca.nlpsol_out(i)
+        if n == "f":
+            return ca.Sparsity.scalar()
+        if n in ("x", "lam_x"):
+            return ca.Sparsity.dense(self.nx)
+        if n in ("g", "lam_g"):
+            return ca.Sparsity.dense(self.ng)
+        return ca.Sparsity(0, 0)
+
+    def eval(self, arg):
+        f = unscaled(self.objective, float(arg[1]), self.scale)
+        g = np.asarray(arg[2]).ravel()
+        viol = float(np.max(violation(g, self.lbg, self.ubg), initial=0.0))
+        self.history.append(f)
+        if self.best is None or (viol, f) < (self.best[0], self.best[1]) or (viol <= 1e-6 and f < self.best[1]):
+            self.best = (viol, f, np.asarray(arg[0]).ravel().copy())
+        if self.bar is not None:
+            self.bar.update(1)
+            self.bar.set_postfix_str(f"{self.objective.name} {f:.5g} {self.objective.unit}, infeasibility {viol:.2g}")
+        return [0]
+
+
+@dataclass
+class NlpOutcome:
+    """What `solve_nlp` found.
+
+    Attributes
+    ----------
+    w : ndarray
+        The solution, or (when IPOPT did not succeed) the least-infeasible iterate.
+    last_w : ndarray
+        IPOPT's final iterate either way.
+    success : bool
+    status : str
+    iterations : int
+    history : list of float
+        Objective per iteration, in the objective's unit.
+    barrier : list of float
+        IPOPT's barrier parameter per iteration.
+    violations_start, violations : dict
+        Largest violation per constraint group at the start and at ``w``.
+    wall_time : float
+        s.
+    """
+
+    w: np.ndarray
+    last_w: np.ndarray
+    success: bool
+    status: str
+    iterations: int
+    history: list
+    barrier: list
+    violations_start: dict
+    violations: dict
+    wall_time: float
+
+
+def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarray, ubw: np.ndarray,
+              options: dict, objective: Objective, scale: float, desc: str = "", progress: bool = False
+              ) -> NlpOutcome:
+    """IPOPT on ``min f(w) s.t. cons, lbw <= w <= ubw`` from ``w0``.
+
+    ``options`` are complete nlpsol options (e.g. `IPOPT_RIGID` or `IPOPT_WARM` plus overrides).
+    Ctrl-C raises `KeyboardInterrupt` (with ``best`` holding the least-infeasible iterate)."""
+    t0 = time.perf_counter()
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(desc=desc or name, unit="it", leave=True)
+    cb = IterationRecord(w.numel(), cons, objective, scale, bar)
+    gall = cons.g
+    solver = ca.nlpsol(name, "ipopt", {"x": w, "f": f, "g": gall}, {**options, "iteration_callback": cb})
+    g_fun = ca.Function("constraints", [w], [gall])
+    viol_start = cons.by_group(g_fun(w0))
+    try:
+        with interruptible() as hit:
+            try:
+                sol = solver(x0=w0, lbx=lbw, ubx=ubw, lbg=cons.lbg, ubg=cons.ubg)
+                st = solver.stats()
+                wo, success, status = np.asarray(sol["x"]).ravel(), bool(st["success"]), str(st["return_status"])
+                iters = int(st.get("iter_count", len(cb.history)))
+                barrier = [float(m) for m in st.get("iterations", {}).get("mu", [])]
+            except RuntimeError as err:  # IPOPT itself raised (e.g. an evaluation error at the start)
+                if hit:
+                    raise
+                wo, success, status, iters = (cb.best[2] if cb.best else w0), False, first_line(err), len(cb.history)
+                barrier = []
+    except KeyboardInterrupt as stop:
+        stop.best = None if cb.best is None else cb.best[2]
+        raise
+    finally:
+        if bar is not None:
+            bar.close()
+    last = wo
+    if not success and cb.best is not None:
+        wo = cb.best[2]
+    try:
+        viol_end = cons.by_group(g_fun(wo))
+    except RuntimeError:  # an integrator failing at the returned iterate: the caller locates it
+        viol_end = {}
+    return NlpOutcome(w=wo, last_w=last, success=success, status=status, iterations=iters, history=list(cb.history),
+                      barrier=barrier, violations_start=viol_start, violations=viol_end,
+                      wall_time=time.perf_counter() - t0)

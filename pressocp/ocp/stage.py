@@ -1,0 +1,179 @@
+"""The transcription contract: a warm start goes in, a `StageResult` comes out.
+
+Every transcription (`Rigid`, `MultipleShooting`, `Collocation`) is a settings dataclass with
+
+    solve(problem, model, start: WarmStart, name="...", progress=False) -> StageResult
+
+`Check` records how a stage's answer did when re-simulated on another model.
+"""
+
+from __future__ import annotations
+
+from dataclasses import MISSING, asdict, dataclass, field, fields
+from typing import Any, Protocol
+
+import numpy as np
+
+from ..model import PressModel
+from ..problem import SpeedProblem
+from ..speed import FourierSpeed
+
+
+@dataclass
+class WarmStart:
+    """Where a stage starts.
+
+    Attributes
+    ----------
+    speed : FourierSpeed
+        Start speed (period = the problem's).
+    x0 : ndarray, optional
+        Its periodic scaled state on the stage's model, if known (saves a search).
+    """
+
+    speed: FourierSpeed
+    x0: np.ndarray | None = None
+
+
+@dataclass
+class Check:
+    """A stage's answer re-simulated on a model with states.
+
+    Attributes
+    ----------
+    model : str
+        The model (`ModelSpec.describe`).
+    objective : float
+        The objective on that model's response, in its unit.
+    ratio : float
+        ``objective`` over the stage's own value.
+    periodic : bool or str
+        True: periodic steady state found; otherwise why not (an impacting response is not searched).
+    ram_speed_violation : float
+        max(|v - ram_speed| - tol, 0) over the model's own height window, m/s.
+    peak_torque : float
+        N m on that model.
+    verified : bool
+        Periodic, ratio within the strategy's limit and the ram speed in tolerance.
+    min_rod_tension : float or None
+        Smaller axial rod tension of the two pins on the rigid press, N (negative: the joint forces
+        reverse); rigid stages only.
+    """
+
+    model: str
+    objective: float
+    ratio: float
+    periodic: bool | str
+    ram_speed_violation: float
+    peak_torque: float
+    verified: bool
+    min_rod_tension: float | None = None
+
+
+@dataclass
+class StageResult:
+    """One stage of an optimisation.
+
+    Attributes
+    ----------
+    name : str
+        "rigid", "no_reversal", "soft", "target", "flexible", "refine_k".
+    transcription : str
+        The transcription and its settings (its repr), or "skipped".
+    model : str
+        The model the stage solved (`ModelSpec.describe`).
+    success : bool
+        IPOPT's success flag; when False ``speed`` is the least-infeasible iterate.
+    status : str
+        IPOPT's return status, or why the stage was skipped.
+    iterations : int
+    wall_time : float
+        s.
+    objective : float
+        The objective at ``speed`` as the stage sees it (its samples, its model), in its unit.
+    speed : FourierSpeed
+        The stage's answer.
+    last_speed : FourierSpeed
+        IPOPT's final iterate (equals ``speed`` on success).
+    t1 : float
+        Start of the time interval on which the stage held the ram speed, s.
+    history : list of float
+        Objective per iteration, in its unit.
+    barrier : list of float
+        IPOPT's barrier parameter per iteration.
+    violations_start, violations : dict
+        Largest violation per constraint group at the start and at ``speed``.
+    details : dict
+        Transcription-specific plain data (grid, warm-start facts, collocation defect, ...).
+    check : Check or None
+        The answer re-simulated on the target model (rigid stages of a chain).
+    states : ndarray or None
+        Scaled states of the solution (node or collocation states); not saved.
+    """
+
+    name: str
+    transcription: str
+    model: str
+    success: bool
+    status: str
+    iterations: int
+    wall_time: float
+    objective: float
+    speed: FourierSpeed
+    last_speed: FourierSpeed
+    t1: float
+    history: list = field(default_factory=list)
+    barrier: list = field(default_factory=list)
+    violations_start: dict = field(default_factory=dict)
+    violations: dict = field(default_factory=dict)
+    details: dict = field(default_factory=dict)
+    check: Check | None = None
+    states: np.ndarray | None = field(default=None, repr=False)
+
+    @classmethod
+    def skipped(cls, name: str, reason: str, model: str, start: "StageResult") -> "StageResult":
+        """A stage not run: its answer is `start`'s."""
+        return cls(name=name, transcription="skipped", model=model, success=True, status=f"skipped: {reason}",
+                   iterations=0, wall_time=0.0, objective=start.objective, speed=start.speed,
+                   last_speed=start.speed, t1=start.t1)
+
+    @property
+    def was_skipped(self) -> bool:
+        return self.transcription == "skipped"
+
+    def to_dict(self) -> dict:
+        """Plain data (JSON-safe); ``states`` is left out."""
+        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ("states", "speed", "last_speed",
+                                                                                     "check")}
+        d.update(speed=self.speed.to_dict(), last_speed=self.last_speed.to_dict(),
+                 check=None if self.check is None else asdict(self.check))
+        return d
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "StageResult":
+        d = dict(data)
+        d["speed"], d["last_speed"] = FourierSpeed.from_dict(d["speed"]), FourierSpeed.from_dict(d["last_speed"])
+        d["check"] = None if d.get("check") is None else Check(**d["check"])
+        return cls(**d)
+
+
+class Transcription(Protocol):
+    """What `optimize_speed` needs of a transcription."""
+
+    #: Whether the transcription solves models with states (else only the rigid press).
+    has_states: bool
+
+    def solve(self, problem: SpeedProblem, model: PressModel, start: WarmStart, name: str = ...,
+              progress: bool = ...) -> StageResult: ...
+
+
+def settings_repr(obj: Any) -> str:
+    """``Name(field=value, ...)`` of a settings dataclass, the fields at their default left out."""
+    parts = []
+    for f in fields(obj):
+        default = f.default if f.default is not MISSING else (
+            f.default_factory() if f.default_factory is not MISSING else MISSING)
+        value = getattr(obj, f.name)
+        if default is MISSING or value != default:
+            parts.append(f"{f.name}={value!r}")
+    return f"{type(obj).__name__}({', '.join(parts)})"

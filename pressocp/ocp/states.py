@@ -1,0 +1,176 @@
+"""What the transcriptions of models with states share: the warm start (periodic state and the
+states at the transcription's times), the working window placed on the model's own ram, the
+contact-keeping constraint, the constraints on the output samples, and the NLP solve that turns
+into a `StageResult`."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import casadi as ca
+import numpy as np
+
+from .. import _checks as chk
+from ..model import PressModel
+from ..objectives import get as get_objective
+from ..problem import SpeedProblem
+from ..simulate import SimulationError, integrate, periodic_state
+from ..speed import FourierSpeed
+from .nlp import (IPOPT_WARM, Constraints, add_dense_speed_bounds, add_kinematic_window, add_objective, add_pin_cap,
+                  needed_outputs, solve_nlp)
+from .stage import StageResult, WarmStart
+from .verify import settled_state
+
+#: Outputs every state transcription samples besides the objective's: the ram's own motion.
+RAM_OUTPUTS = ("ram_height", "ram_velocity")
+
+
+def warm_state(model: PressModel, start: WarmStart, rtol: float) -> tuple[np.ndarray, dict]:
+    """The periodic scaled state of the start speed on `model` (``start.x0`` when given), or when none
+    is found the state after three cycles from rest. Returns (x0, facts for the stage record)."""
+    if start.x0 is not None:
+        return np.asarray(start.x0, float), {"periodic_warm_start": True}
+    try:
+        x0, info = periodic_state(model, start.speed, method="cvodes", rtol=rtol)
+        return x0, {"periodic_warm_start": True, "settle_cycles": info["cycles"], "newton_steps": info["newton"]}
+    except SimulationError as err:
+        return settled_state(model, start.speed, 3, rtol), {"periodic_warm_start": False,
+                                                            "reason": str(err).splitlines()[0]}
+
+
+def states_at(model: PressModel, speed: FourierSpeed, x_start: np.ndarray, times: np.ndarray,
+              rtol: float = 1e-8) -> np.ndarray:
+    """Scaled states at ``times`` (the first 0), integrated by CVODES from ``x_start`` at t = 0
+    (nx x len(times))."""
+    x_start = np.asarray(x_start, float)[:, None]
+    if len(times) == 1:
+        return x_start
+    X, _, _ = integrate(model, "cvodes", x_start[:, 0], model.parameters(speed), np.asarray(times)[1:], rtol, rtol,
+                        10**7, 1e-5)
+    return np.hstack([x_start, X])
+
+
+def contact_outputs(model: PressModel, min_eccentricity: float | None) -> tuple[str, ...]:
+    """Output names of the contact-keeping constraint: the eccentricity of every clearance joint
+    when `min_eccentricity` is given (checked: in [0, 1]), else none."""
+    if min_eccentricity is None:
+        return ()
+    chk.in_closed_interval("min_eccentricity", min_eccentricity, 0.0, 1.0)
+    return tuple(f"{j}_eccentricity" for j in model.clearance)
+
+
+def sample_outputs(problem: SpeedProblem, model: PressModel, min_eccentricity: float | None) -> tuple[str, ...]:
+    """Every output a state transcription samples, each once: objective, pin forces under a cap, the
+    ram's height and velocity, and the eccentricities kept on the walls."""
+    return needed_outputs(problem, get_objective(problem.objective),
+                          RAM_OUTPUTS + contact_outputs(model, min_eccentricity))
+
+
+def window_band(problem: SpeedProblem, speed: FourierSpeed, ram_height: np.ndarray, times: np.ndarray) -> np.ndarray:
+    """Indices of the samples on which the ram speed is held: those at which the warm start's ram
+    (the model's own, ``ram_height`` at ``times``) is within a margin of the height window on the
+    downstroke.
+
+    The margin is the larger of 1.5 sample spacings of ram travel and 0.55 x (tol/|v|) x the window
+    height: the ram travels at least (1 - tol/|v|) x |v| x duration through a band of the window
+    height plus twice that, so the phase constraints (`add_window_samples`) never bind harder
+    than the ram-speed band itself."""
+    h1, h2 = problem.window_heights
+    dt = float(np.max(np.diff(times))) if times.size > 1 else problem.period
+    margin = 1.5 * dt * abs(problem.ram_speed)
+    down = np.mod(speed.theta(times), 2 * np.pi) < np.pi
+    inside = np.nonzero(down & (ram_height >= h2 - margin) & (ram_height <= h1 + margin))[0]
+    if inside.size < 2:
+        raise ValueError("the warm start's ram never passes the working window: check the start speed")
+    return inside
+
+
+def add_window_samples(cons: Constraints, problem: SpeedProblem, y: Mapping, inside: np.ndarray,
+                       backoff: float) -> None:
+    """The model's ram speed within ``backoff`` x tol at the samples `inside` (`window_band`), and the
+    phase: the ram is at or above h1 H at the first of them and at or below h2 H at the last, so
+    every instant at which the model's ram is in the window lies among them."""
+    P = problem
+    h1, h2 = P.window_heights
+    cons.add((y["ram_velocity"][:, inside.tolist()] - P.ram_speed) / P.tol, -backoff, backoff, "ram_speed_samples")
+    cons.add((y["ram_height"][:, int(inside[0])] - h1) / P.press.stroke, 0.0, np.inf, "window_phase")
+    cons.add((y["ram_height"][:, int(inside[-1])] - h2) / P.press.stroke, -np.inf, 0.0, "window_phase")
+
+
+def keep_contact(cons: Constraints, y: Mapping, model: PressModel, min_eccentricity: float | None) -> None:
+    """Every clearance joint's eccentricity ratio >= `min_eccentricity` at every sample (if given)."""
+    for name in contact_outputs(model, min_eccentricity):
+        cons.add(y[name], min_eccentricity, np.inf, "eccentricity")
+
+
+def check_states(problem: SpeedProblem, model: PressModel) -> None:
+    """Checks shared by the state transcriptions, before any solve."""
+    if model.is_rigid:
+        raise ValueError("this transcription needs a model with states (clearance or a flexible rod); "
+                         "use Rigid() for the ideal press")
+    if model.n_harmonics != problem.n_harmonics:
+        raise ValueError(f"model.n_harmonics ({model.n_harmonics}) must equal the problem's n_harmonics "
+                         f"({problem.n_harmonics})")
+
+
+def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, c, X, X0: np.ndarray, y: dict,
+                 y0: dict, times: np.ndarray, cons: Constraints, *, name: str, transcription: str, desc: str,
+                 options: dict, progress: bool, backoff: float, kinematic_window: bool, omega_samples: int,
+                 coefficient_step: float | None, fixed: np.ndarray | None, details: dict) -> StageResult:
+    """The NLP of a state transcription from its pieces, solved.
+
+    Parameters
+    ----------
+    c, X : ca.MX
+        The Fourier coefficients and the transcription's other variables (states, lifted crank
+        motion; one column vector), ``X0`` their start.
+    y, y0 : dict
+        Output rows at the sample ``times`` (names from `sample_outputs`): symbolic, and their values
+        at the start.
+    cons : Constraints
+        The transcription's own constraints (continuity or collocation); the samples' are added here.
+    backoff : float
+        Share of the ram-speed tolerance held at the samples.
+    kinematic_window : bool
+        Also hold the ideal press's ram speed on the window interval (dense, closed form: it regularises
+        sparse samples).
+    fixed : ndarray of int, optional
+        Entries of X held at X0 (the first state of a non-periodic response).
+    """
+    P, T, n = problem, problem.period, problem.n_harmonics
+    objective = get_objective(P.objective)
+    s = ca.MX.sym("s")
+    scale = objective.value(y0)
+    f = add_objective(cons, objective, y, s, scale)
+    inside = window_band(P, start, y0["ram_height"].ravel(), times)
+    add_window_samples(cons, P, y, inside, backoff)
+    if kinematic_window:
+        t_a, t_b = times[inside[0]], times[inside[-1]]
+        add_kinematic_window(cons, P, c, float(t_a), float(t_b - t_a), 200, backoff)
+    add_dense_speed_bounds(cons, P, c, omega_samples)
+    add_pin_cap(cons, P, y)
+    w = ca.vertcat(c, s, X)
+    s0 = objective.value(y0) if objective.kind == "peak" else 0.0
+    w0 = np.concatenate([start.padded(n).coefficients, [s0], np.asarray(X0, float).ravel()])
+    lbw, ubw = np.full(w0.size, -np.inf), np.full(w0.size, np.inf)
+    lbw[2 * n] = 0.0
+    if coefficient_step is not None:
+        chk.positive("coefficient_step", coefficient_step, "rad/s")
+        lbw[: 2 * n], ubw[: 2 * n] = w0[: 2 * n] - coefficient_step, w0[: 2 * n] + coefficient_step
+    if fixed is not None:
+        k = 2 * n + 1 + np.asarray(fixed)
+        lbw[k] = ubw[k] = w0[k]
+    out = solve_nlp(name, w, f, cons, w0, lbw, ubw, {**IPOPT_WARM, **options}, objective, scale, desc, progress)
+    speed = FourierSpeed(T, out.w[:n], out.w[n : 2 * n])
+    try:
+        y_fun = ca.Function("y_at", [w], [ca.vertcat(*[y[k] for k in objective.outputs])])
+        rows = np.asarray(y_fun(out.w))
+        value = objective.value({k: rows[i] for i, k in enumerate(objective.outputs)})
+    except RuntimeError:  # an integrator failing at the returned iterate: the caller locates it
+        value = float("nan")
+    return StageResult(
+        name=name, transcription=transcription, model=model.spec.describe(), success=out.success, status=out.status,
+        iterations=out.iterations, wall_time=out.wall_time, objective=value, speed=speed,
+        last_speed=FourierSpeed(T, out.last_w[:n], out.last_w[n : 2 * n]), t1=float(times[inside[0]]),
+        history=out.history, barrier=out.barrier, violations_start=out.violations_start, violations=out.violations,
+        details=details, states=out.w[2 * n + 1 :])

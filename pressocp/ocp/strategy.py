@@ -1,0 +1,227 @@
+"""The stage chain: the model hierarchy applied to optimisation.
+
+1. ``rigid``: the ideal press (`Rigid`), exact Hessian, seconds. Its optimum is the floor. It is
+   re-simulated on the target model (rigid rod); when it impacts there (the joint forces reverse):
+2. ``no_reversal``: the ideal press again, with the rod tension at both pins kept above
+   ``tension_margin`` x the hanging weight, warm-started from the rigid optimum. Without a force
+   reversal the journals stay on their bearings; it is re-simulated on the target model too.
+3. ``soft`` (transcriptions that need it, i.e. multiple shooting): the clearance model with a
+   softer contact, when the start impacts.
+4. ``target``: the clearance model (rigid rod) by the given transcription.
+5. ``flexible``: when the target model's rod is flexible, the same problem on it.
+6. ``refine_k`` (opt-in): trust-region rounds of multiple shooting, each kept only when its
+   periodic re-simulation lowers the objective with the ram speed in tolerance.
+
+In "auto" mode a rigid optimum that is verified on the target model (periodic, objective within
+``verified_ratio`` of its rigid-press value, ram speed in tolerance over the model's own window)
+is the answer and stages 2-5 are skipped; "all" runs them from it. The no-reversal optimum is only
+a start: its extra constraint is a rigid-press stand-in for "no impact", and the clearance model's
+own optimum (journals kept on their walls) is lower.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from .. import _checks as chk
+from ..model import PressModel, build_model
+from ..objectives import get as get_objective
+from ..params import PressParams
+from ..problem import SpeedProblem
+from ..rigid import rigid_inverse_dynamics, rigid_response
+from ..simulate import SimulationError
+from ..speed import FourierSpeed
+from .rigid import Rigid
+from .shooting import MultipleShooting
+from .stage import Check, StageResult, Transcription, WarmStart, settings_repr
+from .verify import IMPACT_RATIO, is_periodic, ram_speed_violation, screen, verify_speed
+
+MODES = ("auto", "all")
+#: Checks of a stage's answer run at this tolerance (the final verification at `Strategy.verify_rtol`).
+CHECK_RTOL = 1e-7
+#: IPOPT iterations per refinement round, and the trust region's growth and shrink factors.
+REFINE_ITERATIONS = 6
+REFINE_GROW, REFINE_SHRINK = 1.5, 0.4
+
+
+def soft_params(params: PressParams, factor: float) -> PressParams:
+    """The press with every bearing's contact stiffness divided by ``factor`` (continuation stage)."""
+    chk.positive("soft_factor", factor)
+    bearings = {k: replace(getattr(params, k), stiffness=getattr(params, k).contact_stiffness / factor)
+                for k in ("crank_pin", "wrist_pin")}
+    return params.replace(**bearings)
+
+
+@dataclass(frozen=True)
+class Strategy:
+    """How `optimize_speed` chains its stages.
+
+    Attributes
+    ----------
+    mode : {"auto", "all"}
+        "auto": use no more model than the scene needs (a verified rigid-press answer ends the
+        chain); "all": run every stage.
+    rigid : Rigid
+        Transcription of the rigid and no-reversal stages.
+    tension_margin : float or None
+        Rod tension kept at both pins by the no-reversal stage, as a fraction of the weight of rod and
+        slider, in [0, 1); None skips that stage. It runs only when the rigid optimum is not verified
+        on the target model and the press has no process force.
+    verified_ratio : float
+        A rigid-press answer is verified on a model when its objective there is within this factor
+        of its rigid-press value (and it is periodic with the ram speed in tolerance).
+    soft_factor : float or None
+        Contact-stiffness divisor of the soft stage, for transcriptions that need one (multiple
+        shooting), in (1, 1e8); None skips it.
+    refine_rounds : int
+        Trust-region rounds of multiple shooting after the other stages, 0..100 (minutes each).
+    refine_step : float
+        Initial trust region of the refinement, rad/s on every Fourier coefficient.
+    verify_rtol : float
+        Tolerance of the final periodic re-simulation.
+    """
+
+    mode: str = "auto"
+    rigid: Rigid = field(default_factory=Rigid)
+    tension_margin: float | None = 0.05
+    verified_ratio: float = 1.02
+    soft_factor: float | None = 100.0
+    refine_rounds: int = 0
+    refine_step: float = 0.2
+    verify_rtol: float = 1e-9
+
+    def __post_init__(self) -> None:
+        chk.choice("mode", self.mode, MODES)
+        if not isinstance(self.rigid, Rigid):
+            raise ValueError(f"rigid must be a Rigid transcription, got {type(self.rigid).__name__}")
+        if self.tension_margin is not None:
+            chk.in_half_open_interval("tension_margin", self.tension_margin, 0.0, 1.0)
+        chk.in_open_interval("verified_ratio", self.verified_ratio, 1.0, 10.0)
+        if self.soft_factor is not None:
+            chk.in_open_interval("soft_factor", self.soft_factor, 1.0, 1e8)
+        chk.integer("refine_rounds", self.refine_rounds, 0, 100)
+        chk.positive("refine_step", self.refine_step, "rad/s")
+        chk.positive("verify_rtol", self.verify_rtol)
+
+    def __repr__(self) -> str:
+        return settings_repr(self)
+
+    @classmethod
+    def of(cls, strategy: "Strategy | str") -> "Strategy":
+        """A `Strategy` from itself or a mode name."""
+        if isinstance(strategy, Strategy):
+            return strategy
+        chk.choice("strategy", strategy, MODES)
+        return cls(mode=strategy)
+
+    # The chain ---------------------------------------------------------------------------------
+    def run(self, problem: SpeedProblem, model: PressModel, transcription: Transcription, initial: FourierSpeed,
+            progress: bool) -> list[StageResult]:
+        """Every stage in order; the last one's speed is the answer."""
+        rigid = self.rigid.solve(problem, model, WarmStart(initial), "rigid", progress)
+        stages = [rigid]
+        if model.is_rigid:
+            return stages
+        base = model if model.rod == "rigid" else build_model(model.params, "rigid", model.clearance, 4,
+                                                               model.n_harmonics)
+        rigid.check = self.check(base, rigid, problem)
+        start = rigid
+        if not rigid.check.verified and self.tension_margin is not None and problem.press.process_force.force == 0.0:
+            bound = self.tension_margin * problem.hanging_weight
+            nr = self.rigid.solve(problem.replace(min_tension=bound), model, WarmStart(rigid.speed), "no_reversal",
+                                  progress)
+            stages.append(nr)
+            if nr.success:
+                nr.check = self.check(base, nr, problem)
+                if nr.check.verified or nr.check.ratio < rigid.check.ratio:
+                    start = nr
+        chain: list[tuple[str, PressModel]] = []
+        if self.mode == "auto" and rigid.check.verified:
+            reason = (f"the rigid optimum meets the constraints on this model and its objective is within "
+                      f"{self.verified_ratio:g} x its rigid-press value")
+            stages.append(StageResult.skipped("target", reason, base.spec.describe(), start))
+            if model.rod == "flexible":
+                flex = self.check(model, start, problem)
+                if flex.verified:
+                    stages.append(StageResult.skipped("flexible", reason, model.spec.describe(), start))
+                else:
+                    chain.append(("flexible", model))
+        else:
+            if getattr(transcription, "needs_soft_start", False) and self.soft_factor is not None \
+                    and start.check.ratio > IMPACT_RATIO:
+                chain.append(("soft", build_model(soft_params(model.params, self.soft_factor), "rigid", base.clearance,
+                                                  4, model.n_harmonics)))
+            chain.append(("target", base))
+            if model.rod == "flexible":
+                chain.append(("flexible", model))
+        speed = start.speed
+        for name, m in chain:
+            st = transcription.solve(problem, m, WarmStart(speed), name, progress)
+            stages.append(st)
+            speed = st.speed
+            if not st.success:
+                return stages
+        if self.refine_rounds:
+            stages.extend(self.refine(problem, base, stages[-1], transcription, progress))
+        return stages
+
+    def check(self, model: PressModel, stage: StageResult, problem: SpeedProblem) -> Check:
+        """Re-simulate a rigid-press stage's answer on `model` (`screen`, `CHECK_RTOL`)."""
+        objective = get_objective(problem.objective)
+        dense = rigid_response(problem.press, stage.speed, np.linspace(0.0, problem.period, 20001))
+        reference = objective.value(dense)
+        sim, ratio = screen(model, stage.speed, reference, problem.objective, CHECK_RTOL)
+        viol = max(ram_speed_violation(sim, problem), 0.0)
+        periodic = is_periodic(sim)
+        ne = rigid_inverse_dynamics(problem.press, *stage.speed.evaluate(dense.t))
+        return Check(model=model.spec.describe(), objective=objective.value(sim), ratio=float(ratio),
+                     periodic=periodic, ram_speed_violation=viol, peak_torque=sim.peak("torque"),
+                     verified=bool(periodic is True and ratio <= self.verified_ratio and viol <= 0.0),
+                     min_rod_tension=float(min(ne["crank_pin_tension"].min(), ne["wrist_pin_tension"].min())))
+
+    def refine(self, problem: SpeedProblem, model: PressModel, last: StageResult, transcription: Transcription,
+               progress: bool) -> list[StageResult]:
+        """Trust-region rounds of multiple shooting on `model` from `last`'s answer. A round's final
+        iterate is accepted (and the region grows) only when its periodic re-simulation lowers the
+        objective with the ram speed in tolerance; otherwise the region shrinks. Each round's node
+        states come from the verifying re-simulation of the current speed."""
+        shooting = transcription if isinstance(transcription, MultipleShooting) else MultipleShooting("cvodes")
+        objective = get_objective(problem.objective)
+        speed, step, rounds = last.speed, self.refine_step, []
+        sim = verify_speed(model, speed, CHECK_RTOL)
+        best = objective.value(sim)
+        for k in range(self.refine_rounds):
+            t0 = time.perf_counter()
+            settings = replace(shooting, coefficient_step=step,
+                               ipopt={"ipopt.max_iter": REFINE_ITERATIONS, **shooting.ipopt})
+            name = f"refine_{k + 1}"
+            try:
+                st = settings.solve(problem, model, WarmStart(speed, sim.states[:, 0] / model.x_scale), name, progress)
+            except SimulationError as err:  # the verified answer so far stands
+                rounds.append(StageResult.skipped(name, f"stopped: {str(err).splitlines()[0]}",
+                                                  model.spec.describe(), last))
+                break
+            cand, ratio = screen(model, st.last_speed, best, problem.objective, CHECK_RTOL)
+            viol = max(ram_speed_violation(cand, problem), 0.0)
+            accepted = bool(is_periodic(cand) is True and ratio < 1.0 and viol <= 0.0)
+            value = ratio * best
+            st.details.update(coefficient_step=step, accepted=accepted, verified_value=value, ram_speed_violation=viol)
+            st.wall_time = time.perf_counter() - t0
+            if accepted:
+                speed, sim, best, step = st.last_speed, cand, value, step * REFINE_GROW
+                st.speed, st.objective = st.last_speed, value
+                last = st
+            else:
+                st.speed, st.objective = speed, best
+                step *= REFINE_SHRINK
+            rounds.append(st)
+        return rounds
+
+
+def max_relative_change(speed: FourierSpeed, other: FourierSpeed, samples: int = 4001) -> float:
+    """max |omega - omega_other| over the period, divided by the mean speed."""
+    t = np.linspace(0.0, speed.period, samples)
+    return float(np.max(np.abs(speed.omega(t) - other.omega(t))) / speed.mean_speed)

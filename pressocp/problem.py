@@ -1,0 +1,210 @@
+"""The speed-design problem: what is asked of the crank speed, independent of how it is solved.
+
+`SpeedProblem` is the one statement of the request (press, cycle time, ram speed and working
+window, objective, harmonics, tolerances and limits). `pressocp.design.design_speed` (the
+kinematic design) and `pressocp.ocp.optimize_speed` (the optimal speed) both take it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from . import _checks as chk
+from .objectives import OBJECTIVES
+from .params import PressParams
+from .rigid import crank_angle_at_height
+from .speed import DEFAULT_HARMONICS
+
+#: The working window may take at most this share of the period.
+MAX_WINDOW_SHARE = 0.8
+#: The mean crank speed in the window may be at most this multiple of the mean speed 2 pi / T.
+MAX_WINDOW_SPEED_RATIO = 3.0
+
+
+def check_window(window: Any) -> tuple[float, float]:
+    """Validate a working window (h1/H, h2/H) on the downstroke: 0 < h2 < h1 < 1."""
+    try:
+        w0, w1 = (float(x) for x in window)
+    except (TypeError, ValueError):
+        raise ValueError(f"window must be a pair (h1/H, h2/H), got {window!r}") from None
+    chk.in_open_interval("window[0] (h1/H)", w0, 0.0, 1.0)
+    chk.in_open_interval("window[1] (h2/H)", w1, 0.0, 1.0)
+    if not w1 < w0:
+        raise ValueError(f"window must be (h1/H, h2/H) with h2/H < h1/H on the downstroke, got {window!r}")
+    return w0, w1
+
+
+def ram_speed_range(press: PressParams, period: float, window: tuple[float, float]) -> tuple[float, float]:
+    """Reachable ram speeds (m/s, negative) for a window and a period.
+
+    The window must take at most `MAX_WINDOW_SHARE` of the period (slow limit) and the crank may
+    turn through it at most `MAX_WINDOW_SPEED_RATIO` times faster than its mean speed (fast limit).
+
+    Returns
+    -------
+    (fastest, slowest) : tuple of float
+        The allowed range is fastest <= ram_speed <= slowest < 0.
+    """
+    w0, w1 = window
+    dh = (w0 - w1) * press.stroke
+    th0, th1 = crank_angle_at_height(press, np.array([w0, w1]) * press.stroke, "down")
+    fastest = MAX_WINDOW_SPEED_RATIO * (2 * np.pi / period) * dh / (th1 - th0)
+    slowest = dh / (MAX_WINDOW_SHARE * period)
+    return -fastest, -slowest
+
+
+def check_ram_speed(press: PressParams, period: float, ram_speed: float, window: tuple[float, float]) -> float:
+    """Validate a window ram speed: negative and within `ram_speed_range` (ValueError otherwise)."""
+    v = chk.finite("ram_speed", ram_speed)
+    if v >= 0:
+        raise ValueError(f"ram_speed must be negative (downstroke, dh/dt < 0), got {v!r} m/s")
+    fastest, slowest = ram_speed_range(press, period, window)
+    if not fastest <= v <= slowest:
+        raise ValueError(
+            f"ram_speed must be in [{fastest:.4g}, {slowest:.4g}] m/s for period={period:g} s and window="
+            f"({window[0]:g}, {window[1]:g}): the crank cannot deliver {v!r} m/s over that window at that period "
+            f"(the window may take at most {MAX_WINDOW_SHARE:.0%} of the period and the crank may cross it at most "
+            f"{MAX_WINDOW_SPEED_RATIO:g}x faster than its mean speed)"
+        )
+    return v
+
+
+@dataclass(frozen=True)
+class SpeedProblem:
+    """Minimise a load over a Fourier crank speed, with the ram at constant speed in a window.
+
+    Parameters
+    ----------
+    press : PressParams
+        The press.
+    period : float
+        Cycle time T, s (60 / strokes per minute).
+    ram_speed : float
+        Ram velocity in the window, m/s, negative and within `ram_speed_range`.
+    window : (float, float)
+        (h1/H, h2/H) on the downstroke, 0 < h2 < h1 < 1: the ram speed holds at every instant at
+        which the ram (of whichever model is solved or checked) is between h2 H and h1 H.
+    objective : str
+        A name in `pressocp.objectives.OBJECTIVES` (peak motor torque by default).
+    n_harmonics : int
+        Harmonics of the speed, 1..50.
+    ram_speed_tol : float or None
+        Allowed |v - ram_speed| in the window, m/s; default 1 % of |ram_speed|.
+    omega_min : float or None
+        Lower bound on the crank speed, rad/s, in (0, 2 pi/T); default 5 % of the mean speed.
+    omega_max, alpha_max : float or None
+        Optional motor limits |omega| <= omega_max (rad/s), |alpha| <= alpha_max (rad/s^2).
+    min_tension : float or None
+        Lower bound on the rod's axial tension at both pins in the rigid model, N, below the
+        weight of rod and slider. The slider hangs from the rod; a bound >= 0 forbids the
+        joint-force reversal (tension to compression, the ram falling faster than g) that makes the
+        journals cross their clearance and impact. Needs a press without process force (the forming
+        load compresses the rod). None: no bound.
+    max_pin_force : float or None
+        Cap on the crank-pin and wrist-pin force magnitudes, N, held at every sample together with
+        any objective (bearing rating). None: no cap.
+    """
+
+    press: PressParams
+    period: float = 1.0
+    ram_speed: float = -0.1
+    window: tuple[float, float] = (0.7, 0.3)
+    objective: str = "peak_torque"
+    n_harmonics: int = DEFAULT_HARMONICS
+    ram_speed_tol: float | None = None
+    omega_min: float | None = None
+    omega_max: float | None = None
+    alpha_max: float | None = None
+    min_tension: float | None = None
+    max_pin_force: float | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.press, PressParams):
+            raise ValueError(f"press must be a PressParams, got {type(self.press).__name__}")
+        T = chk.positive("period", self.period, "s")
+        v = chk.finite("ram_speed", self.ram_speed)
+        w0, w1 = check_window(self.window)
+        object.__setattr__(self, "period", T)
+        object.__setattr__(self, "window", (w0, w1))
+        chk.choice("objective", self.objective, tuple(OBJECTIVES))
+        chk.integer("n_harmonics", self.n_harmonics, 1, 50)
+        check_ram_speed(self.press, T, v, (w0, w1))
+        if self.ram_speed_tol is not None:
+            chk.in_open_interval("ram_speed_tol", self.ram_speed_tol, 0.0, abs(v), "m/s")
+        wbar = 2 * np.pi / T
+        if self.omega_min is not None:
+            chk.in_open_interval("omega_min", self.omega_min, 0.0, wbar, "rad/s")
+        if self.omega_max is not None:
+            chk.in_open_interval("omega_max", self.omega_max, wbar, np.inf, "rad/s")
+        if self.alpha_max is not None:
+            chk.positive("alpha_max", self.alpha_max, "rad/s^2")
+        if self.min_tension is not None:
+            chk.in_open_interval("min_tension", self.min_tension, -np.inf, self.hanging_weight, "N")
+            if self.press.process_force.force != 0.0:
+                raise ValueError("min_tension needs process_force.force == 0: the forming load compresses the rod, "
+                                 "so its axial force must change sign")
+        if self.max_pin_force is not None:
+            chk.in_open_interval("max_pin_force", self.max_pin_force, self.hanging_weight, np.inf, "N")
+
+    # Derived values ------------------------------------------------------------------------------
+    @property
+    def stroke_rate_spm(self) -> float:
+        """Strokes per minute, 60 / T."""
+        return 60.0 / self.period
+
+    @property
+    def hanging_weight(self) -> float:
+        """Weight of rod and slider, N: the static rod tension is about this."""
+        return (self.press.slider_mass + self.press.rod_mass) * self.press.gravity
+
+    @property
+    def tol(self) -> float:
+        """Allowed ram speed deviation, m/s."""
+        return 0.01 * abs(self.ram_speed) if self.ram_speed_tol is None else float(self.ram_speed_tol)
+
+    @property
+    def omega_lower(self) -> float:
+        """Lower crank speed bound, rad/s."""
+        return 0.05 * 2 * np.pi / self.period if self.omega_min is None else float(self.omega_min)
+
+    @property
+    def window_heights(self) -> tuple[float, float]:
+        """(h1 H, h2 H): ram heights at which the window starts and ends, m."""
+        return self.window[0] * self.press.stroke, self.window[1] * self.press.stroke
+
+    @property
+    def window_duration(self) -> float:
+        """t2 - t1, s."""
+        return (self.window[0] - self.window[1]) * self.press.stroke / abs(self.ram_speed)
+
+    def replace(self, **changes: Any) -> "SpeedProblem":
+        """A copy with some fields changed (validated again)."""
+        return replace(self, **changes)
+
+    # Saving ------------------------------------------------------------------------------------
+    def to_dict(self) -> dict:
+        """Plain-data form (JSON-safe): ``{"press": ..., field: value, ...}``."""
+        d = {k: v for k, v in asdict(self).items() if k != "press"}
+        d["window"] = list(self.window)
+        return {"press": self.press.to_dict(), **d}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "SpeedProblem":
+        """Inverse of `to_dict`."""
+        d = dict(data)
+        press = PressParams.from_dict(d.pop("press", {}))
+        if "window" in d:
+            d["window"] = tuple(d["window"])
+        return cls(press, **d)
+
+
+def in_window(problem: SpeedProblem, theta: np.ndarray, ram_height: np.ndarray) -> np.ndarray:
+    """Mask of the samples at which a ram is in the working window: on the downstroke (crank angle
+    in [0, pi) modulo 2 pi) and between h2 H and h1 H."""
+    h1, h2 = problem.window_heights
+    down = np.mod(np.asarray(theta), 2 * np.pi) < np.pi
+    h = np.asarray(ram_height)
+    return down & (h >= h2) & (h <= h1)

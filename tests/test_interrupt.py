@@ -1,0 +1,47 @@
+"""Ctrl-C stops a solve: a real SIGINT sent to a child process while IPOPT iterates, and while CVODES
+integrates, ends the program with KeyboardInterrupt instead of a returned result."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+CHILD = """
+import signal, sys, time
+signal.signal(signal.SIGINT, signal.default_int_handler)  # as in an interactive session
+import pressocp as po
+if sys.argv[1] == "ipopt":
+    problem = po.SpeedProblem(po.PressParams(), period=0.8)
+    print("solving", flush=True)
+    po.Rigid(samples=20000, ipopt={"ipopt.max_iter": 3000}).solve(problem)
+else:
+    model = po.build_model(po.PressParams())
+    print("solving", flush=True)
+    po.simulate(model, po.FourierSpeed.constant(0.8), cycles=200, method="cvodes", rtol=1e-10)
+print("returned", flush=True)
+"""
+
+
+@pytest.mark.parametrize("where", ["ipopt", "cvodes"])
+def test_ctrl_c_raises_keyboard_interrupt(where):
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    proc = subprocess.Popen([sys.executable, "-c", CHILD, where], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, env=env)
+    try:
+        assert proc.stdout.readline().strip() == "solving"
+        time.sleep(3.0)
+        assert proc.poll() is None, "the solve finished before the interrupt"
+        t0 = time.perf_counter()
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=60)
+        stopped_in = time.perf_counter() - t0
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert "returned" not in out
+    assert "KeyboardInterrupt" in err, err[-2000:]
+    assert proc.returncode != 0
+    assert stopped_in < 30.0
