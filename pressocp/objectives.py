@@ -85,3 +85,5 @@ register(Objective("peak_pin_force", ("crank_pin_force", "wrist_pin_force"),
                    description="peak pin force (the larger of the two joints)"))
 register(Objective("rms_torque", ("torque",), lambda y: [y["torque"]], "N m", kind="rms",
                    description="RMS motor torque"))
+register(Objective("peak_power", ("torque", "omega"), lambda y: [y["torque"] * y["omega"]], "W",
+                   description="peak |motor power| = peak |torque x crank speed| (the motor's power rating)"))
