@@ -5,23 +5,36 @@ within 1 %, and the seed story figure.
 Cases (run one per call; each appends one JSON line to benchmarks/results/ocp.jsonl and writes
 ocp_<case>.png):
 
-* ``default``      T = 1 s, -0.1 m/s, stages "auto" (the default call).
-* ``default_all``  the same with every shooting stage forced ("all").
-* ``seed``         T = 0.8 s (75 spm): the rigid-designed speed impacts (model issue); stages "auto".
-* ``seed_collocation``  the seed case with the clearance stage run ("all") as collocation
-                   (``method="collocation"``, 0.5 ms elements, journals kept on their bearing walls).
-* ``seed_collocation_jit``  the same with ``jit=True`` (compiled model functions).
+* ``default``      T = 1 s, -0.1 m/s: the default call ``optimize_speed(SpeedProblem(PressParams()))``
+                   (strategy "auto", collocation for the clearance stage when it runs).
+* ``default_all``  the same with every stage run (strategy "all").
+* ``default_idas`` the same with the clearance stages by multiple shooting (``MultipleShooting("idas")``,
+                   strategy "all"; the old default transcription).
+* ``seed``         T = 0.8 s (75 spm), the default call ``optimize_speed(SpeedProblem(PressParams(),
+                   period=0.8))``: the rigid-designed speed impacts (model issue), the rigid optimum
+                   too, so the chain runs rigid, no-reversal and collocation (0.5 ms elements, journals
+                   kept on their bearing walls, compiled when a C compiler is found).
+* ``seed_idas``    the seed case with the clearance stages by multiple shooting (``MultipleShooting("idas")``,
+                   soft-contact stage first when the start impacts), strategy "all".
+* ``seed_collocation``  the seed case, ``Collocation(jit=False)`` (CasADi's virtual machine), strategy "all".
+* ``seed_collocation_jit``  the same with ``Collocation(jit=True)`` (compiled model functions).
+* ``pin_cap``      the seed default call with the crank-pin and wrist-pin forces capped at ``--cap-N``
+                   newtons (``SpeedProblem.max_pin_force``); the row records the answer's peaks
+                   (torque, crank-pin and wrist-pin force) for the cap trade-off; writes
+                   ocp_pin_cap_<N>N.png.
 * ``slsqp``        the baseline on the case named by ``--ref`` (default ``seed``), from the same
                    rigid-designed speed, to the objective that case reached, capped at ``--cap`` s.
-* ``flexible``     the seed case on the flexible rod (4 elements), stages "auto", warm-started by
-                   the same chain (rigid, no-reversal, rigid-rod clearance check).
+* ``flexible``     the seed default call on the flexible rod (4 elements): the same chain, then the
+                   clearance stage on the flexible rod unless the rigid-rod answer is verified on it.
 
-    python benchmarks/bench_ocp.py CASE [--max-iter K] [--cap SECONDS] [--ref CASE] [--repeat R]
+    python benchmarks/bench_ocp.py CASE [--max-iter K] [--cap SECONDS] [--cap-N NEWTONS] [--ref CASE] [--repeat R]
 
-With ``--repeat R`` an optimisation case runs R times in one process: ``wall_time_s`` is the median,
-``wall_times_s`` lists every run, and the rest of the row describes the last run (the runs must agree:
-``answers_agree`` compares their re-simulated peaks to 1e-6: MUMPS on threaded BLAS is not bitwise
-repeatable).
+``--max-iter K`` caps the IPOPT iterations of each clearance stage (the transcription's ``ipopt``
+options); by default the transcription's own cap (300) applies, so ``seed`` is exactly the default
+call. With ``--repeat R`` an optimisation case runs R times in one process: ``wall_time_s`` is the
+median, ``wall_times_s`` lists every run, and the rest of the row describes the last run (the runs
+must agree: ``answers_agree`` compares their re-simulated peaks to 1e-6: MUMPS on threaded BLAS is
+not bitwise repeatable).
 """
 
 from __future__ import annotations
@@ -32,91 +45,131 @@ import statistics
 import sys
 from pathlib import Path
 
-from pressocp import PressParams
-from pressocp.design import design_speed
-from pressocp.model import build_model
-from pressocp.ocp import SpeedProblem, optimize_speed
-from pressocp.ocp.optimize import objective_peak
+from pressocp import Collocation, MultipleShooting, PressParams, SpeedProblem, build_model, design_speed, optimize_speed
+from pressocp.ocp.strategy import max_relative_change
 from pressocp.plots import plot_speed_design, save
 
 OUT = Path(__file__).parent / "results"
+OPTIMISATION_CASES = ["default", "default_all", "default_idas", "seed", "seed_idas", "seed_collocation",
+                      "seed_collocation_jit", "pin_cap", "flexible"]
+#: Cases the SLSQP baseline can be pointed at (peak torque, no pin cap).
+REF_CASES = ["default", "default_all", "default_idas", "seed", "seed_idas", "seed_collocation", "seed_collocation_jit"]
 
 
-def summary(r, case: str, kwargs: dict) -> dict:
+def summary(r, case: str, call: dict) -> dict:
     so, si = r.simulation, r.initial_simulation
     return {
-        "case": case, "kwargs": kwargs, "success": r.success, "status": r.status, "wall_time_s": r.wall_time,
+        "case": case, "kwargs": call, "problem": r.problem.to_dict(), "model": r.model.describe(),
+        "transcription": r.transcription, "strategy": r.strategy,
+        "success": r.success, "status": r.status, "wall_time_s": r.wall_time,
         "iterations": r.iterations, "peak_torque": r.peak_torque, "initial_peak_torque": r.initial_peak_torque,
         "rigid_peak_torque": r.rigid_peak_torque, "floor_ratio": r.peak_torque / r.rigid_peak_torque,
-        "reported_objective": r.objective_value,
-        "resimulated_vs_reported": objective_peak(so, r.objective) / r.objective_value - 1.0,
+        "reported_objective": r.objective_value, "verified_objective": r.verified_objective,
+        "resimulated_vs_reported": r.verified_objective / r.objective_value - 1.0,
+        "peaks": r.peaks, "initial_peaks": r.initial_peaks,
         "peak_slider_normal_force": so.peak("slider_normal_force"),
         "initial_peak_slider_normal_force": si.peak("slider_normal_force"),
         "torque_reduction_pct": 100 * (1 - r.peak_torque / r.initial_peak_torque),
         "normal_force_reduction_pct": 100 * (1 - so.peak("slider_normal_force") / si.peak("slider_normal_force")),
-        "max_speed_change_rel": r.max_speed_change, "max_ram_speed_violation": r.max_ram_speed_violation,
-        "min_omega": r.min_omega, "t1": r.t1, "t2": r.t2, "periodic_verified": so.stats.get("periodic", {}),
-        "stages": r.stages, "objective_history": r.objective_history,
+        "max_speed_change_rel": max_relative_change(r.speed, r.initial_speed),
+        "max_ram_speed_violation": r.max_ram_speed_violation, "verified": r.verified, "periodic": r.periodic,
+        "min_omega": r.min_omega, "t1": r.t1, "t2": r.t2, "rigid_t1": r.rigid.t1,
+        "periodic_verified": so.stats.get("periodic", {}),
+        "stages": [s.to_dict() for s in r.stages], "objective_history": r.history,
         "coefficients": r.speed.coefficients.tolist(),
     }
 
 
+def optimisation_call(case: str, max_iter: int | None, cap_N: float | None) -> tuple[dict, dict]:
+    """The `optimize_speed` arguments of an optimisation case, and their description for the row."""
+    ipopt = {} if max_iter is None else {"ipopt.max_iter": max_iter}
+    period = 1.0 if case.startswith("default") else 0.8
+    press = PressParams()
+    problem = SpeedProblem(press, period=period, max_pin_force=cap_N if case == "pin_cap" else None)
+    kwargs: dict = {"problem": problem}
+    if case.endswith("_idas"):
+        kwargs.update(transcription=MultipleShooting("idas", ipopt=ipopt), strategy="all")
+    elif case.startswith("seed_collocation"):
+        kwargs.update(transcription=Collocation(jit=case.endswith("_jit"), ipopt=ipopt), strategy="all")
+    else:
+        if ipopt:
+            kwargs["transcription"] = Collocation(ipopt=ipopt)
+        if case == "default_all":
+            kwargs["strategy"] = "all"
+    if case == "flexible":
+        kwargs["model"] = build_model(press, rod="flexible", n_elements=4)
+    call = {"period": period, "transcription": repr(kwargs.get("transcription", Collocation())),
+            "strategy": kwargs.get("strategy", "auto"), "max_iter": max_iter}
+    if case == "pin_cap":
+        call["max_pin_force"] = cap_N
+    if case == "flexible":
+        call["model"] = kwargs["model"].spec.describe()
+    return kwargs, call
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("case", choices=["default", "default_all", "seed", "seed_collocation", "seed_collocation_jit", "slsqp",
-                                       "flexible"])
-    ap.add_argument("--max-iter", type=int, default=100)
+    ap.add_argument("case", choices=OPTIMISATION_CASES + ["slsqp"])
+    ap.add_argument("--max-iter", type=int, default=None,
+                    help="IPOPT iteration cap of the clearance stages (default: the transcription's, 300)")
     ap.add_argument("--cap", type=float, default=1800.0, help="SLSQP time cap, s")
-    ap.add_argument("--ref", default="seed", choices=["default", "default_all", "seed", "seed_collocation",
-                                                      "seed_collocation_jit"],
+    ap.add_argument("--cap-N", type=float, default=None, dest="cap_N",
+                    help="pin_cap: cap on the crank-pin and wrist-pin forces, N")
+    ap.add_argument("--ref", default="seed", choices=REF_CASES,
                     help="case whose optimum the SLSQP baseline must reach within 1 %%")
     ap.add_argument("--repeat", type=int, default=1, help="runs of an optimisation case (median time)")
     a = ap.parse_args()
     if a.repeat < 1:
         ap.error(f"--repeat must be >= 1, got {a.repeat}")
+    if a.max_iter is not None and a.max_iter < 1:
+        ap.error(f"--max-iter must be >= 1, got {a.max_iter}")
+    if a.case == "pin_cap" and a.cap_N is None:
+        ap.error("pin_cap needs --cap-N NEWTONS")
+    if a.case != "pin_cap" and a.cap_N is not None:
+        ap.error("--cap-N is for the pin_cap case only")
     OUT.mkdir(exist_ok=True)
-    kwargs: dict = {"ipopt_options": {"ipopt.max_iter": a.max_iter}}
     if a.case == "slsqp":
         sys.path.insert(0, str(Path(__file__).parent))
         from slsqp_baseline import slsqp_baseline
 
         rows = [json.loads(s) for s in (OUT / "ocp.jsonl").read_text().splitlines()]
         ref = [r for r in rows if r.get("case") == a.ref][-1]
-        period = ref["kwargs"].get("period", 1.0)
         params = PressParams()
-        prob = SpeedProblem(params, period=period, ram_speed=-0.1)
-        init = design_speed(params, period=period, ram_speed=-0.1).speed
         model = build_model(params)
+        if "problem" in ref:  # t1: when the re-simulated clearance ram enters the window
+            prob = SpeedProblem.from_dict(ref["problem"])
+            h_start = prob.window_heights[0] + model.ram_drop
+        else:  # rows of the old interface: t1 was the rigid press's window start
+            prob = SpeedProblem(params, period=ref["kwargs"].get("period", 1.0), ram_speed=-0.1)
+            h_start = None
+        init = design_speed(prob).speed
         # the target is the optimum's verified peak (re-simulated at rtol 1e-9), not a sampled value
-        res = slsqp_baseline(model, prob, init, ref["t1"], ref["peak_torque"], time_cap=a.cap)
+        res = slsqp_baseline(model, prob, init, ref["t1"], ref["peak_torque"], time_cap=a.cap, h_start=h_start)
         row = {"case": "slsqp", "ref": a.ref, **res, "optimizer_wall_time_s": ref["wall_time_s"],
                "speedup": (">" if not res["reached"] else "") + f"{res['wall_time'] / ref['wall_time_s']:.1f}"}
     else:
-        if a.case.startswith("seed_collocation"):
-            kwargs.update(stages="all", method="collocation", jit=a.case.endswith("_jit"))
-        if a.case == "default_all":
-            kwargs["stages"] = "all"
-        if a.case.startswith("seed") or a.case == "flexible":
-            kwargs["period"] = 0.8
-        if a.case == "flexible":
-            kwargs["model"] = build_model(PressParams(), rod="flexible", n_elements=4)
+        kwargs, call = optimisation_call(a.case, a.max_iter, a.cap_N)
         times, peaks = [], []
         for i in range(a.repeat):
             r = optimize_speed(**kwargs)
             times.append(r.wall_time)
             peaks.append(r.peak_torque)
             print(f"{a.case} run {i + 1}: {r.wall_time:.1f} s, {r.status}, {r.peak_torque:.4f} N m", flush=True)
-        kwargs.pop("model", None)
-        row = summary(r, a.case, kwargs)
+        row = summary(r, a.case, call)
         row.update(wall_time_s=statistics.median(times), wall_times_s=times,
                    answers_agree=max(peaks) - min(peaks) <= 1e-6 * max(peaks))
-        save(plot_speed_design(r, f"{a.case}: peak torque {r.initial_peak_torque:.0f} → {r.peak_torque:.0f} N·m "
-                               f"(rigid floor {r.rigid_peak_torque:.0f}), {row['wall_time_s']:.0f} s"),
-             OUT / f"ocp_{a.case}.png")
+        name = f"pin_cap_{a.cap_N:.0f}N" if a.case == "pin_cap" else a.case
+        cap = f", pin forces ≤ {a.cap_N:.0f} N" if a.case == "pin_cap" else ""
+        title = (f"{a.case}{cap}: peak torque {r.initial_peak_torque:.0f} → {r.peak_torque:.0f} N·m "
+                 f"(rigid floor {r.rigid_peak_torque:.0f}), {row['wall_time_s']:.0f} s")
+        save(plot_speed_design(r, title), OUT / f"ocp_{name}.png")
     with open(OUT / "ocp.jsonl", "a") as fh:
         fh.write(json.dumps(row, default=float) + "\n")
-    print(json.dumps({k: v for k, v in row.items() if k not in ("objective_history", "history", "coefficients")},
-                     default=float, indent=1))
+    short = {k: v for k, v in row.items() if k not in ("objective_history", "history", "coefficients", "stages")}
+    if "stages" in row:
+        short["stages"] = [f"{s['name']}: {s['status']}, {s['iterations']} it, {s['wall_time']:.1f} s"
+                           for s in row["stages"]]
+    print(json.dumps(short, default=float, indent=1))
 
 
 if __name__ == "__main__":

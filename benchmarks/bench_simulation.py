@@ -25,7 +25,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from pressocp import PressParams  # noqa: E402
+from pressocp import PressParams, SpeedProblem  # noqa: E402
 from pressocp.design import design_speed  # noqa: E402
 from pressocp.model import build_model  # noqa: E402
 from pressocp.simulate import SimulationError, periodic_state, simulate  # noqa: E402
@@ -117,7 +117,7 @@ def main() -> None:
     args = ap.parse_args()
     OUT.mkdir(exist_ok=True)
     p = PressParams()
-    speed = design_speed(p, period=0.8, ram_speed=-0.1).speed
+    speed = design_speed(SpeedProblem(p, period=0.8, ram_speed=-0.1)).speed
     repeats = 1 if args.quick else 3
     rtols = [1e-5, 1e-7] if args.quick else [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9]
     methods = ["idas", "cvodes", "scipy-radau"]

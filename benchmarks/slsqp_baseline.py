@@ -4,8 +4,11 @@ steady state (impacting, chaotic journals), the fourth cycle from rest stands in
 
 Variables: the 2n Fourier coefficients and the epigraph variable s. Every function evaluation is
 a periodic simulation of the clearance model (warm-started from the last periodic state); every
-gradient is 2n forward differences, i.e. 2n more simulations. The window start t1 is held at the
-value given (the rigid stage's), like the shooting stages do.
+gradient is 2n forward differences, i.e. 2n more simulations. The window is a fixed time interval
+[t1, t1 + (h1 - h2)/|v|] (SLSQP needs a fixed number of constraints): t1 is held at the value given
+(the optimum's: when its re-simulated ram enters the window) with the ideal press's ram at
+``h_start`` then (h1 H plus the model's ram drop: the clearance model's ram hangs that much lower),
+and the clearance model's ram speed is held at the samples in that interval.
 """
 
 from __future__ import annotations
@@ -16,9 +19,9 @@ import numpy as np
 from scipy.optimize import minimize
 
 from pressocp.model import PressModel
-from pressocp.ocp import SpeedProblem
-from pressocp.ocp.optimize import settled_state
-from pressocp.ocp.rigid import _ram_function
+from pressocp.ocp.nlp import ram_function
+from pressocp.ocp.verify import settled_state
+from pressocp.problem import SpeedProblem
 from pressocp.simulate import SimulationError, simulate
 from pressocp.speed import FourierSpeed
 
@@ -28,8 +31,13 @@ class _Stop(Exception):
 
 
 def slsqp_baseline(model: PressModel, problem: SpeedProblem, initial: FourierSpeed, t1: float, target: float,
-                   time_cap: float = 1800.0, samples: int = 400, rtol: float = 1e-6, fd_step: float = 1e-5) -> dict:
+                   time_cap: float = 1800.0, samples: int = 400, rtol: float = 1e-6, fd_step: float = 1e-5,
+                   h_start: float | None = None) -> dict:
     """Run SLSQP until the objective is within 1 % of `target` (feasible) or `time_cap` s pass.
+
+    ``h_start`` (m) is the ideal press's ram height at t1; default the window's h1 H (t1 then is the
+    ideal press's window start, as the optimiser held it before the window moved onto the model's
+    own ram).
 
     Returns a dict: reached (bool), wall_time (s), evaluations (simulations), iterations,
     best feasible objective, history [(time, objective, max violation)].
@@ -38,7 +46,8 @@ def slsqp_baseline(model: PressModel, problem: SpeedProblem, initial: FourierSpe
     t = np.linspace(0.0, T, samples, endpoint=False)
     t2 = t1 + P.window_duration
     win = (t >= t1) & (t <= t2)
-    f_kin = _ram_function(P)
+    f_kin = ram_function(P)
+    h0 = P.window_heights[0] if h_start is None else float(h_start)
     to = np.linspace(0.0, T, 1000, endpoint=False)
     state = {"x0": None, "evals": 0, "cache": {}}
     t_start = time.perf_counter()
@@ -69,7 +78,7 @@ def slsqp_baseline(model: PressModel, problem: SpeedProblem, initial: FourierSpe
         h1 = float(f_kin(t1, c)[0])
         return np.concatenate([(s - tau) / s0, (s + tau) / s0, 1.0 - np.abs(v[win] - P.ram_speed) / P.tol,
                                (sp.omega(to) - P.omega_lower) / (2 * np.pi / T),
-                               [1e3 * (h1 / P.params.stroke - P.window[0])]])
+                               [1e3 * (h1 - h0) / P.press.stroke]])
 
     def cons_jac(y: np.ndarray) -> np.ndarray:
         g0 = cons(y)

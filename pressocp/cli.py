@@ -11,6 +11,7 @@ import numpy as np
 
 from .design import design_speed
 from .params import PressParams
+from .problem import SpeedProblem
 from .plots import plot_responses, save
 from .rigid import rigid_response
 from .speed import FourierSpeed
@@ -20,7 +21,7 @@ def run_design(out: Path, period: float, ram_speed: float, window: tuple[float, 
     """Rigid speed design of the default press: figure, JSON summary, printed table."""
     params = PressParams()
     t0 = time.perf_counter()
-    d = design_speed(params, period=period, ram_speed=ram_speed, window=window)
+    d = design_speed(SpeedProblem(params, period=period, ram_speed=ram_speed, window=window))
     wall = time.perf_counter() - t0
     t = np.linspace(0, period, 4001)
     const = rigid_response(params, FourierSpeed.constant(period), t)

@@ -11,6 +11,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .result import SimResult  # noqa: E402
+from .rigid import rigid_response  # noqa: E402
 
 
 def plot_responses(
@@ -146,6 +147,7 @@ def plot_speed_design(result, title: str = "") -> "plt.Figure":
     si, so = result.initial_simulation, result.simulation
     if si is None or so is None:
         raise ValueError("result must hold the initial and optimal simulations (from optimize_speed)")
+    rr = rigid_response(result.problem.press, result.rigid.speed, so.t)
     fig, axes = plt.subplots(4, 1, figsize=(8, 10), sharex=True)
     rows = [("omega", "crank speed ω, rad/s"), ("torque", "motor torque, N·m"),
             ("slider_normal_force", "slider normal force, N"), ("ram_velocity", "ram velocity, m/s")]
@@ -153,9 +155,7 @@ def plot_speed_design(result, title: str = "") -> "plt.Figure":
     for ax, (key, name) in zip(axes, rows):
         ax.plot(si.t, getattr(si, key), lw=0.8, color="tab:red", label="initial (rigid design), target model")
         ax.plot(so.t, getattr(so, key), lw=1.0, color="tab:blue", label=f"{label}, target model")
-        if result.rigid is not None:
-            rr = result.rigid.simulation
-            ax.plot(rr.t, getattr(rr, key), lw=0.8, ls="--", color="k", label="rigid optimum, rigid model")
+        ax.plot(rr.t, getattr(rr, key), lw=0.8, ls="--", color="k", label="rigid optimum, rigid press")
         ax.axvspan(result.t1, result.t2, color="0.9", zorder=0)
         ax.set_ylabel(name)
         ax.grid(alpha=0.3)

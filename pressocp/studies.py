@@ -10,6 +10,7 @@ from . import beam
 from .design import SpeedDesign, design_speed
 from .model import build_model
 from .params import PressParams
+from .problem import SpeedProblem
 from .result import SimResult
 from .rigid import rigid_response
 from .simulate import simulate
@@ -48,7 +49,7 @@ def impact_study(params: PressParams | None = None, period: float = IMPACT_PERIO
     the rigid-designed speed, with the rigid inverse dynamics on the same time grid."""
     p = PressParams() if params is None else params
     model = build_model(p)
-    d = design_speed(p, period=period, ram_speed=ram_speed)
+    d = design_speed(SpeedProblem(p, period=period, ram_speed=ram_speed))
     const = FourierSpeed.constant(period)
     rc = simulate(model, const, periodic=True, method=method, rtol=rtol)
     rd = simulate(model, d.speed, periodic=True, method=method, rtol=rtol)

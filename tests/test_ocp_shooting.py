@@ -1,6 +1,7 @@
 """`MultipleShooting` (smoke size): the interval integrator reproduces a whole-cycle simulation, its
 forward sensitivities match finite differences, failures are reported with stage and interval, the
-trust region holds, and a stopped IPOPT is flagged, not hidden."""
+trust region holds, and a stopped IPOPT is flagged, not hidden. The solves are marked slow: each
+forward-sensitivity Jacobian of a 0.25 s interval takes about 8 s on the clearance model."""
 
 import casadi as ca
 import numpy as np
@@ -81,17 +82,19 @@ def test_bad_settings_rejected(kwargs, match):
         MultipleShooting(**kwargs)
 
 
+@pytest.mark.slow
 def test_coefficient_trust_region_holds(case):
     """Every Fourier coefficient of the returned iterate stays within coefficient_step of the start."""
     model, speed, x0 = case
     step = 1e-4
-    sol = MultipleShooting("cvodes", intervals=2, samples=2, coefficient_step=step,
+    sol = MultipleShooting("cvodes", intervals=4, samples=4, coefficient_step=step,
                            ipopt={"ipopt.max_iter": 3}).solve(PROBLEM, model, WarmStart(speed, x0))
     moved = np.abs(sol.speed.coefficients - speed.padded(N_HARM).coefficients)
     # IPOPT relaxes bounds by 1e-8 x max(1, |bound|): coefficients are below 10 rad/s here
     assert np.all(moved <= step + 1e-7) and np.max(moved) > 0.5 * step  # moved, up to the bound
 
 
+@pytest.mark.slow
 def test_stopped_ipopt_is_flagged_with_its_stage(case):
     """Few intervals, IPOPT stopped after 2 iterations, every stage forced: a result, not an exception,
     flagged not successful, naming the stage, holding a finite iterate and its re-simulation."""

@@ -303,7 +303,7 @@ class Collocation:
             problem, model, start.speed, c, X, X0, y, {k: y0[i : i + 1, :] for i, k in enumerate(names)}, grid.times,
             cons, name=name, transcription=repr(self), desc=f"{name} ({K}x{d} radau{', jit' if jit else ''})",
             options={**nlp_options(jit), **self.ipopt}, progress=progress, backoff=self.backoff,
-            kinematic_window=False, omega_samples=self.omega_samples, coefficient_step=None,
+            omega_samples=self.omega_samples, coefficient_step=None,
             fixed=None if self.periodic else zi[:, 0], details=details)
         r.states = r.states[zi]
         return r

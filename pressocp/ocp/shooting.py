@@ -221,7 +221,7 @@ class MultipleShooting:
             problem, model, start.speed, c, ca.vec(X), nodes.ravel(order="F"), y,
             {k: y0[i : i + 1, :] for i, k in enumerate(names)}, grid.times, cons, name=name,
             transcription=repr(self), desc=f"{name} ({N}x{S} {self.integrator})", options=self.ipopt,
-            progress=progress, backoff=1.0, kinematic_window=True, omega_samples=self.omega_samples,
+            progress=progress, backoff=1.0, omega_samples=self.omega_samples,
             coefficient_step=self.coefficient_step, fixed=None if self.periodic else np.arange(model.nx),
             details={"intervals": N, "samples": S, **warm})
         r.states = r.states.reshape(nodes.shape, order="F")

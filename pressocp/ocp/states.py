@@ -16,8 +16,8 @@ from ..objectives import get as get_objective
 from ..problem import SpeedProblem
 from ..simulate import SimulationError, integrate, periodic_state
 from ..speed import FourierSpeed
-from .nlp import (IPOPT_WARM, Constraints, add_dense_speed_bounds, add_kinematic_window, add_objective, add_pin_cap,
-                  needed_outputs, solve_nlp)
+from .nlp import (IPOPT_WARM, Constraints, add_dense_speed_bounds, add_objective, add_pin_cap, needed_outputs,
+                  solve_nlp)
 from .stage import StageResult, WarmStart
 from .verify import settled_state
 
@@ -67,32 +67,29 @@ def sample_outputs(problem: SpeedProblem, model: PressModel, min_eccentricity: f
 
 
 def window_band(problem: SpeedProblem, speed: FourierSpeed, ram_height: np.ndarray, times: np.ndarray) -> np.ndarray:
-    """Indices of the samples on which the ram speed is held: those at which the warm start's ram
-    (the model's own, ``ram_height`` at ``times``) is within a margin of the height window on the
-    downstroke.
-
-    The margin is the larger of 1.5 sample spacings of ram travel and 0.55 x (tol/|v|) x the window
-    height: the ram travels at least (1 - tol/|v|) x |v| x duration through a band of the window
-    height plus twice that, so the phase constraints (`add_window_samples`) never bind harder
-    than the ram-speed band itself."""
+    """Indices of the samples that bracket the working window of the warm start's ram (the model's
+    own, ``ram_height`` at ``times``) on the downstroke: from the last sample at or above h1 H before
+    it to the first at or below h2 H after it. The ram speed is held at the samples between them and
+    the phase at the two ends (`add_window_samples`); nothing more is constrained than the window
+    and less than a sample spacing on each side."""
     h1, h2 = problem.window_heights
-    dt = float(np.max(np.diff(times))) if times.size > 1 else problem.period
-    margin = 1.5 * dt * abs(problem.ram_speed)
     down = np.mod(speed.theta(times), 2 * np.pi) < np.pi
-    inside = np.nonzero(down & (ram_height >= h2 - margin) & (ram_height <= h1 + margin))[0]
-    if inside.size < 2:
-        raise ValueError("the warm start's ram never passes the working window: check the start speed")
-    return inside
+    within = np.nonzero(down & (ram_height < h1) & (ram_height > h2))[0]
+    if within.size < 1 or within[0] == 0 or within[-1] == times.size - 1:
+        raise ValueError("the warm start's ram does not pass the working window inside the sampled period: "
+                         "check the start speed")
+    return np.arange(within[0] - 1, within[-1] + 2)
 
 
 def add_window_samples(cons: Constraints, problem: SpeedProblem, y: Mapping, inside: np.ndarray,
                        backoff: float) -> None:
-    """The model's ram speed within ``backoff`` x tol at the samples `inside` (`window_band`), and the
-    phase: the ram is at or above h1 H at the first of them and at or below h2 H at the last, so
-    every instant at which the model's ram is in the window lies among them."""
+    """The phase: the model's ram is at or above h1 H at the first sample of `inside` (`window_band`)
+    and at or below h2 H at the last, so every instant at which it is in the window lies between
+    them; and its speed within ``backoff`` x tol at the samples between them."""
     P = problem
     h1, h2 = P.window_heights
-    cons.add((y["ram_velocity"][:, inside.tolist()] - P.ram_speed) / P.tol, -backoff, backoff, "ram_speed_samples")
+    cons.add((y["ram_velocity"][:, inside[1:-1].tolist()] - P.ram_speed) / P.tol, -backoff, backoff,
+             "ram_speed_samples")
     cons.add((y["ram_height"][:, int(inside[0])] - h1) / P.press.stroke, 0.0, np.inf, "window_phase")
     cons.add((y["ram_height"][:, int(inside[-1])] - h2) / P.press.stroke, -np.inf, 0.0, "window_phase")
 
@@ -115,7 +112,7 @@ def check_states(problem: SpeedProblem, model: PressModel) -> None:
 
 def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, c, X, X0: np.ndarray, y: dict,
                  y0: dict, times: np.ndarray, cons: Constraints, *, name: str, transcription: str, desc: str,
-                 options: dict, progress: bool, backoff: float, kinematic_window: bool, omega_samples: int,
+                 options: dict, progress: bool, backoff: float, omega_samples: int,
                  coefficient_step: float | None, fixed: np.ndarray | None, details: dict) -> StageResult:
     """The NLP of a state transcription from its pieces, solved.
 
@@ -131,9 +128,6 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
         The transcription's own constraints (continuity or collocation); the samples' are added here.
     backoff : float
         Share of the ram-speed tolerance held at the samples.
-    kinematic_window : bool
-        Also hold the ideal press's ram speed on the window interval (dense, closed form: it regularises
-        sparse samples).
     fixed : ndarray of int, optional
         Entries of X held at X0 (the first state of a non-periodic response).
     """
@@ -144,9 +138,6 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
     f = add_objective(cons, objective, y, s, scale)
     inside = window_band(P, start, y0["ram_height"].ravel(), times)
     add_window_samples(cons, P, y, inside, backoff)
-    if kinematic_window:
-        t_a, t_b = times[inside[0]], times[inside[-1]]
-        add_kinematic_window(cons, P, c, float(t_a), float(t_b - t_a), 200, backoff)
     add_dense_speed_bounds(cons, P, c, omega_samples)
     add_pin_cap(cons, P, y)
     w = ca.vertcat(c, s, X)
