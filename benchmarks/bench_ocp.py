@@ -30,7 +30,7 @@ ocp_<case>.png):
     python benchmarks/bench_ocp.py CASE [--max-iter K] [--cap SECONDS] [--cap-N NEWTONS] [--ref CASE] [--repeat R]
 
 ``--max-iter K`` caps the IPOPT iterations of each clearance stage (the transcription's ``ipopt``
-options); by default the transcription's own cap (300) applies, so ``seed`` is exactly the default
+options); by default the transcription's own cap (IPOPT_WARM: 200) applies, so ``seed`` is exactly the default
 call. With ``--repeat R`` an optimisation case runs R times in one process: ``wall_time_s`` is the
 median, ``wall_times_s`` lists every run, and the rest of the row describes the last run (the runs
 must agree: ``answers_agree`` compares their re-simulated peaks to 1e-6: MUMPS on threaded BLAS is

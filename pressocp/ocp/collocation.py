@@ -31,7 +31,7 @@ from .. import _checks as chk
 from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
 from ..speed import FourierSpeed
-from .nlp import Constraints, crank_motion, crank_scale, scaled_crank_start, tie
+from .nlp import Constraints, UniformPartition, crank_motion, crank_scale, scaled_crank_start, tie
 from .stage import StageResult, WarmStart, settings_repr
 from .states import check_states, keep_contact, sample_outputs, solve_states, states_at, warm_state
 
@@ -82,7 +82,7 @@ def radau_matrices(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 @dataclass(frozen=True)
-class CollocationGrid:
+class CollocationGrid(UniformPartition):
     """K equal elements of Radau degree d over one period.
 
     Attributes
@@ -105,14 +105,8 @@ class CollocationGrid:
         chk.integer("degree", self.degree, 1, 9)
 
     @property
-    def h(self) -> float:
-        """Element length, s."""
-        return self.period / self.elements
-
-    @property
-    def starts(self) -> np.ndarray:
-        """Start times of the elements, s."""
-        return self.h * np.arange(self.elements)
+    def pieces(self) -> int:
+        return self.elements
 
     @property
     def points(self) -> np.ndarray:

@@ -18,7 +18,7 @@ from .. import _checks as chk
 from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
 from ..simulate import HINT, SimulationError, first_line
-from .nlp import Constraints
+from .nlp import Constraints, UniformPartition
 from .stage import StageResult, WarmStart, settings_repr
 from .states import check_states, keep_contact, sample_outputs, solve_states, states_at, warm_state
 
@@ -35,32 +35,22 @@ class ShootingError(SimulationError):
 
 
 @dataclass(frozen=True)
-class ShootingGrid:
-    """Equal shooting intervals with S output samples each (the last one at the interval's end).
-
-    Attributes
-    ----------
-    period : float
-        s.
-    intervals : int
-        N.
-    samples : int
-        S per interval.
-    """
+class ShootingGrid(UniformPartition):
+    """The period (s) cut into N = ``intervals`` equal shooting intervals, with S = ``samples`` output
+    samples in each (the last one at the interval's end)."""
 
     period: float
     intervals: int
     samples: int
 
     @property
-    def h(self) -> float:
-        """Interval length, s."""
-        return self.period / self.intervals
+    def pieces(self) -> int:
+        return self.intervals
 
     @property
     def nodes(self) -> np.ndarray:
         """Start times of the intervals, s."""
-        return self.h * np.arange(self.intervals)
+        return self.starts
 
     @property
     def local(self) -> np.ndarray:

@@ -69,9 +69,9 @@ def sample_outputs(problem: SpeedProblem, model: PressModel, min_eccentricity: f
 def window_band(problem: SpeedProblem, speed: FourierSpeed, ram_height: np.ndarray, times: np.ndarray) -> np.ndarray:
     """Indices of the samples that bracket the working window of the warm start's ram (the model's
     own, ``ram_height`` at ``times``) on the downstroke: from the last sample at or above h1 H before
-    it to the first at or below h2 H after it. The ram speed is held at the samples between them and
-    the phase at the two ends (`add_window_samples`); nothing more is constrained than the window
-    and less than a sample spacing on each side."""
+    it to the first at or below h2 H after it. The ram speed is held at all of them and the phase at
+    the two ends (`add_window_samples`): nothing more is constrained than the window and less than a
+    sample spacing on each side."""
     h1, h2 = problem.window_heights
     down = np.mod(speed.theta(times), 2 * np.pi) < np.pi
     within = np.nonzero(down & (ram_height < h1) & (ram_height > h2))[0]
@@ -85,11 +85,11 @@ def add_window_samples(cons: Constraints, problem: SpeedProblem, y: Mapping, ins
                        backoff: float) -> None:
     """The phase: the model's ram is at or above h1 H at the first sample of `inside` (`window_band`)
     and at or below h2 H at the last, so every instant at which it is in the window lies between
-    them; and its speed within ``backoff`` x tol at the samples between them."""
+    them; and its speed within ``backoff`` x tol at all of them, the two ends included (so that the
+    speed is held on both sides of the instants at which the ram crosses h1 H and h2 H)."""
     P = problem
     h1, h2 = P.window_heights
-    cons.add((y["ram_velocity"][:, inside[1:-1].tolist()] - P.ram_speed) / P.tol, -backoff, backoff,
-             "ram_speed_samples")
+    cons.add((y["ram_velocity"][:, inside.tolist()] - P.ram_speed) / P.tol, -backoff, backoff, "ram_speed_samples")
     cons.add((y["ram_height"][:, int(inside[0])] - h1) / P.press.stroke, 0.0, np.inf, "window_phase")
     cons.add((y["ram_height"][:, int(inside[-1])] - h2) / P.press.stroke, -np.inf, 0.0, "window_phase")
 
