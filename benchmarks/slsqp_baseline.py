@@ -59,7 +59,7 @@ def slsqp_baseline(model: PressModel, problem: SpeedProblem, initial: FourierSpe
         if key not in state["cache"]:
             if time.perf_counter() - t_start > time_cap:
                 raise _Stop
-            sp = FourierSpeed(T, c[:n], c[n:])
+            sp = FourierSpeed.from_coefficients(T, c)
             try:
                 r = simulate(model, sp, periodic=True, method="cvodes", rtol=rtol, n_out=samples + 1, x0=state["x0"])
                 state["x0"] = r.states[:, 0] / model.x_scale
@@ -74,7 +74,7 @@ def slsqp_baseline(model: PressModel, problem: SpeedProblem, initial: FourierSpe
     def cons(y: np.ndarray) -> np.ndarray:
         c, s = y[:-1], y[-1]
         tau, v = loads(c)
-        sp = FourierSpeed(T, c[:n], c[n:])
+        sp = FourierSpeed.from_coefficients(T, c)
         h1 = float(f_kin(t1, c)[0])
         return np.concatenate([(s - tau) / s0, (s + tau) / s0, 1.0 - np.abs(v[win] - P.ram_speed) / P.tol,
                                (sp.omega(to) - P.omega_lower) / (2 * np.pi / T),

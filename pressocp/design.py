@@ -77,7 +77,7 @@ class DesignSettings:
     smoothing_weight: float = 1e-6
 
     def __post_init__(self) -> None:
-        chk.in_half_open_interval("band", self.band, 1e-6, 1.0 + 1e-12)
+        chk.in_closed_interval("band", self.band, 1e-6, 1.0)
         chk.integer("samples", self.samples, 10, 5000)
         chk.nonnegative("smoothing_weight", self.smoothing_weight)
 
@@ -174,7 +174,7 @@ def design_speed(problem: SpeedProblem, settings: DesignSettings | None = None) 
                  ubx=np.concatenate([np.inf * np.ones(2 * n), [T - tau]]))
     stats = solver.stats()
     x = np.asarray(sol["x"]).ravel()
-    speed = FourierSpeed(T, x[:n], x[n : 2 * n])
+    speed = FourierSpeed.from_coefficients(T, x[: 2 * n])
     t1v = float(x[-1])
     max_err, rms_err = window_error(params, speed, t1v, t1v + tau, v)
     return SpeedDesign(

@@ -90,10 +90,11 @@ class ModelSpec:
         return build_model(params, self.rod, self.clearance, self.n_elements, n_harmonics)
 
     def describe(self) -> str:
-        """E.g. "rigid rod, clearance in crank_pin and wrist_pin"."""
-        joints = " and ".join(self.clearance) if self.clearance else "no joint (ideal joints)"
+        """E.g. "rigid rod, clearance in crank_pin and wrist_pin" or "rigid press (ideal joints)"."""
         rod = f"flexible rod ({self.n_elements} elements)" if self.rod == "flexible" else "rigid rod"
-        return f"{rod}, clearance in {joints}"
+        if not self.clearance:
+            return "rigid press (ideal joints)" if self.rod == "rigid" else f"{rod}, ideal joints"
+        return f"{rod}, clearance in {' and '.join(self.clearance)}"
 
     def to_dict(self) -> dict:
         return {"rod": self.rod, "clearance": list(self.clearance), "n_elements": self.n_elements}

@@ -103,6 +103,15 @@ class FourierSpeed:
         return cls(period, np.zeros(n), np.zeros(n), theta0)
 
     @classmethod
+    def from_coefficients(cls, period: float, coefficients: Any, theta0: float = 0.0) -> "FourierSpeed":
+        """From the 2n decision variables [a_1..a_n, b_1..b_n] (rad/s), e.g. the head of an NLP's x."""
+        c = chk.finite_array("coefficients", coefficients)
+        if c.size % 2:
+            raise ValueError(f"coefficients must have an even length (a then b), got {c.size}")
+        n = c.size // 2
+        return cls(period, c[:n], c[n:], theta0)
+
+    @classmethod
     def from_amplitude_phase(
         cls, period: float, r: Any, phi: Any, theta0: float = 0.0
     ) -> "FourierSpeed":

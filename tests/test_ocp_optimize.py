@@ -9,7 +9,7 @@ import json
 import numpy as np
 import pytest
 
-from pressocp import (Collocation, FourierSpeed, OcpResult, PressParams, Rigid, SimResult, SpeedProblem, Strategy,
+from pressocp import (FourierSpeed, OcpResult, PressParams, Rigid, SimResult, SpeedProblem, Strategy,
                       build_model, optimize_speed, simulate)
 from pressocp.problem import in_window
 

@@ -18,7 +18,9 @@ simulation of the model, and its optimum means nothing. `collocation_defect` tel
 
 from __future__ import annotations
 
+import os
 import shutil
+import tempfile
 import warnings
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -32,8 +34,8 @@ from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
 from ..speed import FourierSpeed
 from .nlp import Constraints, UniformPartition, crank_motion, crank_scale, scaled_crank_start, tie
-from .stage import StageResult, WarmStart, settings_repr
-from .states import check_states, keep_contact, sample_outputs, solve_states, states_at, warm_state
+from .stage import StageResult, WarmStart
+from .states import StateSettings, check_states, keep_contact, sample_outputs, solve_states, states_at, warm_state
 
 #: Default elements per second of period (0.5 ms elements): on the 75 spm case the optimum
 #: re-simulates within 0.02 % at 1600 elements (see benchmarks/README.md).
@@ -42,8 +44,10 @@ ELEMENTS_PER_SECOND = 2000
 #: constraint multipliers instead of IPOPT's least-squares estimate (an extra linear solve that
 #: changed nothing), and no MUMPS scaling (its automatic choice made every linear solve dearer).
 IPOPT_OPTIONS = {"ipopt.hessian_approximation": "exact", "ipopt.constr_mult_init_max": 0.0, "ipopt.mumps_scaling": 0}
-#: CasADi JIT of the point function and its derivatives, through the system C compiler at -O1.
-JIT_OPTIONS = {"jit": True, "compiler": "shell", "jit_options": {"flags": ["-O1"], "verbose": False}}
+#: CasADi JIT of the point function and its derivatives, through the system C compiler at -O1 (its
+#: temporary files in the system's temporary folder, not the working directory).
+JIT_OPTIONS = {"jit": True, "compiler": "shell",
+               "jit_options": {"flags": ["-O1"], "verbose": False, "directory": os.path.join(tempfile.gettempdir(), "")}}
 #: Directions per derivative sweep of the NLP functions when the point function is compiled (the
 #: oracle's ``max_num_dir``; CasADi's default 64 puts all 9 Hessian colours into one large function
 #: that takes ~35 s to compile; 3 compile in ~5 s and evaluate as fast).
@@ -191,9 +195,9 @@ def collocation_defect(model: PressModel, speed: FourierSpeed, states: np.ndarra
     return float(np.max(np.abs(np.asarray(defect))))
 
 
-@dataclass(frozen=True)
-class Collocation:
-    """Radau IIA direct collocation, exact Hessian.
+@dataclass(frozen=True, repr=False)
+class Collocation(StateSettings):
+    """Radau IIA direct collocation, exact Hessian, journals kept on their walls by default.
 
     Attributes
     ----------
@@ -202,50 +206,31 @@ class Collocation:
         Fewer are faster and less accurate (measured in benchmarks/README.md).
     degree : int
         Radau degree d, 1..9 (3: order 5).
-    min_eccentricity : float or None
-        Keep contact: every clearance joint's eccentricity ratio |e|/c stays at or above this at every
-        Radau point (in [0, 1]; 1 = the journal never leaves its bearing wall, so the joint force can
-        only turn by sliding round the wall, never by a free flight and impact). None: free flight
-        allowed; the elements must then resolve the impacts.
     jit : bool or "auto"
         Compile the model's point function and its derivatives with the system C compiler (about 8 s
         at 1600 elements, then iterations about 3x faster). "auto": when a C compiler is found (a
-        warning says so when it is not, and the virtual machine is used).
-    periodic : bool
-        x(T) = x(0); otherwise the first state is held at the warm start's.
-    backoff : float
-        Share of the ram-speed tolerance held at the Radau points, in (0, 1].
-    omega_samples : int
-        Samples of the closed-form crank-speed bounds over the period.
-    ipopt : dict
-        Extra nlpsol options on top of `IPOPT_WARM` and `IPOPT_OPTIONS`.
+        warning says so when it is not, and CasADi's virtual machine is used).
+    min_eccentricity : float or None
+        Keyword-only (`StateSettings`), default 1: contact kept at every Radau point. With free flight
+        allowed the elements must resolve the impacts, and 1 ms elements do not.
+    periodic, backoff, omega_samples, ipopt
+        Keyword-only, as in `StateSettings` (``ipopt`` on top of `IPOPT_OPTIONS` too).
     """
 
     elements: int | None = None
     degree: int = 3
-    min_eccentricity: float | None = 1.0
     jit: bool | str = "auto"
-    periodic: bool = True
-    backoff: float = 0.98
-    omega_samples: int = 1000
-    ipopt: dict = field(default_factory=dict)
+    min_eccentricity: float | None = field(default=1.0, kw_only=True)
 
-    has_states: ClassVar[bool] = True
     needs_soft_start: ClassVar[bool] = False
 
     def __post_init__(self) -> None:
+        super().__post_init__()
         if self.elements is not None:
             chk.integer("elements", self.elements, 10, 100_000)
         chk.integer("degree", self.degree, 1, 9)
-        if self.min_eccentricity is not None:
-            chk.in_closed_interval("min_eccentricity", self.min_eccentricity, 0.0, 1.0)
         if self.jit not in (True, False, "auto"):
             raise ValueError(f"jit must be True, False or 'auto', got {self.jit!r}")
-        chk.in_half_open_interval("backoff", self.backoff, 1e-3, 1.0 + 1e-12)
-        chk.integer("omega_samples", self.omega_samples, 10, 100_000)
-
-    def __repr__(self) -> str:
-        return settings_repr(self)
 
     def grid(self, period: float) -> CollocationGrid:
         """The element grid for a period."""

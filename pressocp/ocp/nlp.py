@@ -113,7 +113,7 @@ def crank_map(n: int, period: float, times: np.ndarray) -> tuple[np.ndarray, np.
     ``vec(motion) = m0 + A @ c`` with motion 3 x len(times) stacked by column (`crank_motion`)."""
     zero = np.zeros(n)
     m0 = crank_motion(FourierSpeed(period, zero, zero), times).ravel(order="F")
-    A = np.column_stack([crank_motion(FourierSpeed(period, e[:n], e[n:]), times).ravel(order="F") - m0
+    A = np.column_stack([crank_motion(FourierSpeed.from_coefficients(period, e), times).ravel(order="F") - m0
                          for e in np.eye(2 * n)])
     return m0, A
 

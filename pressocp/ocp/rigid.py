@@ -62,7 +62,7 @@ class Rigid:
     def __post_init__(self) -> None:
         chk.integer("samples", self.samples, 50, 20000)
         chk.integer("window_samples", self.window_samples, 10, 5000)
-        chk.in_half_open_interval("backoff", self.backoff, 1e-3, 1.0 + 1e-12)
+        chk.in_closed_interval("backoff", self.backoff, 1e-3, 1.0)
 
     def __repr__(self) -> str:
         return settings_repr(self)
@@ -130,12 +130,12 @@ class Rigid:
         ubw = np.concatenate([np.full(2 * n, np.inf), [np.inf, T - duration], np.full(W0.size, np.inf)])
         out = solve_nlp(f"rigid_{name}", w, f, cons, w0, lbw, ubw, {**IPOPT_RIGID, **self.ipopt}, objective, scale,
                         desc=f"{name} (rigid press, {N} samples)", progress=progress)
-        speed = FourierSpeed(T, out.w[:n], out.w[n : 2 * n])
+        speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
         sampled = rigid_response(P.press, speed, ts)
         return StageResult(
             name=name, transcription=repr(self), model=ModelSpec("rigid", ()).describe(), success=out.success,
             status=out.status, iterations=out.iterations, wall_time=out.wall_time, objective=objective.value(sampled),
-            speed=speed, last_speed=FourierSpeed(T, out.last_w[:n], out.last_w[n : 2 * n]),
+            speed=speed, last_speed=FourierSpeed.from_coefficients(T, out.last_w[: 2 * n]),
             t1=float(out.w[2 * n + 1]), history=out.history, barrier=out.barrier,
             violations_start=out.violations_start, violations=out.violations,
             details={"window_extension_m": drop, "min_tension_N": P.min_tension})

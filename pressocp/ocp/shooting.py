@@ -8,7 +8,7 @@ limited-memory Hessian.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import ClassVar
 
 import casadi as ca
@@ -19,8 +19,8 @@ from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
 from ..simulate import HINT, SimulationError, first_line
 from .nlp import Constraints, UniformPartition
-from .stage import StageResult, WarmStart, settings_repr
-from .states import check_states, keep_contact, sample_outputs, solve_states, states_at, warm_state
+from .stage import StageResult, WarmStart
+from .states import StateSettings, check_states, keep_contact, sample_outputs, solve_states, states_at, warm_state
 
 INTEGRATORS = ("idas", "cvodes")
 
@@ -110,8 +110,8 @@ def locate_failure(G: ca.Function, X: np.ndarray, p: np.ndarray, grid: ShootingG
     return None
 
 
-@dataclass(frozen=True)
-class MultipleShooting:
+@dataclass(frozen=True, repr=False)
+class MultipleShooting(StateSettings):
     """Multiple shooting through a SUNDIALS integrator, limited-memory Hessian.
 
     Attributes
@@ -126,17 +126,10 @@ class MultipleShooting:
         Integrator tolerance (atol = rtol on the scaled states).
     max_steps : int
         Step limit of each interval integration.
-    min_eccentricity : float or None
-        Keep contact at the output samples (as `Collocation` does), in [0, 1]; None: free flight
-        allowed.
     coefficient_step : float or None
         Trust region, rad/s: every Fourier coefficient stays within this of the start's.
-    periodic : bool
-        x(T) = x(0); otherwise the first node is held at the warm start's.
-    omega_samples : int
-        Samples of the closed-form crank-speed bounds over the period.
-    ipopt : dict
-        Extra nlpsol options on top of `IPOPT_WARM`.
+    min_eccentricity, periodic, backoff, omega_samples, ipopt
+        Keyword-only, as in `StateSettings` (by default no contact kept).
     """
 
     integrator: str = "idas"
@@ -144,30 +137,20 @@ class MultipleShooting:
     samples: int = 25
     rtol: float = 1e-6
     max_steps: int = 10**6
-    min_eccentricity: float | None = None
     coefficient_step: float | None = None
-    periodic: bool = True
-    omega_samples: int = 1000
-    ipopt: dict = field(default_factory=dict)
 
-    has_states: ClassVar[bool] = True
     #: A start that impacts is first solved with a softer contact (`Strategy.soft_factor`).
     needs_soft_start: ClassVar[bool] = True
 
     def __post_init__(self) -> None:
+        super().__post_init__()
         chk.choice("integrator", self.integrator, INTEGRATORS)
         chk.integer("intervals", self.intervals, 1, 400)
         chk.integer("samples", self.samples, 1, 1000)
         chk.positive("rtol", self.rtol)
         chk.integer("max_steps", self.max_steps, 1, 10**9)
-        if self.min_eccentricity is not None:
-            chk.in_closed_interval("min_eccentricity", self.min_eccentricity, 0.0, 1.0)
         if self.coefficient_step is not None:
             chk.positive("coefficient_step", self.coefficient_step, "rad/s")
-        chk.integer("omega_samples", self.omega_samples, 10, 100_000)
-
-    def __repr__(self) -> str:
-        return settings_repr(self)
 
     def grid(self, period: float) -> ShootingGrid:
         return ShootingGrid(period, self.intervals, self.samples)
@@ -211,7 +194,7 @@ class MultipleShooting:
             problem, model, start.speed, c, ca.vec(X), nodes.ravel(order="F"), y,
             {k: y0[i : i + 1, :] for i, k in enumerate(names)}, grid.times, cons, name=name,
             transcription=repr(self), desc=f"{name} ({N}x{S} {self.integrator})", options=self.ipopt,
-            progress=progress, backoff=1.0, omega_samples=self.omega_samples,
+            progress=progress, backoff=self.backoff, omega_samples=self.omega_samples,
             coefficient_step=self.coefficient_step, fixed=None if self.periodic else np.arange(model.nx),
             details={"intervals": N, "samples": S, **warm})
         r.states = r.states.reshape(nodes.shape, order="F")

@@ -6,6 +6,8 @@ into a `StageResult`."""
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import ClassVar
 
 import casadi as ca
 import numpy as np
@@ -18,7 +20,7 @@ from ..simulate import SimulationError, integrate, periodic_state
 from ..speed import FourierSpeed
 from .nlp import (IPOPT_WARM, Constraints, add_dense_speed_bounds, add_objective, add_pin_cap, needed_outputs,
                   solve_nlp)
-from .stage import StageResult, WarmStart
+from .stage import StageResult, WarmStart, settings_repr
 from .verify import settled_state
 
 #: Outputs every state transcription samples besides the objective's: the ram's own motion.
@@ -100,6 +102,45 @@ def keep_contact(cons: Constraints, y: Mapping, model: PressModel, min_eccentric
         cons.add(y[name], min_eccentricity, np.inf, "eccentricity")
 
 
+@dataclass(frozen=True, kw_only=True)
+class StateSettings:
+    """Settings every transcription of a model with states has (keyword-only).
+
+    Attributes
+    ----------
+    min_eccentricity : float or None
+        Keep contact: every clearance joint's eccentricity ratio |e|/c stays at or above this at every
+        sample (in [0, 1]; 1 = the journal never leaves its bearing wall, so the joint force can only
+        turn by sliding round the wall, never by a free flight and impact). None: free flight allowed.
+    periodic : bool
+        x(T) = x(0); otherwise the first state is held at the warm start's.
+    backoff : float
+        Share of the ram-speed tolerance held at the samples, in (0, 1] (between samples the speed may
+        stray a little: measured 0.1 % of tol over with 1.0 on a 2 ms grid).
+    omega_samples : int
+        Samples of the closed-form crank-speed bounds over the period.
+    ipopt : dict
+        Extra nlpsol options on top of `IPOPT_WARM` (and the transcription's own).
+    """
+
+    min_eccentricity: float | None = None
+    periodic: bool = True
+    backoff: float = 0.98
+    omega_samples: int = 1000
+    ipopt: dict = field(default_factory=dict)
+
+    has_states: ClassVar[bool] = True
+
+    def __post_init__(self) -> None:
+        if self.min_eccentricity is not None:
+            chk.in_closed_interval("min_eccentricity", self.min_eccentricity, 0.0, 1.0)
+        chk.in_closed_interval("backoff", self.backoff, 1e-3, 1.0)
+        chk.integer("omega_samples", self.omega_samples, 10, 100_000)
+
+    def __repr__(self) -> str:
+        return settings_repr(self)
+
+
 def check_states(problem: SpeedProblem, model: PressModel) -> None:
     """Checks shared by the state transcriptions, before any solve."""
     if model.is_rigid:
@@ -152,7 +193,7 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
         k = 2 * n + 1 + np.asarray(fixed)
         lbw[k] = ubw[k] = w0[k]
     out = solve_nlp(name, w, f, cons, w0, lbw, ubw, {**IPOPT_WARM, **options}, objective, scale, desc, progress)
-    speed = FourierSpeed(T, out.w[:n], out.w[n : 2 * n])
+    speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
     try:
         y_fun = ca.Function("y_at", [w], [ca.vertcat(*[y[k] for k in objective.outputs])])
         rows = np.asarray(y_fun(out.w))
@@ -162,6 +203,6 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
     return StageResult(
         name=name, transcription=transcription, model=model.spec.describe(), success=out.success, status=out.status,
         iterations=out.iterations, wall_time=out.wall_time, objective=value, speed=speed,
-        last_speed=FourierSpeed(T, out.last_w[:n], out.last_w[n : 2 * n]), t1=float(times[inside[0]]),
+        last_speed=FourierSpeed.from_coefficients(T, out.last_w[: 2 * n]), t1=float(times[inside[0]]),
         history=out.history, barrier=out.barrier, violations_start=out.violations_start, violations=out.violations,
         details=details, states=out.w[2 * n + 1 :])
