@@ -99,9 +99,9 @@ def test_bad_calls_rejected_before_solving(kwargs, match):
 def test_seed_default_call_reaches_the_clearance_optimum():
     """The 75 spm scene through the default call (a few minutes): the rigid optimum impacts, the chain
     runs collocation on the clearance model, and the answer re-simulated (periodic, rtol 1e-9) keeps
-    contact, holds the ram speed over the simulated ram's window, and is at most 148.5 N m (measured
-    148.3; the 147.5 asked for was set when the window sat on the ideal press's ram, where the optimum
-    was 146.6 N m but ran 2.2 % off the ram speed at the real window's entry: docs/optimisation.md)."""
+    contact, holds the ram speed over the simulated ram's window, and is at most 148 N m (measured
+    147.8; 147.5 was asked for when the window sat on the ideal press's ram, where the optimum was
+    146.6 N m but ran 2.2 % off the ram speed at the real window's entry: docs/optimisation.md)."""
     problem = SpeedProblem(PressParams(), period=0.8)
     r = optimize_speed(problem, progress=False)
     assert r.success, r.status
@@ -109,7 +109,7 @@ def test_seed_default_call_reaches_the_clearance_optimum():
     assert r.stages[0].check.ratio > 2.0  # the rigid optimum impacts on the clearance model
     sim = r.simulation
     assert sim.stats["periodic"].get("found", True) is True
-    assert r.peak_torque <= 148.5
+    assert r.peak_torque <= 148.0
     assert r.peak_torque < 0.3 * r.initial_peak_torque
     assert min(sim.crank_pin_eccentricity.min(), sim.wrist_pin_eccentricity.min()) > 0.999
     assert r.peak_torque == pytest.approx(r.objective_value, rel=0.01)
