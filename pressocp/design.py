@@ -15,7 +15,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from . import _checks as chk
+from . import checks as chk
 from .params import PressParams
 from .problem import SpeedProblem
 from .rigid import crank_angle_at_height, kinematics_function, rigid_kinematics

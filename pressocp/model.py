@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from . import _checks as chk
+from . import checks as chk
 from . import beam
 from . import mechanics as mech
 from .contact import contact_force

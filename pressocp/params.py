@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, field, fields, replace
 
-from . import _checks as chk
+from . import checks as chk
 
 #: Steel used for the Hertz contact stiffness when a bearing's stiffness is not given.
 STEEL_YOUNGS_MODULUS = 2.1e11  # Pa

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from . import _checks as chk
+from . import checks as chk
 from .objectives import OBJECTIVES
 from .params import PressParams
 from .rigid import crank_angle_at_height

@@ -14,7 +14,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from . import _checks as chk
+from . import checks as chk
 from . import mechanics as mech
 from .params import PressParams
 from .result import SimResult

@@ -10,7 +10,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from . import _checks as chk
+from . import checks as chk
 from .interrupt import interruptible
 from .model import OUTPUT_NAMES, QUADRATURE_NAMES, PressModel
 from .result import SimResult

@@ -47,7 +47,7 @@ from functools import cached_property
 
 import numpy as np
 
-from pressocp import _checks
+from . import checks as chk
 
 __all__ = [
     "SixBarPress",
@@ -124,9 +124,9 @@ class SixBarPress:
 
     def __post_init__(self) -> None:
         for name in ("ground_length", "input_crank", "coupler", "output_link", "crank_radius", "rod_length"):
-            _checks.positive(name, getattr(self, name), "m")
-        _checks.finite("ground_angle", self.ground_angle)
-        _checks.finite("arm_phase", self.arm_phase)
+            chk.positive(name, getattr(self, name), "m")
+        chk.finite("ground_angle", self.ground_angle)
+        chk.finite("arm_phase", self.arm_phase)
         if isinstance(self.assembly, bool) or self.assembly not in (1, -1):
             raise ValueError(f"assembly must be one of +1, -1; got {self.assembly!r}")
         g = float(self.ground_length)
@@ -376,8 +376,8 @@ def sixbar_stroke(press: SixBarPress, period: float, n: int = 721) -> tuple[np.n
     v : ndarray
         Ram velocity dh/dt, m/s (negative on the downstroke).
     """
-    period = _checks.positive("period", period, "s")
-    n = _checks.integer("n", n, 2, 10_000_000)
+    period = chk.positive("period", period, "s")
+    n = chk.integer("n", n, 2, 10_000_000)
     omega = _TWO_PI / period
     t = np.linspace(0.0, period, n)
     k = sixbar_kinematics(press, omega * t)
@@ -387,8 +387,8 @@ def sixbar_stroke(press: SixBarPress, period: float, n: int = 721) -> tuple[np.n
 def _zone_bounds(zone: tuple[float, float]) -> tuple[float, float]:
     if len(zone) != 2:
         raise ValueError(f"zone must be a pair (h/H start, h/H end) in (0, 1), got {zone!r}")
-    z0 = _checks.in_open_interval("zone[0]", zone[0], 0.0, 1.0)
-    z1 = _checks.in_open_interval("zone[1]", zone[1], 0.0, 1.0)
+    z0 = chk.in_open_interval("zone[0]", zone[0], 0.0, 1.0)
+    z1 = chk.in_open_interval("zone[1]", zone[1], 0.0, 1.0)
     if z0 == z1:
         raise ValueError(f"zone bounds must differ (h/H in (0, 1)), got {zone!r}")
     return max(z0, z1), min(z0, z1)
@@ -428,7 +428,7 @@ def working_zone_interval(press: SixBarPress, period: float,
         Times (s, within ``[0, period]``, measured from top dead centre) at
         which ``h`` passes the upper and the lower zone bound.
     """
-    period = _checks.positive("period", period, "s")
+    period = chk.positive("period", period, "s")
     _, _, th0, th1 = _zone_angles(press, zone)
     return th0 * period / _TWO_PI, th1 * period / _TWO_PI
 
@@ -458,8 +458,8 @@ def working_zone_speed(press: SixBarPress, period: float, zone: tuple[float, flo
         ``max | |v(t)| - mean_speed | / mean_speed`` over the zone, -
         (0.05 means within ±5 %).
     """
-    period = _checks.positive("period", period, "s")
-    n = _checks.integer("n", n, 2, 10_000_000)
+    period = chk.positive("period", period, "s")
+    n = chk.integer("n", n, 2, 10_000_000)
     hi, lo = _zone_bounds(zone)
     _, _, th0, th1 = _zone_angles(press, zone)
     omega = _TWO_PI / period

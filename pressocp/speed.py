@@ -15,7 +15,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from . import _checks as chk
+from . import checks as chk
 
 DEFAULT_HARMONICS = 15
 

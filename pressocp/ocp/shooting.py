@@ -14,7 +14,7 @@ from typing import ClassVar
 import casadi as ca
 import numpy as np
 
-from .. import _checks as chk
+from .. import checks as chk
 from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
 from ..simulate import HINT, SimulationError, first_line

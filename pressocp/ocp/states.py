@@ -12,7 +12,7 @@ from typing import ClassVar
 import casadi as ca
 import numpy as np
 
-from .. import _checks as chk
+from .. import checks as chk
 from ..model import PressModel
 from ..objectives import get as get_objective
 from ..problem import SpeedProblem

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .. import _checks as chk
+from .. import checks as chk
 from ..model import PressModel, build_model
 from ..objectives import get as get_objective
 from ..params import PressParams
