@@ -13,13 +13,15 @@ from .ocp import (Collocation, MultipleShooting, OcpResult, Rigid, StageResult, 
 from .params import Bearing, PressParams, ProcessForce, hertz_internal_stiffness
 from .problem import SpeedProblem
 from .result import SimResult
+from .scenario import Scenario, ScenarioError
 from .rigid import crank_angle_at_height, rigid_inverse_dynamics, rigid_kinematics, rigid_response
 from .simulate import SimulationError, simulate
 from .speed import FourierSpeed
 
 __all__ = [
     "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "FourierSpeed", "ModelSpec", "MultipleShooting",
-    "Objective", "OcpResult", "PressModel", "PressParams", "ProcessForce", "Rigid", "SimResult", "SimulationError",
+    "Objective", "OcpResult", "PressModel", "PressParams", "ProcessForce", "Rigid", "Scenario", "ScenarioError",
+    "SimResult", "SimulationError",
     "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "WarmStart", "build_model", "crank_angle_at_height",
     "design_speed", "hertz_internal_stiffness", "optimize_speed", "rigid_inverse_dynamics", "rigid_kinematics",
     "rigid_response", "simulate",

@@ -1,0 +1,318 @@
+"""Scenario files: a press, a speed problem, a model level and solver choices in one TOML file.
+
+    name = "default press, 75 spm, 0.1 mm clearances"
+    [press]              # any PressParams field, SI
+    slider_mass = 150.0
+    [press.wrist_pin]    # any Bearing field
+    clearance = 1.0e-4
+    [problem]            # SpeedProblem fields; the cycle as stroke_rate_spm or period_s
+    stroke_rate_spm = 75
+    ram_speed = -0.1
+    window = [0.7, 0.3]
+    objective = "peak_torque"
+    [model]
+    rod = "rigid"
+    clearance = ["crank_pin", "wrist_pin"]
+    [solver]
+    transcription = "auto"
+
+Every key is checked before anything is solved: an unknown key names the nearest valid one, a wrong
+type names the expected type, and a value out of range names the key, the value and the range.
+"""
+
+from __future__ import annotations
+
+import difflib
+import tomllib
+import typing
+from dataclasses import dataclass, field, fields
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from .model import ModelSpec
+from .params import Bearing, PressParams, ProcessForce
+from .problem import SpeedProblem
+
+#: Transcriptions a scenario can name ("auto": the default chain's, collocation).
+TRANSCRIPTIONS = ("auto", "collocation", "shooting-idas", "shooting-cvodes")
+#: Keys of the [problem] table other than the cycle (`stroke_rate_spm` or `period_s`).
+PROBLEM_KEYS = tuple(f.name for f in fields(SpeedProblem) if f.name not in ("press", "period"))
+#: Keys of the [solver] table.
+SOLVER_KEYS = ("transcription", "elements", "jit", "verify_rtol")
+
+
+class ScenarioError(ValueError):
+    """A scenario that cannot be used: the message names the file (if any) and the key."""
+
+
+@dataclass(frozen=True)
+class SolverChoice:
+    """The [solver] table.
+
+    Attributes
+    ----------
+    transcription : str
+        One of `TRANSCRIPTIONS`.
+    elements : int or None
+        Collocation elements per period (None: the default, 2000 per second).
+    jit : bool or "auto"
+        Compile collocation's model functions.
+    verify_rtol : float
+        Tolerance of the final re-simulation.
+    """
+
+    transcription: str = "auto"
+    elements: int | None = None
+    jit: bool | str = "auto"
+    verify_rtol: float = 1e-9
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A named scenario: the speed `problem` (which holds the press), the `model` level and the `solver`
+    choice, read from and written to TOML."""
+
+    name: str
+    problem: SpeedProblem
+    model: ModelSpec = field(default_factory=ModelSpec)
+    solver: SolverChoice = field(default_factory=SolverChoice)
+
+    @property
+    def press(self) -> PressParams:
+        return self.problem.press
+
+    # Reading -----------------------------------------------------------------------------------
+    @classmethod
+    def load(cls, path: str | Path) -> "Scenario":
+        """Read a scenario file (TOML). A bundled one by its name: ``Scenario.load("press75")``."""
+        p = Path(path)
+        if not p.exists() and p.suffix == "" and str(path) in bundled():
+            return cls.bundled(str(path))
+        try:
+            text = p.read_text(encoding="utf-8")
+        except FileNotFoundError:
+            raise ScenarioError(f"{p}: no such scenario file (bundled scenarios: {', '.join(bundled())})") from None
+        except IsADirectoryError:
+            raise ScenarioError(f"{p}: is a folder, not a scenario file") from None
+        return cls.from_toml(text, source=str(p))
+
+    @classmethod
+    def bundled(cls, name: str) -> "Scenario":
+        """A scenario shipped with pressocp (`bundled`)."""
+        names = bundled()
+        if name not in names:
+            raise ScenarioError(f"no bundled scenario {name!r}{_suggest(name, names)}; bundled: {', '.join(names)}")
+        text = resources.files("pressocp").joinpath("scenarios", f"{name}.toml").read_text(encoding="utf-8")
+        return cls.from_toml(text, source=f"bundled scenario {name!r}")
+
+    @classmethod
+    def from_toml(cls, text: str, source: str = "scenario") -> "Scenario":
+        """Parse TOML text (errors say where)."""
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as err:
+            raise ScenarioError(f"{source}: not valid TOML: {err}") from None
+        return cls.from_dict(data, source)
+
+    @classmethod
+    def from_dict(cls, data: dict, source: str = "scenario") -> "Scenario":
+        """Build and check a scenario from nested dicts (the TOML tables)."""
+        where = f"{source}: " if source else ""
+        _known(data, ("name", "press", "problem", "model", "solver"), "", where)
+        try:
+            press = _press(data.get("press", {}), where)
+            problem = _problem(data.get("problem", {}), press, where)
+            model = _typed(ModelSpec, data.get("model", {}), "model", where, {"clearance": (list, tuple)})
+            solver = _typed(SolverChoice, data.get("solver", {}), "solver", where)
+            if solver.transcription not in TRANSCRIPTIONS:
+                raise ScenarioError(f"{where}solver.transcription must be one of {', '.join(TRANSCRIPTIONS)}; got "
+                                    f"{solver.transcription!r}{_suggest(solver.transcription, TRANSCRIPTIONS)}")
+        except ScenarioError:
+            raise
+        except ValueError as err:  # a range check of the dataclasses: name the table
+            raise ScenarioError(f"{where}{err}") from None
+        name = data.get("name", Path(source).stem if source else "scenario")
+        if not isinstance(name, str):
+            raise ScenarioError(f"{where}name must be a string, got {type(name).__name__}")
+        return cls(name, problem, model, solver)
+
+    # Writing -----------------------------------------------------------------------------------
+    def to_dict(self) -> dict:
+        """Nested plain data, the inverse of `from_dict` (None values left out)."""
+        problem = {k: v for k, v in self.problem.to_dict().items() if k != "press" and v is not None}
+        period = problem.pop("period")
+        return {"name": self.name, "press": _drop_none(self.press.to_dict()),
+                "problem": {"period_s": period, **problem}, "model": self.model.to_dict(),
+                "solver": _drop_none({f.name: getattr(self.solver, f.name) for f in fields(SolverChoice)})}
+
+    def to_toml(self) -> str:
+        """The scenario as TOML text (`load` reads it back to an equal scenario)."""
+        return _toml(self.to_dict())
+
+    def with_overrides(self, overrides: dict[str, Any]) -> "Scenario":
+        """A copy with dotted keys set, e.g. ``{"problem.stroke_rate_spm": 60, "wrist_pin.clearance":
+        5e-5}`` (press fields may leave out ``press.``). Checked like a file."""
+        data = self.to_dict()
+        for key, value in overrides.items():
+            parts = key.split(".")
+            if parts[0] not in data or not isinstance(data[parts[0]], dict):
+                parts = ["press", *parts]
+            node = data
+            for p in parts[:-1]:
+                node = node.setdefault(p, {})
+                if not isinstance(node, dict):
+                    raise ScenarioError(f"{key}: {p} is not a table")
+            if parts[0] == "problem" and parts[-1] in ("stroke_rate_spm", "period_s"):
+                node.pop("period_s", None)
+                node.pop("stroke_rate_spm", None)
+            node[parts[-1]] = value
+        return Scenario.from_dict(data, source=f"{self.name} with {', '.join(overrides)}")
+
+
+def bundled() -> list[str]:
+    """Names of the scenarios shipped with pressocp."""
+    folder = resources.files("pressocp").joinpath("scenarios")
+    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+
+
+# Checking ----------------------------------------------------------------------------------------
+def _suggest(key: str, valid) -> str:
+    near = difflib.get_close_matches(key, list(valid), n=1)
+    return f" (did you mean {near[0]!r}?)" if near else ""
+
+
+def _known(table: Any, valid, prefix: str, where: str) -> None:
+    if not isinstance(table, dict):
+        raise ScenarioError(f"{where}{prefix.rstrip('.') or 'the file'} must be a table")
+    for key in table:
+        if key not in valid:
+            raise ScenarioError(f"{where}unknown key {prefix}{key}{_suggest(key, valid)}; valid keys: "
+                                f"{', '.join(valid)}")
+
+
+_TYPES = {float: ((int, float), "a number"), int: ((int,), "an integer"), str: ((str,), "a string"),
+          bool: ((bool,), "true or false")}
+
+
+def _check_type(value: Any, annotation: Any, key: str, where: str) -> None:
+    """Raise unless `value` fits the field annotation (numbers, strings, booleans, their unions)."""
+    options = typing.get_args(annotation) if typing.get_origin(annotation) in (typing.Union, type(int | None)) \
+        else (annotation,)
+    expected = []
+    for opt in options:
+        if opt is type(None):
+            continue
+        if opt in _TYPES:
+            kinds, word = _TYPES[opt]
+            if isinstance(value, kinds) and not (isinstance(value, bool) and opt is not bool):
+                return
+            expected.append(word)
+        elif typing.get_origin(opt) is tuple or opt is tuple:
+            if isinstance(value, list):
+                return
+            expected.append("a list")
+        else:
+            return  # nested dataclasses are checked by their own table
+    raise ScenarioError(f"{where}{key} must be {' or '.join(expected)}, got {value!r} ({type(value).__name__})")
+
+
+def _typed(cls, table: Any, prefix: str, where: str, lists: dict | None = None):
+    """An instance of the dataclass `cls` from a table, every key known and typed."""
+    valid = [f.name for f in fields(cls)]
+    _known(table, valid, f"{prefix}.", where)
+    hints = typing.get_type_hints(cls)
+    values = {}
+    for key, value in table.items():
+        if lists and key in lists:
+            if not isinstance(value, list):
+                raise ScenarioError(f"{where}{prefix}.{key} must be a list, got {value!r}")
+            value = tuple(value)
+        else:
+            _check_type(value, hints[key], f"{prefix}.{key}", where)
+        values[key] = value
+    try:
+        return cls(**values)
+    except ValueError as err:
+        raise ScenarioError(f"{where}{prefix}: {err}") from None
+
+
+def _press(table: Any, where: str) -> PressParams:
+    nested = {"crank_pin": Bearing, "wrist_pin": Bearing, "process_force": ProcessForce}
+    _known(table, [f.name for f in fields(PressParams)], "press.", where)
+    hints = typing.get_type_hints(PressParams)
+    for key, value in table.items():
+        if key in nested:
+            if not isinstance(value, dict):
+                raise ScenarioError(f"{where}press.{key} must be a table ([press.{key}])")
+            _known(value, [f.name for f in fields(nested[key])], f"press.{key}.", where)
+            sub_hints = typing.get_type_hints(nested[key])
+            for k, v in value.items():
+                _check_type(v, sub_hints[k], f"press.{key}.{k}", where)
+        else:
+            _check_type(value, hints[key], f"press.{key}", where)
+    try:
+        return PressParams.from_dict(table)
+    except ValueError as err:
+        raise ScenarioError(f"{where}press: {err}") from None
+
+
+def _problem(table: Any, press: PressParams, where: str) -> SpeedProblem:
+    valid = ("stroke_rate_spm", "period_s", *PROBLEM_KEYS)
+    _known(table, valid, "problem.", where)
+    table = dict(table)
+    if "stroke_rate_spm" in table and "period_s" in table:
+        raise ScenarioError(f"{where}problem: give stroke_rate_spm or period_s, not both")
+    hints = typing.get_type_hints(SpeedProblem)
+    for key, value in table.items():
+        if key in ("stroke_rate_spm", "period_s"):
+            _check_type(value, float, f"problem.{key}", where)
+        elif key == "window":
+            if not (isinstance(value, list) and len(value) == 2 and all(isinstance(v, (int, float))
+                                                                        and not isinstance(v, bool) for v in value)):
+                raise ScenarioError(f"{where}problem.window must be a list of two numbers [h1/H, h2/H], got {value!r}")
+        else:
+            _check_type(value, hints[key], f"problem.{key}", where)
+    if "stroke_rate_spm" in table:
+        spm = table.pop("stroke_rate_spm")
+        if not 0 < spm < 2000:
+            raise ScenarioError(f"{where}problem.stroke_rate_spm must be in (0, 2000) strokes/min, got {spm!r}")
+        table["period"] = 60.0 / spm
+    elif "period_s" in table:
+        table["period"] = table.pop("period_s")
+    if "window" in table:
+        table["window"] = tuple(table["window"])
+    try:
+        return SpeedProblem(press, **table)
+    except ValueError as err:
+        raise ScenarioError(f"{where}problem: {err}") from None
+
+
+# Writing TOML --------------------------------------------------------------------------------------
+def _drop_none(d: dict) -> dict:
+    return {k: (_drop_none(v) if isinstance(v, dict) else v) for k, v in d.items() if v is not None}
+
+
+def _value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_value(x) for x in v) + "]"
+    if isinstance(v, float):
+        return repr(v)
+    return str(v)
+
+
+def _toml(data: dict, prefix: str = "") -> str:
+    scalars = [f"{k} = {_value(v)}" for k, v in data.items() if not isinstance(v, dict)]
+    tables = [(k, v) for k, v in data.items() if isinstance(v, dict)]
+    out = "\n".join(scalars)
+    for k, v in tables:
+        name = f"{prefix}{k}"
+        out += f"\n\n[{name}]\n" + _toml(v, name + ".").lstrip("\n")
+    return out.strip("\n") + "\n" if not prefix else out
+
+
+__all__ = ["Scenario", "ScenarioError", "SolverChoice", "bundled"]

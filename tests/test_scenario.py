@@ -1,0 +1,69 @@
+"""Scenario files: the bundled ones load and round-trip through TOML, overrides by dotted key, and every
+bad file or value is refused before anything is solved, with a message that names the key."""
+
+import pytest
+
+from pressocp.scenario import Scenario, ScenarioError, bundled
+
+GOOD = Scenario.bundled("press75").to_toml()
+
+
+def test_bundled_scenarios_load_and_round_trip(tmp_path):
+    assert set(bundled()) >= {"press75", "press60", "large_press"}
+    for name in bundled():
+        s = Scenario.load(name)
+        path = tmp_path / f"{name}.toml"
+        path.write_text(s.to_toml())
+        assert Scenario.load(path) == s
+    s = Scenario.load("press75")
+    assert s.problem.period == pytest.approx(0.8) and s.problem.ram_speed == -0.1
+    assert s.press.wrist_pin.journal_radius == 0.025 and s.model.clearance == ("crank_pin", "wrist_pin")
+
+
+def test_overrides_by_dotted_key():
+    s = Scenario.load("press75").with_overrides({"problem.stroke_rate_spm": 60, "wrist_pin.clearance": 5e-5,
+                                                 "press.slider_mass": 200.0, "model.rod": "flexible"})
+    assert s.problem.period == pytest.approx(1.0) and s.press.wrist_pin.clearance == 5e-5
+    assert s.press.slider_mass == 200.0 and s.model.rod == "flexible"
+    assert s.press.wrist_pin.journal_radius == 0.025  # the rest of the joint kept
+
+
+def edit(old, new):
+    assert old in GOOD, old
+    return GOOD.replace(old, new, 1)
+
+
+BAD = [
+    (edit("slider_mass = 150.0", "slider_mas = 150.0"), r"unknown key press\.slider_mas \(did you mean 'slider_mass'\?\)"),
+    (edit("[problem]", "[problem]\nram_sped = -0.1"), r"problem\.ram_sped .*did you mean 'ram_speed'"),
+    (edit("[model]", "[modle]"), r"unknown key modle \(did you mean 'model'\?\)"),
+    (edit("slider_mass = 150.0", 'slider_mass = "heavy"'), r"press\.slider_mass must be a number"),
+    (edit("n_harmonics = 15", "n_harmonics = 15.5"), r"problem\.n_harmonics must be an integer"),
+    (edit("window = [0.7, 0.3]", "window = [0.3, 0.7]"), r"problem: window must be \(h1/H, h2/H\) with h2/H < h1/H"),
+    (edit("window = [0.7, 0.3]", "window = 0.7"), r"problem\.window must be a list of two numbers"),
+    (edit("ram_speed = -0.1", "ram_speed = -0.001"), r"problem: ram_speed must be in \[.*cannot deliver"),
+    (edit("ram_speed = -0.1", "ram_speed = 0.1"), r"ram_speed must be negative"),
+    (edit("rod_length = 0.25", "rod_length = 0.04"), r"press: rod_length must be in \(crank_radius=0.05, inf\)"),
+    (edit('objective = "peak_torque"', 'objective = "peak_torq"'), r"objective must be one of"),
+    (edit('transcription = "auto"', 'transcription = "colocation"'), r"did you mean 'collocation'"),
+    (edit('rod = "rigid"', 'rod = "elastic"'), r"model: rod must be one of 'rigid', 'flexible'"),
+    (edit("period_s = 0.8", "stroke_rate_spm = 75\nperiod_s = 0.8"), r"stroke_rate_spm or period_s, not both"),
+    (edit("period_s = 0.8", "stroke_rate_spm = -75"), r"stroke_rate_spm must be in \(0, 2000\)"),
+    (edit("[press.crank_pin]", "[press.crank_pin]\nradius = 0.04"), r"press\.crank_pin\.radius .*journal_radius"),
+    (edit("clearance = 0.0001", "clearance = -0.0001"), r"press: clearance must be in \(0, inf\) m"),
+    (GOOD + "\n[solver\n", r"not valid TOML: .*line"),
+    ('name = 3\n', r"name must be a string"),
+]
+
+
+@pytest.mark.parametrize("text, match", BAD)
+def test_bad_scenarios_are_refused_naming_the_key(text, match):
+    with pytest.raises(ScenarioError, match=match):
+        Scenario.from_toml(text, source="my.toml")
+
+
+def test_missing_file_and_unknown_bundled_name(tmp_path):
+    with pytest.raises(ScenarioError, match=r"no such scenario file .*press75"):
+        Scenario.load(tmp_path / "nothere.toml")
+    with pytest.raises(ScenarioError, match=r"did you mean 'press75'"):
+        Scenario.bundled("press57")
