@@ -17,6 +17,7 @@ import numpy as np
 
 from . import checks as chk
 from .params import PressParams
+from .interrupt import interruptible
 from .problem import SpeedProblem
 from .rigid import crank_angle_at_height, kinematics_function, rigid_kinematics
 from .speed import DEFAULT_HARMONICS, FourierSpeed, series
@@ -169,9 +170,10 @@ def design_speed(problem: SpeedProblem, settings: DesignSettings | None = None) 
     ubg = np.concatenate([tol * np.ones(m), np.inf * np.ones(4 * m), [0.0, np.pi]])
     solver = ca.nlpsol("design", "ipopt", nlp, {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False,
                                                   "ipopt.max_iter": 500, "ipopt.tol": 1e-10})
-    sol = solver(x0=np.concatenate([guess.coefficients, [t1_0]]), lbg=lbg, ubg=ubg,
-                 lbx=np.concatenate([-np.inf * np.ones(2 * n), [0.0]]),
-                 ubx=np.concatenate([np.inf * np.ones(2 * n), [T - tau]]))
+    with interruptible():
+        sol = solver(x0=np.concatenate([guess.coefficients, [t1_0]]), lbg=lbg, ubg=ubg,
+                     lbx=np.concatenate([-np.inf * np.ones(2 * n), [0.0]]),
+                     ubx=np.concatenate([np.inf * np.ones(2 * n), [T - tau]]))
     stats = solver.stats()
     x = np.asarray(sol["x"]).ravel()
     speed = FourierSpeed.from_coefficients(T, x[: 2 * n])
