@@ -182,7 +182,7 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
     add_dense_speed_bounds(cons, P, c, omega_samples)
     add_pin_cap(cons, P, y)
     w = ca.vertcat(c, s, X)
-    s0 = objective.value(y0) if objective.kind == "peak" else 0.0
+    s0 = scale if objective.kind == "peak" else 0.0  # the epigraph starts at the warm start's peak
     w0 = np.concatenate([start.padded(n).coefficients, [s0], np.asarray(X0, float).ravel()])
     lbw, ubw = np.full(w0.size, -np.inf), np.full(w0.size, np.inf)
     lbw[2 * n] = 0.0
