@@ -30,6 +30,26 @@ KV_REFERENCE_PENETRATION = 1e-6
 
 LAWS = ("hunt-crossley", "kelvin-voigt")
 
+#: Plausible ranges (SI) of press dimensions; a value outside names the likely unit slip.
+LENGTH_RANGE = (1e-3, 5.0)  # m: crank radius, rod length, journal radius
+MASS_RANGE = (1e-3, 1e5)  # kg
+#: Largest radial clearance as a fraction of the journal radius.
+MAX_CLEARANCE_FRACTION = 0.1
+#: The rod must be at least this many crank radii long.
+MIN_ROD_RATIO = 1.5
+STIFFNESS_RANGE = (1e4, 1e16)  # N/m^n
+
+
+def plausible(name: str, value: float, lo: float, hi: float, unit: str) -> float:
+    """`value` in [lo, hi] (a positive, finite number), else a ValueError that names the field, the
+    value, the range and, for a value 1000x too large, the likely mm-for-m slip."""
+    x = chk.positive(name, value, unit)
+    if not lo <= x <= hi:
+        slip = f": a value in mm? {x:g} mm is {x / 1000:g} {unit}" if unit == "m" and lo <= x / 1000 <= hi else \
+            (f": a value in g? {x:g} g is {x / 1000:g} kg" if unit == "kg" and x > hi else "")
+        raise ValueError(f"{name} must be in [{lo:g}, {hi:g}] {unit}, got {x!r}{slip}")
+    return x
+
 
 def hertz_internal_stiffness(
     journal_radius: float,
@@ -109,9 +129,16 @@ class Bearing:
     def __post_init__(self) -> None:
         c = chk.positive("clearance", self.clearance, "m")
         chk.nonnegative("tangential_damping", self.tangential_damping, "N s/m")
-        chk.positive("journal_radius", self.journal_radius, "m")
+        rj = plausible("journal_radius", self.journal_radius, *LENGTH_RANGE, "m")
+        if c > MAX_CLEARANCE_FRACTION * rj:
+            slip = f": a clearance in mm? {c:g} mm is {c / 1000:g} m" if c / 1000 <= MAX_CLEARANCE_FRACTION * rj else ""
+            raise ValueError(f"clearance must be in (0, {MAX_CLEARANCE_FRACTION * rj:g}] m ({MAX_CLEARANCE_FRACTION:.0%} "
+                             f"of journal_radius={rj:g} m), got {c!r}{slip}")
         if self.stiffness is not None:
-            chk.positive("stiffness", self.stiffness, "N/m^exponent")
+            k = chk.positive("stiffness", self.stiffness, "N/m^exponent")
+            if not STIFFNESS_RANGE[0] <= k <= STIFFNESS_RANGE[1]:
+                raise ValueError(f"stiffness must be in [{STIFFNESS_RANGE[0]:g}, {STIFFNESS_RANGE[1]:g}] N/m^exponent, "
+                                 f"got {k!r} (steel journals are about 1e10 to 1e12)")
         n = chk.finite("exponent", self.exponent)
         if not 1.0 <= n <= 3.0:
             raise ValueError(f"exponent must be in [1, 3], got {n!r}")
@@ -276,14 +303,15 @@ class PressParams:
     process_force: ProcessForce = field(default_factory=ProcessForce)
 
     def __post_init__(self) -> None:
-        r = chk.positive("crank_radius", self.crank_radius, "m")
-        l = chk.positive("rod_length", self.rod_length, "m")
-        if l <= r:
-            raise ValueError(f"rod_length must be in (crank_radius={r:g}, inf) m, got {l!r}")
+        r = plausible("crank_radius", self.crank_radius, *LENGTH_RANGE, "m")
+        l = plausible("rod_length", self.rod_length, *LENGTH_RANGE, "m")
+        if l < MIN_ROD_RATIO * r:
+            raise ValueError(f"rod_length must be in [{MIN_ROD_RATIO:g} x crank_radius = {MIN_ROD_RATIO * r:g}, "
+                             f"{LENGTH_RANGE[1]:g}] m, got {l!r}")
         chk.positive("crank_inertia", self.crank_inertia, "kg m^2")
         chk.nonnegative("crank_mass", self.crank_mass, "kg")
         chk.finite("crank_com", self.crank_com)
-        chk.positive("rod_mass", self.rod_mass, "kg")
+        plausible("rod_mass", self.rod_mass, *MASS_RANGE, "kg")
         if self.rod_inertia is not None:
             chk.positive("rod_inertia", self.rod_inertia, "kg m^2")
         chk.positive("rod_youngs_modulus", self.rod_youngs_modulus, "Pa")
@@ -291,7 +319,7 @@ class PressParams:
         zeta = chk.finite("rod_damping_ratio", self.rod_damping_ratio)
         if not 0.0 <= zeta < 1.0:
             raise ValueError(f"rod_damping_ratio must be in [0, 1), got {zeta!r}")
-        chk.positive("slider_mass", self.slider_mass, "kg")
+        plausible("slider_mass", self.slider_mass, *MASS_RANGE, "kg")
         chk.nonnegative("gravity", self.gravity, "m/s^2")
         for name in ("crank_pin", "wrist_pin"):
             if not isinstance(getattr(self, name), Bearing):

@@ -61,8 +61,24 @@ def test_bad_press_params(kwargs, field):
 
 
 def test_bad_press_params_message_names_range():
-    with pytest.raises(ValueError, match=r"rod_length must be in \(crank_radius=0.05, inf\)"):
+    with pytest.raises(ValueError, match=r"rod_length must be in \[1.5 x crank_radius = 0.075, 5\] m, got 0.04"):
         PressParams(rod_length=0.04)
+
+
+@pytest.mark.parametrize("make, match", [
+    (lambda: PressParams(crank_radius=80, rod_length=400), r"crank_radius must be in \[0.001, 5\] m, got 80.*80 mm is 0.08 m"),
+    (lambda: PressParams(rod_length=250.0), r"rod_length must be in .*250 mm is 0.25 m"),
+    (lambda: PressParams(rod_length=0.06), r"rod_length must be in \[1.5 x crank_radius"),
+    (lambda: PressParams(slider_mass=150000.0), r"slider_mass must be in \[0.001, 100000\] kg.*150000 g is 150 kg"),
+    (lambda: Bearing(clearance=0.15), r"clearance must be in \(0, 0.004\] m \(10% of journal_radius=0.04 m\), got 0.15: "
+                                       r"a clearance in mm\? 0.15 mm is 0.00015 m"),
+    (lambda: Bearing(journal_radius=25.0), r"journal_radius must be in .*25 mm is 0.025 m"),
+    (lambda: Bearing(stiffness=10.0), r"stiffness must be in \[10000, 1e\+16\]"),
+])
+def test_implausible_values_name_the_likely_unit_slip(make, match):
+    """A press described in mm (or grams) is refused at construction, with the value in metres."""
+    with pytest.raises(ValueError, match=match):
+        make()
 
 
 @pytest.mark.parametrize(
@@ -104,7 +120,7 @@ def test_fuzz_nonpositive_or_nonfinite_rejected(field, value):
 
 
 @settings(max_examples=40, deadline=None)
-@given(r=st.floats(0.01, 0.5), ratio=st.floats(1.01, 10.0))
+@given(r=st.floats(0.01, 0.5), ratio=st.floats(1.5, 10.0))
 def test_fuzz_valid_geometry_accepted(r, ratio):
     p = PressParams(crank_radius=r, rod_length=r * ratio)
     assert math.isclose(p.stroke, 2 * r)

@@ -43,7 +43,7 @@ BAD = [
     (edit("window = [0.7, 0.3]", "window = 0.7"), r"problem\.window must be a list of two numbers"),
     (edit("ram_speed = -0.1", "ram_speed = -0.001"), r"problem: ram_speed must be in \[.*cannot deliver"),
     (edit("ram_speed = -0.1", "ram_speed = 0.1"), r"ram_speed must be negative"),
-    (edit("rod_length = 0.25", "rod_length = 0.04"), r"press: rod_length must be in \(crank_radius=0.05, inf\)"),
+    (edit("rod_length = 0.25", "rod_length = 0.04"), r"press: rod_length must be in \[1.5 x crank_radius = 0.075"),
     (edit('objective = "peak_torque"', 'objective = "peak_torq"'), r"objective must be one of"),
     (edit('transcription = "auto"', 'transcription = "colocation"'), r"did you mean 'collocation'"),
     (edit('rod = "rigid"', 'rod = "elastic"'), r"model: rod must be one of 'rigid', 'flexible'"),
@@ -51,6 +51,7 @@ BAD = [
     (edit("period_s = 0.8", "stroke_rate_spm = -75"), r"stroke_rate_spm must be in \(0, 2000\)"),
     (edit("[press.crank_pin]", "[press.crank_pin]\nradius = 0.04"), r"press\.crank_pin\.radius .*journal_radius"),
     (edit("clearance = 0.0001", "clearance = -0.0001"), r"press: clearance must be in \(0, inf\) m"),
+    (edit("clearance = 0.0001", "clearance = 0.1"), r"press: clearance must be in \(0, 0.004\] m .*0.1 mm is 0.0001 m"),
     (GOOD + "\n[solver\n", r"not valid TOML: .*line"),
     ('name = 3\n', r"name must be a string"),
 ]
