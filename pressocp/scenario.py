@@ -208,10 +208,6 @@ def _check_type(value: Any, annotation: Any, key: str, where: str) -> None:
             if isinstance(value, kinds) and not (isinstance(value, bool) and opt is not bool):
                 return
             expected.append(word)
-        elif typing.get_origin(opt) is tuple or opt is tuple:
-            if isinstance(value, list):
-                return
-            expected.append("a list")
         else:
             return  # nested dataclasses are checked by their own table
     raise ScenarioError(f"{where}{key} must be {' or '.join(expected)}, got {value!r} ({type(value).__name__})")

@@ -11,13 +11,12 @@ from ..design import design_speed
 from ..model import PressModel, build_model
 from ..objectives import get as get_objective
 from ..problem import SpeedProblem
-from ..rigid import rigid_response
 from ..speed import FourierSpeed
 from .collocation import Collocation
 from .result import OcpResult, peaks_of
 from .stage import StageResult, Transcription
 from .strategy import Strategy
-from .verify import is_periodic, ram_speed_violation, screen, verify_speed, window_times
+from .verify import is_periodic, ram_speed_violation, rigid_reference, screen, verify_speed, window_times
 
 
 def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, transcription: Transcription | None = None,
@@ -107,7 +106,7 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
 
 def _rigid_peak(rigid: StageResult, problem: SpeedProblem) -> float:
     """Peak torque of the rigid stage's answer on the rigid press (dense), N m."""
-    return rigid_response(problem.press, rigid.speed, np.linspace(0.0, problem.period, 20001)).peak("torque")
+    return rigid_reference(problem, rigid.speed).peak("torque")
 
 
 def _initial_response(model: PressModel, problem: SpeedProblem, initial: FourierSpeed, rtol: float):
@@ -115,6 +114,5 @@ def _initial_response(model: PressModel, problem: SpeedProblem, initial: Fourier
     cycle from rest (`screen`)."""
     if model.is_rigid:
         return verify_speed(model, initial, rtol)
-    reference = get_objective(problem.objective).value(
-        rigid_response(problem.press, initial, np.linspace(0.0, problem.period, 20001)))
+    reference = get_objective(problem.objective).value(rigid_reference(problem, initial))
     return screen(model, initial, reference, problem.objective, min(1e-7, 10 * rtol))[0]

@@ -186,8 +186,7 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
     w0 = np.concatenate([start.padded(n).coefficients, [s0], np.asarray(X0, float).ravel()])
     lbw, ubw = np.full(w0.size, -np.inf), np.full(w0.size, np.inf)
     lbw[2 * n] = 0.0
-    if coefficient_step is not None:
-        chk.positive("coefficient_step", coefficient_step, "rad/s")
+    if coefficient_step is not None:  # validated by the transcription's settings
         lbw[: 2 * n], ubw[: 2 * n] = w0[: 2 * n] - coefficient_step, w0[: 2 * n] + coefficient_step
     if fixed is not None:
         k = 2 * n + 1 + np.asarray(fixed)

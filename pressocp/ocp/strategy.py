@@ -31,13 +31,13 @@ from ..model import PressModel, build_model
 from ..objectives import get as get_objective
 from ..params import PressParams
 from ..problem import SpeedProblem
-from ..rigid import rigid_inverse_dynamics, rigid_response
+from ..rigid import rigid_inverse_dynamics
 from ..simulate import SimulationError
 from ..speed import FourierSpeed
 from .rigid import Rigid
 from .shooting import MultipleShooting
 from .stage import Check, StageResult, Transcription, WarmStart, settings_repr
-from .verify import IMPACT_RATIO, is_periodic, ram_speed_violation, screen, verify_speed
+from .verify import IMPACT_RATIO, is_periodic, ram_speed_violation, rigid_reference, screen, verify_speed
 
 MODES = ("auto", "all")
 #: Checks of a stage's answer run at this tolerance (the final verification at `Strategy.verify_rtol`).
@@ -171,7 +171,7 @@ class Strategy:
     def check(self, model: PressModel, stage: StageResult, problem: SpeedProblem) -> Check:
         """Re-simulate a rigid-press stage's answer on `model` (`screen`, `CHECK_RTOL`)."""
         objective = get_objective(problem.objective)
-        dense = rigid_response(problem.press, stage.speed, np.linspace(0.0, problem.period, 20001))
+        dense = rigid_reference(problem, stage.speed)
         reference = objective.value(dense)
         sim, ratio = screen(model, stage.speed, reference, problem.objective, CHECK_RTOL)
         viol = max(ram_speed_violation(sim, problem), 0.0)

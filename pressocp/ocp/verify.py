@@ -9,6 +9,7 @@ from ..model import PressModel
 from ..objectives import get as get_objective
 from ..problem import SpeedProblem, in_window
 from ..result import SimResult
+from ..rigid import rigid_response
 from ..simulate import SimulationError, simulate
 from ..speed import FourierSpeed
 
@@ -17,6 +18,12 @@ from ..speed import FourierSpeed
 IMPACT_RATIO = 1.10
 #: Output samples per cycle of a verification.
 VERIFY_SAMPLES = 20001
+
+
+def rigid_reference(problem: SpeedProblem, speed: FourierSpeed) -> SimResult:
+    """The ideal press's response to `speed` on the verification grid (`VERIFY_SAMPLES` per cycle):
+    the reference a re-simulation on a model with clearance is compared with."""
+    return rigid_response(problem.press, speed, np.linspace(0.0, problem.period, VERIFY_SAMPLES))
 
 
 def ram_speed_violation(sim: SimResult, problem: SpeedProblem) -> float:
