@@ -12,6 +12,13 @@ from typing import Any
 import numpy as np
 
 
+def file_mode() -> int:
+    """Permissions of a new file under the process's umask (mkstemp's own are owner-only)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
 def atomic_write(path: str | Path, text: str) -> Path:
     """Write `text` to `path` through a temporary file and an atomic rename; creates the folder."""
     path = Path(path)
@@ -20,6 +27,7 @@ def atomic_write(path: str | Path, text: str) -> Path:
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as f:
             f.write(text)
+        os.chmod(tmp, file_mode())
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

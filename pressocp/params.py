@@ -368,7 +368,10 @@ class PressParams:
                 bad = sorted(set(sub) - {f.name for f in fields(kind)})
                 if bad:
                     raise ValueError(f"unknown {key} field(s) {bad}; known: {sorted(f.name for f in fields(kind))}")
-                d[key] = replace(getattr(cls(), key), **sub)  # missing keys: that joint's defaults
+                try:
+                    d[key] = replace(getattr(cls(), key), **sub)  # missing keys: that joint's defaults
+                except ValueError as err:
+                    raise ValueError(f"{key}.{err}") from None
         return cls(**d)
 
     @classmethod

@@ -1,17 +1,36 @@
-"""Figures (matplotlib, Agg-safe): speed designs and strokes."""
+"""Figures (matplotlib): speed designs, responses compared, impacts and optima.
+
+No backend is chosen here: in Jupyter the figures show inline, and a script picks one with the
+``MPLBACKEND`` convention (the command line uses Agg)."""
 
 from __future__ import annotations
 
+import os
+import tempfile
 from collections.abc import Sequence
+from pathlib import Path
 
-import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from .io import file_mode
+from .result import SimResult
+from .rigid import rigid_response
 
-from .result import SimResult  # noqa: E402
-from .rigid import rigid_response  # noqa: E402
+#: Axis labels (with units) of the `SimResult` series, and the factor from SI to the plotted unit.
+SERIES_LABELS = {
+    "omega": ("crank speed ω [rad/s]", 1.0),
+    "ram_height": ("ram height h [mm]", 1e3),
+    "ram_velocity": ("ram velocity dh/dt [m/s]", 1.0),
+    "ram_acceleration": ("ram acceleration [m/s²]", 1.0),
+    "torque": ("motor torque [N·m]", 1.0),
+    "slider_normal_force": ("slider normal force [N]", 1.0),
+    "crank_pin_force": ("crank-pin force [N]", 1.0),
+    "wrist_pin_force": ("wrist-pin force [N]", 1.0),
+    "crank_pin_eccentricity": ("crank-pin eccentricity |e|/c [-]", 1.0),
+    "wrist_pin_eccentricity": ("wrist-pin eccentricity |e|/c [-]", 1.0),
+    "rod_midspan_deflection": ("rod midspan deflection [µm]", 1e6),
+}
 
 
 def plot_responses(
@@ -19,57 +38,76 @@ def plot_responses(
     window: tuple[float, float] | None = None,
     series: Sequence[str] = ("omega", "ram_height", "ram_velocity", "torque", "slider_normal_force"),
     title: str = "",
+    ram_speed: tuple[float, float] | None = None,
 ):
-    """Stack time histories of several responses, one axis per series.
+    """Stack time histories of several responses over one cycle, one axis per series.
 
     Parameters
     ----------
     responses : sequence of (label, SimResult)
-        Curves to draw.
+        Curves to draw; each against its time from its first sample (a later cycle overlays the first).
     window : (t1, t2), optional
         Working window to shade, s.
     series : sequence of str
-        `SimResult` field names to plot.
+        `SimResult` field names to plot (`SERIES_LABELS` gives their axis labels and units).
     title : str
         Figure title.
+    ram_speed : (target, tolerance), optional
+        Ram velocity asked for in the window and its allowed deviation, m/s: with a window and a
+        ram-velocity axis, a last axis shows the relative ram speed error over the window and the
+        tolerance (dashed).
 
     Returns
     -------
     matplotlib.figure.Figure
     """
-    labels = {
-        "omega": "crank speed ω [rad/s]",
-        "ram_height": "ram height h [mm]",
-        "ram_velocity": "ram velocity dh/dt [m/s]",
-        "ram_acceleration": "ram acceleration [m/s²]",
-        "torque": "motor torque [N·m]",
-        "slider_normal_force": "slider normal force [N]",
-        "crank_pin_force": "crank-pin force [N]",
-        "wrist_pin_force": "wrist-pin force [N]",
-        "rod_midspan_deflection": "rod midspan deflection [µm]",
-    }
-    scale = {"ram_height": 1e3, "rod_midspan_deflection": 1e6}
-    fig, axes = plt.subplots(len(series), 1, figsize=(8, 1.9 * len(series) + 0.6), sharex=True)
+    error_axis = ram_speed is not None and window is not None and "ram_velocity" in series
+    rows = len(series) + error_axis
+    fig, axes = plt.subplots(rows, 1, figsize=(8, 1.9 * rows + 0.6), sharex=True)
     axes = np.atleast_1d(axes)
     for ax, name in zip(axes, series):
-        for label, res in responses:
-            ax.plot(res.t, getattr(res, name) * scale.get(name, 1.0), label=label, lw=1.2)
+        label, scale = SERIES_LABELS.get(name, (name, 1.0))
+        for curve, res in responses:
+            ax.plot(res.t - res.t[0], getattr(res, name) * scale, label=curve, lw=1.1)
+        ax.set_ylabel(label, fontsize=8)
+    if error_axis:  # the ram speed in the window, relative to the one asked for, against its tolerance
+        v, tol = ram_speed
+        ax = axes[-1]
+        for curve, res in responses:
+            t = res.t - res.t[0]
+            inside = (t >= window[0]) & (t <= window[1])
+            ax.plot(t, np.where(inside, 100 * (res.ram_velocity / v - 1), np.nan), lw=1.1, label=curve)
+        for y in (-100 * tol / abs(v), 100 * tol / abs(v)):
+            ax.axhline(y, color="k", ls="--", lw=0.8)
+        ax.set_ylabel(f"ram speed error\nin the window [%]\n(asked {v:g} m/s)", fontsize=8)
+        ax.set_ylim(-300 * tol / abs(v), 300 * tol / abs(v))
+    for ax in axes:
         if window is not None:
             ax.axvspan(*window, color="0.9", zorder=0)
-        ax.set_ylabel(labels.get(name, name), fontsize=8)
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=8, loc="best")
-    axes[-1].set_xlabel("time t [s]")
+    axes[-1].set_xlabel("time in the cycle t [s]" + (" (grey: working window)" if window is not None else ""))
     if title:
-        fig.suptitle(title)
+        fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     return fig
 
 
-def save(fig, path) -> None:
-    """Save a figure as PNG (150 dpi) and close it."""
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+def save(fig, path: str | Path) -> Path:
+    """Save a figure as PNG (150 dpi) atomically (a temporary file, then renamed) and close it."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=".png")
+    os.close(fd)
+    try:
+        fig.savefig(tmp, dpi=150, format="png")
+        os.chmod(tmp, file_mode())
+        os.replace(tmp, path)
+    finally:
+        plt.close(fig)
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return path
 
 
 def plot_sixbar_emulation(emulation: dict, constant_height=None, zone_times=None):
@@ -123,7 +161,7 @@ def plot_impact_study(study) -> "plt.Figure":
     for j, (title, clr, rig) in enumerate(cols):
         for i, (name, label) in enumerate(rows):
             ax = axes[i, j]
-            ax.plot(clr.t, getattr(clr, name), lw=0.9, color="C3", label="clearance 0.1 mm (both joints)")
+            ax.plot(clr.t, getattr(clr, name), lw=0.9, color="C3", label="model with clearance")
             ax.plot(rig.t, getattr(rig, name), lw=1.6, color="k", ls="--", label="ideal joints")
             ax.grid(alpha=0.3)
             if j == 0:

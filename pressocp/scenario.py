@@ -30,7 +30,8 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from .model import ModelSpec
+from .model import ModelSpec, PressModel
+from .ocp import Collocation, MultipleShooting, OcpResult, Strategy, optimize_speed
 from .params import Bearing, PressParams, ProcessForce
 from .problem import SpeedProblem
 
@@ -67,6 +68,16 @@ class SolverChoice:
     jit: bool | str = "auto"
     verify_rtol: float = 1e-9
 
+    def make_transcription(self) -> Collocation | MultipleShooting:
+        """The transcription object this choice names (`optimize_speed`'s ``transcription``)."""
+        if self.transcription.startswith("shooting-"):
+            return MultipleShooting(integrator=self.transcription.removeprefix("shooting-"))
+        return Collocation(elements=self.elements, jit=self.jit)
+
+    def make_strategy(self) -> Strategy:
+        """The default stage chain with this choice's verification tolerance."""
+        return Strategy(verify_rtol=self.verify_rtol)
+
 
 @dataclass(frozen=True)
 class Scenario:
@@ -81,6 +92,15 @@ class Scenario:
     @property
     def press(self) -> PressParams:
         return self.problem.press
+
+    def build_model(self) -> PressModel:
+        """The scenario's model level for its press (`ModelSpec.build`)."""
+        return self.model.build(self.press, self.problem.n_harmonics)
+
+    def optimize(self, progress: bool = True) -> OcpResult:
+        """`optimize_speed` of the problem on the scenario's model with its solver choice."""
+        return optimize_speed(self.problem, self.build_model(), self.solver.make_transcription(),
+                              self.solver.make_strategy(), progress)
 
     # Reading -----------------------------------------------------------------------------------
     @classmethod
@@ -156,7 +176,7 @@ class Scenario:
         data = self.to_dict()
         for key, value in overrides.items():
             parts = key.split(".")
-            if parts[0] not in data or not isinstance(data[parts[0]], dict):
+            if parts[0] not in data or (len(parts) > 1 and not isinstance(data[parts[0]], dict)):
                 parts = ["press", *parts]
             node = data
             for p in parts[:-1]:

@@ -1,4 +1,4 @@
-"""The four-bar with a fitted 15-harmonic speed reproduces the six-bar drag-link stroke (seed Fig. 5)."""
+"""The four-bar with a fitted 15-harmonic speed reproduces the six-bar drag-link stroke (Fig. 5 of the source paper)."""
 
 import numpy as np
 

@@ -1,0 +1,266 @@
+"""The command line's jobs on a scenario: optimise the speed, simulate a speed, the rigid design, the
+impact study. Each writes its files into a folder (atomically) and returns a `JobReport`."""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .design import design_speed
+from .io import atomic_write, write_json
+from .objectives import get as get_objective
+from .ocp.result import versions
+from .ocp.verify import is_periodic, rigid_reference, verify_speed, window_times
+from .plots import plot_impact_study, plot_responses, save
+from .problem import SpeedProblem
+from .report import (describe_problem, format_table, load_table, peak_summary, ram_speed_error, stamp,
+                     write_cycle_table)
+from .result import SimResult
+from .scenario import Scenario
+from .speed import FourierSpeed
+
+#: Figures of a response pair: file name -> series stacked in it.
+FIGURES = {
+    "speed.png": ("omega", "ram_height", "ram_velocity"),
+    "loads.png": ("torque", "slider_normal_force", "crank_pin_force", "wrist_pin_force"),
+    "journals.png": ("crank_pin_eccentricity", "wrist_pin_eccentricity"),
+}
+
+
+@dataclass
+class JobReport:
+    """What a job did.
+
+    Attributes
+    ----------
+    job : str
+        "optimize", "simulate", "design" or "impacts".
+    summary : dict
+        The content of ``summary.json``.
+    text : str
+        The short report printed on the terminal (the head of ``report.txt``).
+    files : list of Path
+        Files written.
+    ok : bool
+        Converged and verified (exit code 0); False: results written but flagged (exit code 1).
+    """
+
+    job: str
+    summary: dict
+    text: str
+    files: list[Path] = field(default_factory=list)
+    ok: bool = True
+
+    @property
+    def exit_code(self) -> int:
+        return 0 if self.ok else 1
+
+
+def read_speed(path: str | Path) -> FourierSpeed:
+    """A crank speed from ``speed.json`` (`FourierSpeed.to_dict`) or from a result file
+    (`OcpResult.to_json`, its ``speed``). Raises ValueError naming the file."""
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ValueError(f"--speed: no such file {path}") from None
+    except IsADirectoryError:
+        raise ValueError(f"--speed: {path} is a folder, not a speed file") from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as err:
+        raise ValueError(f"--speed: {path} is not JSON ({err})") from None
+    if isinstance(data, dict) and isinstance(data.get("speed"), dict):
+        data = data["speed"]
+    if not isinstance(data, dict):
+        raise ValueError(f"--speed: {path} holds no speed (expected keys period, a, b)")
+    try:
+        return FourierSpeed.from_dict(data)
+    except (ValueError, TypeError) as err:
+        raise ValueError(f"--speed: {path}: {err}") from None
+
+
+def check_speed(speed: FourierSpeed | None, problem: SpeedProblem) -> None:
+    """Raise ValueError unless `speed` (if any) has the problem's period."""
+    if speed is not None and not np.isclose(speed.period, problem.period, rtol=1e-9, atol=0.0):
+        raise ValueError(f"--speed: the speed's period is {speed.period:g} s but the scenario's is "
+                         f"{problem.period:g} s; set the scenario's cycle to match, e.g. "
+                         f"--set problem.period_s={speed.period!r}")
+
+
+def _problem_summary(problem: SpeedProblem) -> dict:
+    return {"period_s": problem.period, "stroke_rate_spm": problem.stroke_rate_spm,
+            "ram_speed_m_s": problem.ram_speed, "ram_speed_tol_m_s": problem.tol,
+            "window_h_over_H": list(problem.window), "objective": problem.objective}
+
+
+def _figures(out: Path, responses: list[tuple[str, SimResult]], problem: SpeedProblem,
+             window: tuple[float, float], title: str, journals: bool) -> list[Path]:
+    files = []
+    for name, series in FIGURES.items():
+        if name == "journals.png" and not journals:
+            continue
+        fig = plot_responses(responses, window=window, series=series, title=title,
+                             ram_speed=(problem.ram_speed, problem.tol))
+        files.append(save(fig, out / name))
+    return files
+
+
+def _finish(job: str, out: Path, summary: dict, text: str, details: str, files: list[Path], ok: bool) -> JobReport:
+    """Write report.txt and summary.json (last, so a complete summary means a complete run)."""
+    files.append(atomic_write(out / "report.txt", text + "\n\n" + details + "\n"))
+    summary["files"] = sorted(p.name for p in [*files, out / "summary.json"])
+    files.append(write_json(out / "summary.json", summary))
+    return JobReport(job, summary, text, files, ok)
+
+
+def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobReport:
+    """The scenario's optimum: the rigid design, its response on the scenario's model, the optimum and
+    its verification. Writes summary.json, results.csv, speed.json, result.json, report.txt and
+    figures."""
+    problem = scenario.problem
+    result = scenario.optimize(progress)
+    sim, init = result.simulation, result.initial_simulation
+    ideal = rigid_reference(problem, result.initial_speed)
+    where = scenario.model.describe()
+    unit = get_objective(problem.objective).unit
+    error = ram_speed_error(sim, problem)
+    summary = {
+        "job": "optimize", "scenario": scenario.name, "model": where, "transcription": result.transcription,
+        **_problem_summary(problem),
+        "converged": result.success, "verified": result.verified, "periodic": result.periodic,
+        "status": result.status, "objective_value": result.verified_objective, "objective_unit": unit,
+        **peak_summary(sim), **peak_summary(init, "initial_"), **peak_summary(ideal, "initial_ideal_joints_"),
+        "rigid_peak_torque_N_m": result.rigid_peak_torque, "max_ram_speed_error": error,
+        "max_ram_speed_violation_m_s": result.max_ram_speed_violation, "window_t_s": [result.t1, result.t2],
+        "min_omega_rad_s": result.min_omega, "iterations": result.iterations, "wall_time_s": result.wall_time,
+        "stages": [{"name": s.name, "model": s.model, "status": s.status, "success": s.success,
+                    "iterations": s.iterations, "wall_time_s": s.wall_time, "objective": s.objective}
+                   for s in result.stages],
+        "versions": versions(), "run": stamp(),
+    }
+    files = [write_cycle_table(out / "results.csv", {"initial": init, "optimum": sim}),
+             write_json(out / "speed.json", result.speed.to_dict()), result.to_json(out / "result.json")]
+    label = "optimum" if result.success else "best iterate (not converged)"
+    files += _figures(out, [("initial: rigid design", init), (label, sim)], problem, (result.t1, result.t2),
+                      f"{scenario.name}: {where}", bool(scenario.model.clearance))
+    verdict = ("converged and verified" if result.success and result.verified else
+               f"NOT {'verified' if result.success else 'converged'}: {result.status}"
+               + ("" if result.periodic is True else f"; {result.periodic}"))
+    text = "\n".join([
+        f"{scenario.name}: minimum {problem.objective} on the {where}",
+        f"  {describe_problem(problem)}",
+        "",
+        format_table(load_table([("design, ideal joints", ideal), ("design, model", init), ("optimum, model", sim)])),
+        "",
+        f"  {verdict}; ram speed within {100 * error:.2f} % over the window "
+        f"(allowed {100 * problem.tol / abs(problem.ram_speed):.2g} %)",
+        f"  peak torque {summary['peak_torque_N_m']:.1f} N·m, "
+        f"{100 * (summary['peak_torque_N_m'] / summary['initial_peak_torque_N_m'] - 1):+.1f} % against the design; "
+        f"floor (rigid press optimum) {result.rigid_peak_torque:.1f} N·m; {result.wall_time:.0f} s",
+    ])
+    stages = format_table([["stage", "model", "status", "iterations", "time, s", f"objective, {unit}"],
+                           *([s.name, s.model, s.status, str(s.iterations), f"{s.wall_time:.1f}", f"{s.objective:.4g}"]
+                             for s in result.stages)])
+    details = "\n".join([f"transcription: {result.transcription}", f"strategy: {result.strategy}",
+                         f"verification: periodic CVODES re-simulation, rtol {result.verify_rtol:g}", "", stages])
+    return _finish("optimize", out, summary, text, details, files, result.success and result.verified)
+
+
+def simulate_job(scenario: Scenario, out: Path, speed: FourierSpeed | None = None,
+                 source: str = "rigid design") -> JobReport:
+    """A speed (default: the scenario's rigid design) on the scenario's model: periodic response
+    (CVODES at the solver's ``verify_rtol``), with the ideal-joint response for comparison."""
+    problem = scenario.problem
+    check_speed(speed, problem)
+    if speed is None:
+        speed = design_speed(problem).speed
+    t0 = time.perf_counter()
+    model = scenario.build_model()
+    sim = verify_speed(model, speed, scenario.solver.verify_rtol)
+    ideal = rigid_reference(problem, speed)
+    periodic = is_periodic(sim)
+    error = ram_speed_error(sim, problem)
+    where = scenario.model.describe()
+    summary = {"job": "simulate", "scenario": scenario.name, "model": where, "speed": source,
+               **_problem_summary(problem), "periodic": periodic, **peak_summary(sim),
+               **peak_summary(ideal, "ideal_joints_"), "max_ram_speed_error": error,
+               "objective_value": get_objective(problem.objective).value(sim),
+               "rtol": scenario.solver.verify_rtol, "wall_time_s": time.perf_counter() - t0,
+               "versions": versions(), "run": stamp()}
+    files = [write_cycle_table(out / "results.csv", {"speed": sim}), write_json(out / "speed.json", speed.to_dict())]
+    files += _figures(out, [("ideal joints", ideal), (where, sim)], problem, _window(sim, problem),
+                      f"{scenario.name}: {source}", bool(scenario.model.clearance))
+    text = "\n".join([f"{scenario.name}: {source} on the {where}", f"  {describe_problem(problem)}", "",
+                      format_table(load_table([("ideal joints", ideal), ("model", sim)])), "",
+                      f"  periodic: {periodic}; ram speed within {100 * error:.2f} % over the window"])
+    return _finish("simulate", out, summary, text, f"speed: {speed!r}", files, periodic is True)
+
+
+def _window(sim: SimResult, problem: SpeedProblem) -> tuple[float, float]:
+    """When the response's own ram is in the window, s from its first sample."""
+    t1, t2 = window_times(sim, problem)
+    return (t1 - sim.t[0], t2 - sim.t[0])
+
+
+def design_job(scenario: Scenario, out: Path) -> JobReport:
+    """The rigid (kinematic) speed design of the scenario's problem on the ideal press."""
+    problem = scenario.problem
+    t0 = time.perf_counter()
+    d = design_speed(problem)
+    wall = time.perf_counter() - t0
+    const = rigid_reference(problem, FourierSpeed.constant(problem.period))
+    designed = rigid_reference(problem, d.speed)
+    summary = {"job": "design", "scenario": scenario.name, **_problem_summary(problem), "converged": d.converged,
+               "status": d.status, "t1_s": d.t1, "t2_s": d.t2, "max_ram_speed_error": d.max_error,
+               "rms_ram_speed_error": d.rms_error, "min_omega_rad_s": d.min_omega, "wall_time_s": wall,
+               **peak_summary(designed), **peak_summary(const, "constant_speed_"),
+               "min_wrist_pin_force_N": float(designed.wrist_pin_force.min()), "versions": versions(), "run": stamp()}
+    files = [write_json(out / "speed.json", d.speed.to_dict()),
+             write_cycle_table(out / "results.csv", {"constant": const, "design": designed}),
+             save(plot_responses([("constant speed", const), ("designed speed", designed)], window=(d.t1, d.t2),
+                                 ram_speed=(problem.ram_speed, problem.tol),
+                                 title=f"{scenario.name}: rigid speed design"), out / "design.png")]
+    text = "\n".join([
+        f"{scenario.name}: rigid speed design", f"  {describe_problem(problem)}", "",
+        format_table(load_table([("constant speed", const), ("designed speed", designed)])), "",
+        f"  IPOPT: {d.status} ({wall:.2f} s); window t1 = {d.t1:.4f} s, t2 = {d.t2:.4f} s",
+        f"  ram speed error: max {100 * d.max_error:.3f} %, RMS {100 * d.rms_error:.3f} %; "
+        f"min crank speed {d.min_omega:.3f} rad/s (mean {2 * np.pi / problem.period:.3f})",
+        f"  min wrist-pin force with the design on the ideal press: {summary['min_wrist_pin_force_N']:.1f} N "
+        "(near or below zero the journals leave their walls and impact: pressocp impacts)",
+    ])
+    return _finish("design", out, summary, text, f"speed: {d.speed!r}", files, d.converged)
+
+
+def impacts_job(scenario: Scenario, out: Path) -> JobReport:
+    """Constant and rigid-designed speed on the scenario's model against the ideal press (the source
+    paper's Figs. 6 and 9 for the 75 spm scenario)."""
+    from .studies import impact_study
+
+    t0 = time.perf_counter()
+    st = impact_study(scenario.problem, scenario.model, rtol=scenario.solver.verify_rtol)
+    wall = time.perf_counter() - t0
+    ratios = st.ratios()
+    where = scenario.model.describe()
+    summary = {"job": "impacts", "scenario": scenario.name, "model": where, **_problem_summary(scenario.problem),
+               "ratios_model_over_ideal": ratios,
+               "constant": peak_summary(st.constant), "designed": peak_summary(st.designed),
+               "min_wrist_pin_force_ideal_N": {"constant": float(st.constant_rigid.wrist_pin_force.min()),
+                                               "designed": float(st.designed_rigid.wrist_pin_force.min())},
+               "periodic": {"constant": is_periodic(st.constant), "designed": is_periodic(st.designed)},
+               "wall_time_s": wall, "versions": versions(), "run": stamp()}
+    files = [write_cycle_table(out / "results.csv", {"constant": st.constant, "designed": st.designed}),
+             write_json(out / "speed.json", st.design.speed.to_dict()),
+             save(plot_impact_study(st), out / "impacts.png")]
+    rows = [["model / ideal joints", "torque", "normal force", "crank pin", "wrist pin"],
+            *([f"{k} speed", *(f"×{r[n]:.2f}" for n in ("torque", "slider_normal_force", "crank_pin_force",
+                                                         "wrist_pin_force"))] for k, r in ratios.items())]
+    text = "\n".join([f"{scenario.name}: impacts on the {where}", f"  {describe_problem(scenario.problem)}", "",
+                      format_table(rows), "", f"  {wall:.1f} s"])
+    return _finish("impacts", out, summary, text, "", files, True)
+
+
+__all__ = ["FIGURES", "JobReport", "check_speed", "design_job", "impacts_job", "optimize_job", "read_speed", "simulate_job"]

@@ -1,0 +1,97 @@
+"""What a job writes for a colleague: peak keys for ``summary.json``, the time-series table
+(``results.csv``), the before/after table and the plain-text report."""
+
+from __future__ import annotations
+
+import datetime as _dt
+import platform
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from .io import atomic_write
+from .problem import SpeedProblem, in_window
+from .result import SERIES_UNITS, SimResult
+
+#: Loads reported by every job: `SimResult` series -> (summary key stem, label, unit).
+LOADS = {
+    "torque": ("peak_torque_N_m", "peak motor torque", "N·m"),
+    "slider_normal_force": ("peak_slider_normal_force_N", "peak slider normal force", "N"),
+    "crank_pin_force": ("peak_crank_pin_force_N", "peak crank-pin force", "N"),
+    "wrist_pin_force": ("peak_wrist_pin_force_N", "peak wrist-pin force", "N"),
+}
+
+
+def peak_summary(sim: SimResult, prefix: str = "") -> dict[str, float]:
+    """Peak magnitudes of `LOADS`, keyed ``{prefix}peak_torque_N_m`` and so on (N m, N)."""
+    return {prefix + key: sim.peak(name) for name, (key, _, _) in LOADS.items()}
+
+
+def ram_speed_error(sim: SimResult, problem: SpeedProblem) -> float:
+    """max |v - ram_speed| / |ram_speed| over the samples at which the response's own ram is in the
+    height window on the downstroke (0 when no sample is)."""
+    mask = in_window(problem, sim.theta, sim.ram_height)
+    if not mask.any():
+        return 0.0
+    return float(np.max(np.abs(sim.ram_velocity[mask] / problem.ram_speed - 1.0)))
+
+
+def cycle_table(responses: Mapping[str, SimResult]) -> "pandas.DataFrame":  # noqa: F821
+    """One period of several responses side by side: ``t [s]`` from the first response's start, then
+    ``{label} {series} [unit]`` per response (interpolated onto the first one's grid when needed)."""
+    import pandas as pd
+
+    items = list(responses.items())
+    t_ref = items[0][1].t - items[0][1].t[0]
+    columns = {"t [s]": t_ref}
+    for label, sim in items:
+        t = sim.t - sim.t[0]
+        same = t.shape == t_ref.shape and np.allclose(t, t_ref, rtol=0.0, atol=1e-12)
+        for name, unit in SERIES_UNITS.items():
+            if name == "t":
+                continue
+            values = getattr(sim, name)
+            columns[f"{label} {name} [{unit}]"] = values if same else np.interp(t_ref, t, values)
+    return pd.DataFrame(columns)
+
+
+def write_cycle_table(path: str | Path, responses: Mapping[str, SimResult]) -> Path:
+    """`cycle_table` as CSV, written atomically."""
+    return atomic_write(path, cycle_table(responses).to_csv(index=False, float_format="%.10g"))
+
+
+def load_table(columns: Sequence[tuple[str, SimResult]]) -> list[list[str]]:
+    """Rows "load | value per column" of the peak `LOADS` of each response."""
+    rows = [["", *(label for label, _ in columns)]]
+    for name, (_, label, unit) in LOADS.items():
+        rows.append([f"{label}, {unit}", *(f"{sim.peak(name):,.1f}" for _, sim in columns)])
+    return rows
+
+
+def format_table(rows: Sequence[Sequence[str]]) -> str:
+    """Plain-text table: first column left-aligned, the others right-aligned."""
+    widths = [max(len(str(r[j])) for r in rows) for j in range(len(rows[0]))]
+    lines = []
+    for r in rows:
+        cells = [str(r[0]).ljust(widths[0])] + [str(c).rjust(w) for c, w in zip(r[1:], widths[1:])]
+        lines.append("  ".join(cells).rstrip())
+    return "\n".join(lines)
+
+
+def stamp() -> dict[str, str]:
+    """When and where a job ran: ISO date-time, machine, Python."""
+    return {"date": _dt.datetime.now().isoformat(timespec="seconds"), "machine": platform.node(),
+            "platform": platform.platform(), "python": platform.python_version()}
+
+
+def describe_problem(problem: SpeedProblem) -> str:
+    """One line: cycle, ram speed and window, objective."""
+    h1, h2 = problem.window
+    return (f"T = {problem.period:g} s ({problem.stroke_rate_spm:g} strokes/min), ram speed "
+            f"{problem.ram_speed:g} ± {problem.tol:.3g} m/s over h/H {h1:g} → {h2:g}, "
+            f"objective {problem.objective}")
+
+
+__all__ = ["LOADS", "cycle_table", "describe_problem", "format_table", "load_table", "peak_summary",
+           "ram_speed_error", "stamp", "write_cycle_table"]

@@ -1,0 +1,122 @@
+"""Bad scenario files and arguments: exit code 2, one message that names the key, nothing solved."""
+
+import json
+
+import pytest
+
+from pressocp.cli import main, parse_set, template
+from pressocp.scenario import Scenario
+
+GOOD = """
+name = "my press"
+[press]
+crank_radius = 0.08
+rod_length = 0.40
+slider_mass = 600.0
+[press.crank_pin]
+clearance = 1.5e-4
+[press.wrist_pin]
+clearance = 1.5e-4
+[problem]
+stroke_rate_spm = 50
+ram_speed = -0.12
+window = [0.6, 0.25]
+"""
+
+# (what is wrong, TOML text appended to / replacing GOOD, words the message must contain)
+BAD_FILES = [
+    ("unknown key, with suggestion", GOOD.replace("stroke_rate_spm = 50", "stroke_rate = 50"),
+     ["problem.stroke_rate", "stroke_rate_spm"]),
+    ("unknown table", GOOD + "[solvers]\njit = true\n", ["solvers", "solver"]),
+    ("wrong type", GOOD.replace("ram_speed = -0.12", 'ram_speed = "fast"'), ["problem.ram_speed", "a number"]),
+    ("clearance in mm", GOOD.replace("clearance = 1.5e-4\n[press.wrist", "clearance = 0.15\n[press.wrist"),
+     ["crank_pin.clearance", "0.15", "0.00015 m"]),
+    ("crank radius in mm", GOOD.replace("crank_radius = 0.08", "crank_radius = 80"), ["crank_radius", "80", "mm"]),
+    ("mass in grams", GOOD.replace("slider_mass = 600.0", "slider_mass = 600000.0"), ["slider_mass", "600000"]),
+    ("rod shorter than crank", GOOD.replace("rod_length = 0.40", "rod_length = 0.06"), ["rod_length", "crank"]),
+    ("window reversed", GOOD.replace("window = [0.6, 0.25]", "window = [0.25, 0.6]"), ["window", "0.25"]),
+    ("window of one number", GOOD.replace("window = [0.6, 0.25]", "window = 0.6"), ["problem.window", "two numbers"]),
+    ("ram speed upward", GOOD.replace("ram_speed = -0.12", "ram_speed = 0.12"), ["ram_speed", "0.12"]),
+    ("ram speed the crank cannot deliver", GOOD.replace("ram_speed = -0.12", "ram_speed = -5.0"),
+     ["ram_speed", "-5"]),
+    ("both cycle keys", GOOD.replace("stroke_rate_spm = 50", "stroke_rate_spm = 50\nperiod_s = 1.2"),
+     ["stroke_rate_spm", "period_s"]),
+    ("stroke rate negative", GOOD.replace("stroke_rate_spm = 50", "stroke_rate_spm = -50"),
+     ["stroke_rate_spm", "-50"]),
+    ("unknown objective", GOOD + 'objective = "peak_torq"\n', ["objective", "peak_torq", "peak_torque"]),
+    ("unknown rod", GOOD + '[model]\nrod = "flex"\n', ["rod", "flex"]),
+    ("unknown joint", GOOD + '[model]\nclearance = ["crank"]\n', ["clearance", "crank"]),
+    ("unknown transcription", GOOD + '[solver]\ntranscription = "ipopt"\n', ["solver.transcription", "ipopt"]),
+    ("malformed TOML", GOOD.replace("slider_mass = 600.0", "slider_mass = 600.0 kg"), ["TOML", "line"]),
+    ("a table given a value", GOOD.replace("[press.wrist_pin]\nclearance = 1.5e-4", "").replace(
+        "[problem]", "[problem]") + "", None),  # placeholder replaced below
+]
+BAD_FILES[-1] = ("a bearing given as a number", GOOD.replace("[press.crank_pin]\nclearance = 1.5e-4\n", "").replace(
+    "slider_mass = 600.0", "slider_mass = 600.0\ncrank_pin = 0.04"), ["press.crank_pin", "table"])
+
+
+@pytest.mark.parametrize("what, text, words", BAD_FILES, ids=[b[0] for b in BAD_FILES])
+def test_bad_scenario_file_exits_2(tmp_path, capsys, what, text, words):
+    path = tmp_path / "my.toml"
+    path.write_text(text)
+    assert main(["optimize", str(path), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("pressocp: error:") and err.count("\n") == 1 and "Traceback" not in err
+    for w in words:
+        assert w in err, (what, err)
+    assert not (tmp_path / "out").exists()  # failed before anything ran
+
+
+BAD_ARGS = [
+    ("missing file", ["optimize", "{tmp}/nothing.toml"], ["nothing.toml", "no such scenario file"]),
+    ("unknown bundled name", ["optimize", "press7"], ["press7"]),
+    ("--set unknown key", ["design", "--set", "problem.stroke=60"], ["problem.stroke", "stroke_rate_spm"]),
+    ("--set wrong type", ["design", "--set", "problem.stroke_rate_spm=fast"], ["problem.stroke_rate_spm", "a number"]),
+    ("--set without =", ["design", "--set", "problem.stroke_rate_spm"], ["--set", "KEY=VALUE"]),
+    ("--set mm clearance", ["design", "--set", "press.wrist_pin.clearance=0.1"], ["wrist_pin.clearance", "0.1"]),
+    ("--speed missing", ["simulate", "--speed", "{tmp}/speed.json"], ["--speed", "speed.json"]),
+    ("--speed not JSON", ["simulate", "--speed", "{tmp}/notjson.json"], ["--speed", "not JSON"]),
+    ("--speed wrong period", ["simulate", "--speed", "{tmp}/speed1s.json"], ["period", "1", "0.8"]),
+    ("--out is a file", ["design", "--out", "{tmp}/afile"], ["--out", "afile"]),
+    ("scenario new over a file", ["scenario", "new", "{tmp}/afile"], ["exists", "--force"]),
+]
+
+
+@pytest.mark.parametrize("what, argv, words", BAD_ARGS, ids=[b[0] for b in BAD_ARGS])
+def test_bad_arguments_exit_2(tmp_path, capsys, what, argv, words):
+    (tmp_path / "notjson.json").write_text("{period: 1")
+    (tmp_path / "speed1s.json").write_text(json.dumps({"period": 1.0, "a": [0.1], "b": [0.0]}))
+    (tmp_path / "afile").write_text("x")
+    assert main([a.replace("{tmp}", str(tmp_path)) for a in argv]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("pressocp: error:") and "Traceback" not in err
+    for w in words:
+        assert w in err, (what, err)
+
+
+def test_unknown_option_is_argparse_exit_2(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["design", "--perod", "1"])
+    assert exc.value.code == 2 and "--perod" in capsys.readouterr().err
+
+
+def test_set_values_are_toml():
+    assert parse_set(["problem.stroke_rate_spm=60", "problem.window=[0.6, 0.25]", "model.rod=flexible",
+                      'name="x y"', "solver.jit=false"]) == {
+        "problem.stroke_rate_spm": 60, "problem.window": [0.6, 0.25], "model.rod": "flexible", "name": "x y",
+        "solver.jit": False}
+
+
+def test_template_is_a_valid_commented_scenario(tmp_path, capsys):
+    path = tmp_path / "my.toml"
+    assert main(["scenario", "new", str(path)]) == 0
+    text = path.read_text()
+    assert "# m, radial" in text and "stroke_rate_spm" in text
+    assert Scenario.load(path) == Scenario.load("press75").with_overrides({"name": Scenario.load(path).name})
+
+
+def test_scenario_show_applies_overrides(capsys):
+    assert main(["scenario", "show", "press75", "--set", "problem.stroke_rate_spm=60"]) == 0
+    shown = Scenario.from_toml(capsys.readouterr().out)
+    assert shown.problem.period == pytest.approx(1.0)
+    assert shown.press == Scenario.load("press75").press
