@@ -29,3 +29,14 @@ def execute_and_check_figures(self):
 
 
 NotebookRun.execute = execute_and_check_figures
+
+#: Notebooks that solve the clearance model (minutes): run with the slow tests (``pytest -m slow``).
+SLOW_NOTEBOOKS = {"05_your_press.ipynb"}
+
+
+def pytest_collection_modifyitems(config, items):
+    import pytest
+
+    for item in items:
+        if getattr(item, "nbmake", False) and item.name in SLOW_NOTEBOOKS:
+            item.add_marker(pytest.mark.slow)

@@ -230,7 +230,8 @@ def design_job(scenario: Scenario, out: Path) -> JobReport:
         f"  ram speed error: max {100 * d.max_error:.3f} %, RMS {100 * d.rms_error:.3f} %; "
         f"min crank speed {d.min_omega:.3f} rad/s (mean {2 * np.pi / problem.period:.3f})",
         f"  min wrist-pin force with the design on the ideal press: {summary['min_wrist_pin_force_N']:.1f} N "
-        "(near or below zero the journals leave their walls and impact: pressocp impacts)",
+        + ("(the rod stays in tension)" if summary["min_wrist_pin_force_N"] > 0.05 * problem.hanging_weight else
+           "(near zero or below, the journals leave their walls and impact: see pressocp impacts)"),
     ])
     return _finish("design", out, summary, text, f"speed: {d.speed!r}", files, d.converged)
 

@@ -97,3 +97,16 @@ def test_flagged_result_is_exit_1(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr(jobs, "optimize_job", flagged)
     assert main(["optimize", "--out", str(tmp_path)]) == 1
     assert "Maximum_Iterations_Exceeded" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_main_job_on_the_75_spm_scenario(tmp_path, capsys, monkeypatch):
+    """`pressocp` with no arguments (2.5 min): every file, the table, the 75 spm optimum verified."""
+    monkeypatch.chdir(tmp_path)
+    assert main([]) == 0
+    out = tmp_path / "out"
+    assert OPTIMIZE_FILES | {"journals.png"} <= {p.name for p in out.iterdir()} and no_temporary_files(out)
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["converged"] and summary["verified"] and summary["max_ram_speed_error"] <= 0.01
+    assert summary["peak_torque_N_m"] <= 148.0 and summary["initial_peak_torque_N_m"] > 800.0
+    assert "peak motor torque" in capsys.readouterr().out
