@@ -17,6 +17,7 @@ from .scenario import Scenario, ScenarioError
 from .rigid import crank_angle_at_height, rigid_inverse_dynamics, rigid_kinematics, rigid_response
 from .simulate import SimulationError, simulate
 from .speed import FourierSpeed
+from .sweeps import sweep
 
 __all__ = [
     "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "FourierSpeed", "ModelSpec", "MultipleShooting",
@@ -24,5 +25,5 @@ __all__ = [
     "SimResult", "SimulationError",
     "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "WarmStart", "build_model", "crank_angle_at_height",
     "design_speed", "hertz_internal_stiffness", "optimize_speed", "rigid_inverse_dynamics", "rigid_kinematics",
-    "rigid_response", "simulate",
+    "rigid_response", "simulate", "sweep",
 ]

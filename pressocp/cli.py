@@ -5,6 +5,7 @@
     pressocp simulate [SCENARIO] [--speed F]   a speed (default: the rigid design) on the model
     pressocp design [SCENARIO]                 rigid speed design (seconds)
     pressocp impacts [SCENARIO]                constant and designed speed: impacts in the clearances
+    pressocp sweep [SCENARIO] --vary KEY=A:B:N one task over a grid of values, in parallel
     pressocp scenario new PATH                 a commented scenario file to edit
     pressocp scenario show [SCENARIO]          the scenario as it will be run (bundled: press75, ...)
 
@@ -131,6 +132,17 @@ def _parser() -> argparse.ArgumentParser:
                      help="speed.json or result.json from optimize (default: the rigid design)")
     sub.add_parser("design", parents=[common], help="rigid speed design (seconds)")
     sub.add_parser("impacts", parents=[common], help="impacts of constant and designed speed")
+    sw = sub.add_parser("sweep", parents=[common], help="a task over a grid or a path of values (sweep.csv)")
+    sw.add_argument("--vary", action="append", default=[], metavar="KEY=VALUES", required=True,
+                    help="values of a scenario key: START:STOP:N (evenly spaced) or V1,V2,... (repeatable: a grid)")
+    sw.add_argument("--task", choices=("optimize", "simulate", "impacts"), default="optimize")
+    sw.add_argument("--path", action="store_true",
+                    help="the --vary lists (of equal length) are one path, not a grid; optima are warm-started "
+                         "from their neighbour's")
+    sw.add_argument("--speed", type=Path, default=None, help="the speed a simulate sweep evaluates (default: "
+                    "each point's rigid design)")
+    sw.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    sw.add_argument("--resume", action="store_true", help="skip the points already done in OUT/sweep.csv")
     scen = sub.add_parser("scenario", help="write a template or show a scenario")
     ssub = scen.add_subparsers(dest="action", metavar="ACTION", required=True)
     new = ssub.add_parser("new", help="write a commented scenario file to edit")
@@ -169,6 +181,8 @@ def _prepare(args: argparse.Namespace):
     matplotlib.use("Agg")  # files only; the library itself never picks a backend
     from . import jobs
 
+    if args.command == "sweep":
+        return _prepare_sweep(args, scenario, out)
     if args.command == "simulate":
         speed = jobs.read_speed(args.speed) if args.speed is not None else None
         jobs.check_speed(speed, scenario.problem)
@@ -192,8 +206,88 @@ def _prepare(args: argparse.Namespace):
     return run
 
 
+def parse_vary(items: list[str], path: bool) -> dict | list:
+    """``--vary`` strings to `pressocp.sweep`'s ``vary``: a grid (dict of lists) or, with `path`, a
+    list of points (the lists zipped)."""
+    import numpy as np
+
+    lists = {}
+    for item in items:
+        key, sep, raw = item.partition("=")
+        key = key.strip()
+        if not sep or not key or not raw.strip():
+            raise InputError(f"--vary {item!r}: expected KEY=START:STOP:N or KEY=V1,V2,...")
+        if ":" in raw:
+            parts = raw.split(":")
+            try:
+                start, stop, n = float(parts[0]), float(parts[1]), int(parts[2])
+            except (ValueError, IndexError):
+                raise InputError(f"--vary {item!r}: START:STOP:N needs two numbers and a count, e.g. "
+                                 f"{key}=5e-5:3e-4:6") from None
+            if len(parts) != 3 or not 1 <= n <= 10_000:
+                raise InputError(f"--vary {item!r}: N must be in [1, 10000] and come third")
+            values = [float(v) for v in np.linspace(start, stop, n)]
+        else:
+            values = [parse_set([f"{key}={v}"])[key] for v in raw.split(",")]
+        if key in lists:
+            raise InputError(f"--vary {key} given twice")
+        lists[key] = values
+    if not path:
+        return lists
+    lengths = {len(v) for v in lists.values()}
+    if len(lengths) != 1:
+        raise InputError(f"--path: every --vary list must have the same length, got {sorted(lengths)}")
+    return [dict(zip(lists, combo)) for combo in zip(*lists.values())]
+
+
+def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
+    """Check a sweep's input (every point) and return the job that runs it."""
+    from concurrent.futures import ProcessPoolExecutor
+    import multiprocessing
+
+    from . import jobs, plots
+    from .io import atomic_write
+    from .sweeps import points_of, sweep
+
+    vary = parse_vary(args.vary, args.path)
+    points, _ = points_of(vary)
+    speed = jobs.read_speed(args.speed) if args.speed is not None else None
+    if speed is not None and args.task != "simulate":
+        raise InputError(f"--speed is the speed a simulate sweep evaluates; --task is {args.task}")
+    for p in points:
+        jobs.check_speed(speed, scenario.with_overrides(p).problem)
+    if args.workers is not None and not 1 <= args.workers <= 256:
+        raise InputError(f"--workers must be in [1, 256], got {args.workers}")
+    csv = out / "sweep.csv"
+    if csv.exists() and not args.resume:
+        raise InputError(f"{csv} exists: pass --resume to continue that sweep, or another --out")
+    keys = list(points[0])
+
+    def run() -> int:
+        pool = None if args.workers is None else ProcessPoolExecutor(
+            args.workers, mp_context=multiprocessing.get_context("spawn"))
+        try:
+            table = sweep(scenario, vary, args.task, speed, pool, progress=not args.quiet, csv=csv)
+        finally:
+            if pool is not None:
+                pool.shutdown(cancel_futures=True)
+        plots.save(plots.plot_sweep(table, keys, f"{scenario.name}: {args.task} sweep"), out / "sweep.png")
+        failed = int((~table["ok"].astype(bool)).sum())
+        text = f"{scenario.name}: {args.task} at {len(table)} points, {failed} not ok"
+        atomic_write(out / "report.txt", text + "\n\n" + table.drop(columns=["speed"], errors="ignore")
+                     .to_string(index=False) + "\n")
+        if not args.quiet:
+            cols = [c for c in [*keys, "ok", "peak_torque_N_m", "initial_peak_torque_N_m", "rigid_peak_torque_N_m",
+                                "peak_slider_normal_force_N", "wall_time_s", "error"] if c in table]
+            print(text)
+            print(table[cols].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+            print(f"  wrote sweep.csv, sweep.png, report.txt to {out}/")
+        return 0 if failed == 0 else 1
+    return run
+
+
 #: Subcommands; a command line that starts with none of them runs ``optimize``.
-COMMANDS = ("optimize", "simulate", "design", "impacts", "scenario")
+COMMANDS = ("optimize", "simulate", "design", "impacts", "sweep", "scenario")
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -13,7 +13,7 @@ import numpy as np
 from .design import design_speed
 from .io import atomic_write, write_json
 from .objectives import get as get_objective
-from .ocp.result import versions
+from .ocp.result import OcpResult, versions
 from .ocp.verify import is_periodic, rigid_reference, verify_speed, window_times
 from .plots import plot_impact_study, plot_responses, save
 from .problem import SpeedProblem
@@ -116,6 +116,46 @@ def _finish(job: str, out: Path, summary: dict, text: str, details: str, files: 
     return JobReport(job, summary, text, files, ok)
 
 
+def optimum_summary(scenario: Scenario, result: OcpResult, ideal: SimResult | None = None) -> dict:
+    """The keys of an optimum's ``summary.json``: the problem, convergence and verification, the peaks
+    of the answer and of the initial speed on the model (``initial_...``) and of the initial speed on
+    the ideal press (``initial_ideal_joints_...``, when `ideal` is given), the floor, stages."""
+    problem = scenario.problem
+    ideal_peaks = {} if ideal is None else peak_summary(ideal, "initial_ideal_joints_")
+    return {
+        "job": "optimize", "scenario": scenario.name, "model": scenario.model.describe(),
+        "transcription": result.transcription, **_problem_summary(problem),
+        "converged": result.success, "verified": result.verified, "periodic": result.periodic,
+        "status": result.status, "objective_value": result.verified_objective,
+        "objective_unit": get_objective(problem.objective).unit,
+        **peak_summary(result.simulation), **peak_summary(result.initial_simulation, "initial_"), **ideal_peaks,
+        "rigid_peak_torque_N_m": result.rigid_peak_torque,
+        "max_ram_speed_error": ram_speed_error(result.simulation, problem),
+        "max_ram_speed_violation_m_s": result.max_ram_speed_violation, "window_t_s": [result.t1, result.t2],
+        "min_omega_rad_s": result.min_omega, "iterations": result.iterations, "wall_time_s": result.wall_time,
+        "stages": [{"name": s.name, "model": s.model, "status": s.status, "success": s.success,
+                    "iterations": s.iterations, "wall_time_s": s.wall_time, "objective": s.objective}
+                   for s in result.stages],
+    }
+
+
+def simulation_summary(scenario: Scenario, sim: SimResult, ideal: SimResult, source: str) -> dict:
+    """The keys of a simulation's ``summary.json``: the problem, periodicity, the peaks on the model and
+    on the ideal press (``ideal_joints_...``), the ram speed error and the objective's value."""
+    problem = scenario.problem
+    return {"job": "simulate", "scenario": scenario.name, "model": scenario.model.describe(), "speed": source,
+            **_problem_summary(problem), "periodic": is_periodic(sim), **peak_summary(sim),
+            **peak_summary(ideal, "ideal_joints_"), "max_ram_speed_error": ram_speed_error(sim, problem),
+            "objective_value": get_objective(problem.objective).value(sim), "rtol": scenario.solver.verify_rtol}
+
+
+def simulate_speed(scenario: Scenario, speed: FourierSpeed) -> tuple[SimResult, SimResult]:
+    """The periodic response of `speed` on the scenario's model (CVODES at the solver's ``verify_rtol``)
+    and the ideal press's on the same grid."""
+    sim = verify_speed(scenario.build_model(), speed, scenario.solver.verify_rtol)
+    return sim, rigid_reference(scenario.problem, speed)
+
+
 def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobReport:
     """The scenario's optimum: the rigid design, its response on the scenario's model, the optimum and
     its verification. Writes summary.json, results.csv, speed.json, result.json, report.txt and
@@ -126,21 +166,8 @@ def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobRep
     ideal = rigid_reference(problem, result.initial_speed)
     where = scenario.model.describe()
     unit = get_objective(problem.objective).unit
-    error = ram_speed_error(sim, problem)
-    summary = {
-        "job": "optimize", "scenario": scenario.name, "model": where, "transcription": result.transcription,
-        **_problem_summary(problem),
-        "converged": result.success, "verified": result.verified, "periodic": result.periodic,
-        "status": result.status, "objective_value": result.verified_objective, "objective_unit": unit,
-        **peak_summary(sim), **peak_summary(init, "initial_"), **peak_summary(ideal, "initial_ideal_joints_"),
-        "rigid_peak_torque_N_m": result.rigid_peak_torque, "max_ram_speed_error": error,
-        "max_ram_speed_violation_m_s": result.max_ram_speed_violation, "window_t_s": [result.t1, result.t2],
-        "min_omega_rad_s": result.min_omega, "iterations": result.iterations, "wall_time_s": result.wall_time,
-        "stages": [{"name": s.name, "model": s.model, "status": s.status, "success": s.success,
-                    "iterations": s.iterations, "wall_time_s": s.wall_time, "objective": s.objective}
-                   for s in result.stages],
-        "versions": versions(), "run": stamp(),
-    }
+    summary = {**optimum_summary(scenario, result, ideal), "versions": versions(), "run": stamp()}
+    error = summary["max_ram_speed_error"]
     files = [write_cycle_table(out / "results.csv", {"initial": init, "optimum": sim}),
              write_json(out / "speed.json", result.speed.to_dict()), result.to_json(out / "result.json")]
     label = "optimum" if result.success else "best iterate (not converged)"
@@ -178,18 +205,10 @@ def simulate_job(scenario: Scenario, out: Path, speed: FourierSpeed | None = Non
     if speed is None:
         speed = design_speed(problem).speed
     t0 = time.perf_counter()
-    model = scenario.build_model()
-    sim = verify_speed(model, speed, scenario.solver.verify_rtol)
-    ideal = rigid_reference(problem, speed)
-    periodic = is_periodic(sim)
-    error = ram_speed_error(sim, problem)
-    where = scenario.model.describe()
-    summary = {"job": "simulate", "scenario": scenario.name, "model": where, "speed": source,
-               **_problem_summary(problem), "periodic": periodic, **peak_summary(sim),
-               **peak_summary(ideal, "ideal_joints_"), "max_ram_speed_error": error,
-               "objective_value": get_objective(problem.objective).value(sim),
-               "rtol": scenario.solver.verify_rtol, "wall_time_s": time.perf_counter() - t0,
+    sim, ideal = simulate_speed(scenario, speed)
+    summary = {**simulation_summary(scenario, sim, ideal, source), "wall_time_s": time.perf_counter() - t0,
                "versions": versions(), "run": stamp()}
+    periodic, error, where = summary["periodic"], summary["max_ram_speed_error"], summary["model"]
     files = [write_cycle_table(out / "results.csv", {"speed": sim}), write_json(out / "speed.json", speed.to_dict())]
     files += _figures(out, [("ideal joints", ideal), (where, sim)], problem, _window(sim, problem),
                       f"{scenario.name}: {source}", bool(scenario.model.clearance))
@@ -264,4 +283,4 @@ def impacts_job(scenario: Scenario, out: Path) -> JobReport:
     return _finish("impacts", out, summary, text, "", files, True)
 
 
-__all__ = ["FIGURES", "JobReport", "check_speed", "design_job", "impacts_job", "optimize_job", "read_speed", "simulate_job"]
+__all__ = ["FIGURES", "JobReport", "check_speed", "optimum_summary", "simulate_speed", "simulation_summary", "design_job", "impacts_job", "optimize_job", "read_speed", "simulate_job"]

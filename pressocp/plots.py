@@ -204,3 +204,39 @@ def plot_speed_design(result, title: str = "") -> "plt.Figure":
         axes[0].set_title(title, fontsize=9)
     fig.tight_layout()
     return fig
+
+
+def plot_sweep(table, keys: Sequence[str], title: str = "") -> "plt.Figure":
+    """Peaks against the first varied key of a `pressocp.sweep` table, one line per combination of the
+    other keys: motor torque (with the initial speed's and the rigid floor, dashed, for optima), slider
+    normal force and the larger pin force. Failed points are left out."""
+    rows = [("peak_torque_N_m", "peak motor torque [N·m]"), ("peak_slider_normal_force_N", "peak slider normal force [N]"),
+            ("peak_pin_force_N", "peak pin force [N]")]
+    data = table[table["ok"].astype(bool)].copy() if "ok" in table else table.copy()
+    if "peak_crank_pin_force_N" in data:
+        data["peak_pin_force_N"] = data[["peak_crank_pin_force_N", "peak_wrist_pin_force_N"]].max(axis=1)
+    x, others = keys[0], list(keys[1:])
+    groups = data.groupby(others, sort=True) if others else [((), data)]
+    fig, axes = plt.subplots(len(rows), 1, figsize=(7, 2.4 * len(rows) + 0.6), sharex=True)
+    for k, (values, group) in enumerate(groups):
+        values = values if isinstance(values, tuple) else (values,)
+        label = ", ".join(f"{o} = {v:g}" for o, v in zip(others, values)) or "optimum"
+        group = group.sort_values(x)
+        for ax, (col, _) in zip(axes, rows):
+            if col in group:
+                ax.plot(group[x], group[col], "o-", color=f"C{k}", label=label)
+        if "initial_peak_torque_N_m" in group:
+            axes[0].plot(group[x], group["initial_peak_torque_N_m"], "x:", color=f"C{k}", lw=0.8,
+                         label="initial speed" if k == 0 else None)
+        if "rigid_peak_torque_N_m" in group:
+            axes[0].plot(group[x], group["rigid_peak_torque_N_m"], "--", color=f"C{k}", lw=0.8,
+                         label="rigid-press floor" if k == 0 else None)
+    for ax, (_, name) in zip(axes, rows):
+        ax.set_ylabel(name, fontsize=8)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=7)
+    axes[-1].set_xlabel(x)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return fig

@@ -9,6 +9,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 from .io import atomic_write
 from .problem import SpeedProblem, in_window
@@ -37,11 +38,9 @@ def ram_speed_error(sim: SimResult, problem: SpeedProblem) -> float:
     return float(np.max(np.abs(sim.ram_velocity[mask] / problem.ram_speed - 1.0)))
 
 
-def cycle_table(responses: Mapping[str, SimResult]) -> "pandas.DataFrame":  # noqa: F821
+def cycle_table(responses: Mapping[str, SimResult]) -> pd.DataFrame:
     """One period of several responses side by side: ``t [s]`` from the first response's start, then
     ``{label} {series} [unit]`` per response (interpolated onto the first one's grid when needed)."""
-    import pandas as pd
-
     items = list(responses.items())
     t_ref = items[0][1].t - items[0][1].t[0]
     columns = {"t [s]": t_ref}

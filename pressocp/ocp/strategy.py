@@ -39,7 +39,7 @@ from .shooting import MultipleShooting
 from .stage import Check, StageResult, Transcription, WarmStart, settings_repr
 from .verify import IMPACT_RATIO, is_periodic, ram_speed_violation, rigid_reference, screen, verify_speed
 
-MODES = ("auto", "all")
+MODES = ("auto", "all", "continue")
 #: Checks of a stage's answer run at this tolerance (the final verification at `Strategy.verify_rtol`).
 CHECK_RTOL = 1e-7
 #: IPOPT iterations per refinement round, and the trust region's growth and shrink factors.
@@ -61,9 +61,11 @@ class Strategy:
 
     Attributes
     ----------
-    mode : {"auto", "all"}
+    mode : {"auto", "all", "continue"}
         "auto": use no more model than the scene needs (a verified rigid-press answer ends the
-        chain); "all": run every stage.
+        chain); "all": run every stage; "continue": as "auto", but the stages on models with states
+        start from the initial speed (a neighbouring optimum, in a continuation) with no
+        no-reversal or soft stage.
     rigid : Rigid
         Transcription of the rigid and no-reversal stages.
     tension_margin : float or None
@@ -129,7 +131,9 @@ class Strategy:
                                                                model.n_harmonics)
         rigid.check = self.check(base, rigid, problem)
         start = rigid
-        if not rigid.check.verified and self.tension_margin is not None and problem.press.process_force.force == 0.0:
+        cont = self.mode == "continue"
+        if not rigid.check.verified and not cont and self.tension_margin is not None \
+                and problem.press.process_force.force == 0.0:
             bound = self.tension_margin * problem.hanging_weight
             nr = self.rigid.solve(problem.replace(min_tension=bound), model, WarmStart(rigid.speed), "no_reversal",
                                   progress)
@@ -139,7 +143,7 @@ class Strategy:
                 if nr.check.verified or nr.check.ratio < rigid.check.ratio:
                     start = nr
         chain: list[tuple[str, PressModel]] = []
-        if self.mode == "auto" and rigid.check.verified:
+        if self.mode in ("auto", "continue") and rigid.check.verified:
             reason = (f"the rigid optimum meets the constraints on this model and its objective is within "
                       f"{self.verified_ratio:g} x its rigid-press value")
             stages.append(StageResult.skipped("target", reason, base.spec.describe(), start))
@@ -151,13 +155,13 @@ class Strategy:
                     chain.append(("flexible", model))
         else:
             if getattr(transcription, "needs_soft_start", False) and self.soft_factor is not None \
-                    and start.check.ratio > IMPACT_RATIO:
+                    and not cont and start.check.ratio > IMPACT_RATIO:
                 chain.append(("soft", build_model(soft_params(model.params, self.soft_factor), "rigid", base.clearance,
                                                   4, model.n_harmonics)))
             chain.append(("target", base))
             if model.rod == "flexible":
                 chain.append(("flexible", model))
-        speed = start.speed
+        speed = initial if cont and not rigid.check.verified else start.speed
         for name, m in chain:
             st = transcription.solve(problem, m, WarmStart(speed), name, progress)
             stages.append(st)

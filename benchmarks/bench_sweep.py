@@ -1,0 +1,136 @@
+"""Sweep benchmark: parallel speed-up and continuation.
+
+Cases (one per call; each writes benchmarks/results/sweep_<case>.json and .png):
+
+* ``parallel``      8 periodic simulations on the clearance model (60 spm scenario, its kinematic
+                    design, wrist-pin clearance 0.05..0.4 mm) with 1 worker, 2 workers (process
+                    pools) and a dask ``LocalCluster`` of 2 workers, in one run, each ``--repeat``
+                    times (median); the tables must be identical apart from wall times.
+* ``continuation``  optima along the stroke rate 60 -> 90 spm (7 points, 75 spm scenario): a path
+                    (each optimum warm-started from its neighbour's, ``Strategy(mode="continue")``)
+                    against cold starts (the default call at each point), one worker each; time per
+                    point and the optima compared.
+
+    python benchmarks/bench_sweep.py CASE [--repeat R]
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import multiprocessing
+import os
+import platform
+import statistics
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+
+import pressocp as po  # noqa: E402
+from pressocp.plots import save  # noqa: E402
+
+OUT = Path(__file__).parent / "results"
+
+
+def machine() -> dict:
+    return {"date": datetime.datetime.now().isoformat(timespec="seconds"), "machine": platform.node(),
+            "cpus": os.cpu_count(), "platform": platform.platform(), "versions": {"pressocp": po.__name__}}
+
+
+def spawn_pool(workers: int) -> ProcessPoolExecutor:
+    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+
+
+def timed(fn) -> tuple[float, pd.DataFrame]:
+    t0 = time.perf_counter()
+    out = fn()
+    return time.perf_counter() - t0, out
+
+
+def parallel(repeat: int) -> dict:
+    scenario = po.Scenario.load("press60")
+    vary = {"wrist_pin.clearance": [float(c) for c in np.linspace(5e-5, 4e-4, 8)]}
+    times: dict[str, list[float]] = {"1 worker": [], "2 workers": [], "dask, 2 workers": []}
+    tables = {}
+    for _ in range(repeat):
+        for label, workers in (("1 worker", 1), ("2 workers", 2)):
+            with spawn_pool(workers) as pool:
+                pool.submit(int).result()  # workers started (and pressocp imported lazily) inside the timing below
+                dt, tables[label] = timed(lambda: po.sweep(scenario, vary, "simulate", executor=pool, progress=False))
+            times[label].append(dt)
+        from distributed import Client, LocalCluster
+
+        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+                Client(cluster) as client:
+            ex = client.get_executor()
+            dt, tables["dask, 2 workers"] = timed(lambda: po.sweep(scenario, vary, "simulate", executor=ex,
+                                                                   progress=False))
+        times["dask, 2 workers"].append(dt)
+    ref = tables["1 worker"].drop(columns="wall_time_s")
+    identical = {k: bool(t.drop(columns="wall_time_s").equals(ref)) for k, t in tables.items()}
+    med = {k: statistics.median(v) for k, v in times.items()}
+    row = {"case": "parallel", **machine(), "points": 8, "repeat": repeat, "wall_times_s": times,
+           "median_s": med, "speedup_2_workers": med["1 worker"] / med["2 workers"],
+           "speedup_dask": med["1 worker"] / med["dask, 2 workers"], "identical_tables": identical,
+           "table": tables["1 worker"].drop(columns="speed").to_dict("records")}
+    fig, ax = plt.subplots(figsize=(6, 3))
+    ax.barh(list(med), list(med.values()), color=["C0", "C1", "C2"])
+    for i, v in enumerate(med.values()):
+        ax.text(v, i, f" {v:.1f} s (x{med['1 worker'] / v:.2f})", va="center", fontsize=8)
+    ax.set_xlabel(f"wall time of 8 periodic simulations, s (median of {repeat})")
+    ax.set_title(f"pressocp.sweep on {os.cpu_count()} cores", fontsize=9)
+    fig.tight_layout()
+    save(fig, OUT / "sweep_parallel.png")
+    return row
+
+
+def continuation() -> dict:
+    scenario = po.Scenario.load("press75")
+    rates = [60, 65, 70, 75, 80, 85, 90]
+    path = [{"problem.stroke_rate_spm": r} for r in rates]
+    with spawn_pool(1) as pool:
+        dt_warm, warm = timed(lambda: po.sweep(scenario, path, "optimize", executor=pool, progress=True))
+    with spawn_pool(1) as pool:
+        dt_cold, cold = timed(lambda: po.sweep(scenario, {"problem.stroke_rate_spm": rates}, "optimize",
+                                               executor=pool, progress=True))
+    cols = ["problem.stroke_rate_spm", "ok", "peak_torque_N_m", "rigid_peak_torque_N_m", "wall_time_s", "status"]
+    row = {"case": "continuation", **machine(), "total_s": {"path (warm)": dt_warm, "cold": dt_cold},
+           "warm": warm[cols].to_dict("records"), "cold": cold[cols].to_dict("records"),
+           "relative_difference": (warm["peak_torque_N_m"] / cold["peak_torque_N_m"] - 1).tolist()}
+    fig, axes = plt.subplots(2, 1, figsize=(6, 5), sharex=True)
+    for table, label, style in ((cold, "cold start", "o-"), (warm, "continuation", "x--")):
+        axes[0].plot(table["problem.stroke_rate_spm"], table["peak_torque_N_m"], style, label=label)
+        axes[1].plot(table["problem.stroke_rate_spm"], table["wall_time_s"], style, label=label)
+    axes[0].plot(cold["problem.stroke_rate_spm"], cold["rigid_peak_torque_N_m"], ":", color="0.5", label="rigid floor")
+    axes[0].set_ylabel("optimal peak torque [N·m]")
+    axes[1].set_ylabel("time per point [s]")
+    axes[1].set_xlabel("stroke rate [strokes/min]")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    save(fig, OUT / "sweep_continuation.png")
+    return row
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("case", choices=("parallel", "continuation"))
+    ap.add_argument("--repeat", type=int, default=3)
+    args = ap.parse_args()
+    row = parallel(args.repeat) if args.case == "parallel" else continuation()
+    OUT.mkdir(exist_ok=True)
+    (OUT / f"sweep_{args.case}.json").write_text(json.dumps(row, indent=2, default=str) + "\n")
+    print(json.dumps({k: v for k, v in row.items() if k not in ("table", "warm", "cold")}, indent=2, default=str))
+
+
+if __name__ == "__main__":
+    main()

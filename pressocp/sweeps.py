@@ -1,0 +1,279 @@
+"""Sweeps: one task (optimise, simulate, impacts) over a grid or a path of scenario values, in
+parallel over any `concurrent.futures.Executor`, as a pandas table.
+
+    table = po.sweep(po.Scenario.load("press75"),
+                     {"wrist_pin.clearance": [5e-5, 1e-4, 2e-4], "problem.stroke_rate_spm": [60, 75]},
+                     task="simulate")
+
+Values are named by the scenario's dotted keys (press fields with or without ``press.``; problem,
+model and solver keys with their table). A dict of lists is a grid (every combination); a list of
+dicts is a path, whose optima are warm-started from their neighbour's (continuation, one after the
+other). Points run in worker processes (IPOPT's MUMPS is not thread-safe); a
+``dask.distributed`` ``Client.get_executor()`` runs them on a cluster. A point that fails is a row
+with its error, not a failed sweep. With ``csv=`` the table is written after every point and a
+rerun skips the points already done.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import multiprocessing
+import os
+import time
+from collections.abc import Mapping, Sequence
+from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+from tqdm.auto import tqdm
+
+from .io import atomic_write
+from .model import ModelSpec
+from .problem import SpeedProblem
+from .scenario import Scenario, ScenarioError
+from .speed import FourierSpeed
+from .studies import impact_study
+
+#: What a sweep can run at each point.
+TASKS = ("optimize", "simulate", "impacts")
+#: Columns every row has after the varied values.
+BASE_COLUMNS = ("task", "ok", "error", "wall_time_s")
+
+
+def points_of(vary: Mapping[str, Sequence] | Sequence[Mapping[str, Any]]) -> tuple[list[dict], bool]:
+    """The points of a grid (dict of lists: every combination, the last key varying fastest) or of a
+    path (list of dicts, in order), and whether it is a path."""
+    if isinstance(vary, Mapping):
+        if not vary:
+            raise ValueError("vary must name at least one key")
+        keys = list(vary)
+        for k in keys:
+            if isinstance(vary[k], (str, bytes)) or not isinstance(vary[k], Sequence) or len(vary[k]) == 0:
+                raise ValueError(f"vary[{k!r}] must be a non-empty list of values, got {vary[k]!r}")
+        return [dict(zip(keys, combo)) for combo in itertools.product(*(vary[k] for k in keys))], False
+    points = [dict(p) for p in vary]
+    if not points or not all(points):
+        raise ValueError("a path must be a non-empty list of non-empty dicts of scenario values")
+    keys = set(points[0])
+    for i, p in enumerate(points):
+        if set(p) != keys:
+            raise ValueError(f"path point {i} sets {sorted(p)}, point 0 sets {sorted(keys)}: every point must "
+                             "set the same keys")
+    return points, True
+
+
+def as_scenario(base: Scenario | SpeedProblem) -> Scenario:
+    """A scenario from a scenario or a problem (default model: rigid rod, both clearances)."""
+    if isinstance(base, Scenario):
+        return base
+    if isinstance(base, SpeedProblem):
+        return Scenario("sweep", base, ModelSpec())
+    raise ValueError(f"base must be a Scenario or a SpeedProblem, got {type(base).__name__}")
+
+
+def run_point(task: str, scenario: Scenario, speed: FourierSpeed | None = None,
+              initial: FourierSpeed | None = None) -> dict:
+    """One row: `task` on `scenario` (flat values: peaks, convergence, verification, the speed as JSON).
+    Errors are caught into the row (``ok`` False, ``error`` the message); Ctrl-C is not."""
+    from . import jobs  # the summaries of the command line's jobs
+
+    t0 = time.perf_counter()
+    row: dict[str, Any] = {"task": task, "ok": False, "error": ""}
+    try:
+        if task == "optimize":
+            result = (scenario.optimize(progress=False) if initial is None else
+                      _optimize_from(scenario, initial))
+            summary = jobs.optimum_summary(scenario, result)
+            row.update(ok=bool(result.success and result.verified), speed=json.dumps(result.speed.to_dict()))
+        elif task == "simulate":
+            from .design import design_speed
+
+            speed = design_speed(scenario.problem).speed if speed is None else speed
+            sim, ideal = jobs.simulate_speed(scenario, speed)
+            summary = jobs.simulation_summary(scenario, sim, ideal, "sweep")
+            row.update(ok=summary["periodic"] is True, speed=json.dumps(speed.to_dict()))
+        else:
+            st = impact_study(scenario.problem, scenario.model, rtol=scenario.solver.verify_rtol)
+            summary = {f"{label}_{load}_ratio": r for label, ratios in st.ratios().items()
+                       for load, r in ratios.items()}
+            row.update(ok=True, speed=json.dumps(st.design.speed.to_dict()))
+        row.update({k: v for k, v in summary.items() if isinstance(v, (bool, int, float, str))
+                    and k not in ("job", "scenario", "speed")})
+    except (ValueError, ArithmeticError, RuntimeError) as err:  # solver and model failures: a row
+        row["error"] = f"{type(err).__name__}: {str(err).splitlines()[0] if str(err) else ''}"
+    row["wall_time_s"] = time.perf_counter() - t0
+    return row
+
+
+def _optimize_from(scenario: Scenario, initial: FourierSpeed):
+    """The optimum with its stages on the model started from `initial` (``Strategy(mode="continue")``)."""
+    from dataclasses import replace
+
+    from .ocp import optimize_speed
+
+    strategy = replace(scenario.solver.make_strategy(), mode="continue")
+    return optimize_speed(scenario.problem, scenario.build_model(), scenario.solver.make_transcription(),
+                          strategy, False, initial=initial)
+
+
+def rescale(speed: FourierSpeed, period: float) -> FourierSpeed:
+    """The same crank motion per cycle at another period: theta(t) = theta_0(t T0 / T), so omega and
+    every coefficient scale by T0 / T (a neighbour's optimum as the start of the next point)."""
+    f = speed.period / period
+    return FourierSpeed(period, speed.a * f, speed.b * f, speed.theta0)
+
+
+def _default_executor(n: int) -> Executor:
+    workers = max(1, min(n, os.cpu_count() or 1))
+    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+
+
+def _norm(v: Any) -> Any:
+    """A value as compared across a CSV round trip: numbers as floats, lists element-wise."""
+    if isinstance(v, (list, tuple)):
+        return [_norm(x) for x in v]
+    if isinstance(v, (int, float)) and not isinstance(v, bool):
+        return float(v)
+    return v
+
+
+def _key_of(values: Mapping[str, Any]) -> str:
+    return json.dumps({k: _norm(values[k]) for k in sorted(values)}, sort_keys=True, default=str)
+
+
+def _done_rows(csv: Path | None, keys: list[str]) -> dict[str, dict]:
+    """Rows of an earlier run of the same sweep that succeeded, by their varied values."""
+    if csv is None or not csv.exists():
+        return {}
+    old = pd.read_csv(csv)
+    if not set(keys) <= set(old.columns):
+        raise ValueError(f"{csv} holds another sweep (its columns lack {sorted(set(keys) - set(old.columns))})")
+    old = old.astype(object).where(old.notna(), None)
+    done = {}
+    for row in old.to_dict("records"):
+        if str(row.get("ok")) == "True":
+            done[_key_of({k: _plain(row[k]) for k in keys})] = row
+    return done
+
+
+def _plain(v: Any) -> Any:
+    """CSV cells read back as the values written (lists were written as JSON)."""
+    if isinstance(v, str) and v.startswith("["):
+        return json.loads(v)
+    return v
+
+
+def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence[Mapping[str, Any]],
+          task: str = "optimize", speed: FourierSpeed | None = None, executor: Executor | None = None,
+          progress: bool = True, *, csv: str | Path | None = None) -> pd.DataFrame:
+    """Run `task` at every point of `vary` and tabulate.
+
+    Parameters
+    ----------
+    base : Scenario or SpeedProblem
+        The values not varied.
+    vary : dict of lists, or list of dicts
+        A grid (every combination) or a path (in order; optima warm-started from their neighbour's,
+        run one after the other). Keys are dotted scenario keys: ``"wrist_pin.clearance"`` (m),
+        ``"slider_mass"`` (kg), ``"problem.stroke_rate_spm"``, ``"problem.ram_speed"`` (m/s), ...
+    task : {"optimize", "simulate", "impacts"}
+        What each point runs: `optimize_speed` (verified optimum), the periodic response of `speed`
+        (default: each point's kinematic design), or the impact study (constant and designed speed).
+    speed : FourierSpeed, optional
+        The speed a "simulate" sweep evaluates at every point (its period must be each point's).
+    executor : concurrent.futures.Executor, optional
+        Where the points run; default a process pool with one worker per core (at most one per
+        point). ``Client.get_executor()`` of ``dask.distributed`` runs them on a cluster. The
+        executor is not shut down.
+    progress : bool
+        A tqdm bar over the points.
+    csv : path, optional
+        Write the table there after every point (atomically) and skip the points that an earlier
+        run wrote with ``ok`` True.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per point, in the order of the points: the varied values, ``task``, ``ok``
+        (converged and verified / periodic), ``error`` (empty unless the point failed), the peaks and
+        the other summary values of the task, ``speed`` (JSON of `FourierSpeed.to_dict`) and
+        ``wall_time_s``.
+
+    Raises
+    ------
+    ValueError, ScenarioError
+        A bad point, task or speed, before anything runs.
+    KeyboardInterrupt
+        Ctrl-C: the points done are in `csv` (when given); pending ones are cancelled.
+    """
+    if task not in TASKS:
+        raise ValueError(f"task must be one of {', '.join(TASKS)}; got {task!r}")
+    scenario = as_scenario(base)
+    points, is_path = points_of(vary)
+    scenarios = [scenario.with_overrides(p) for p in points]  # every point checked before any solve
+    if speed is not None:
+        if task != "simulate":
+            raise ValueError(f"speed is the speed a simulate sweep evaluates; task is {task!r}")
+        for p, s in zip(points, scenarios):
+            if abs(s.problem.period - speed.period) > 1e-9 * speed.period:
+                raise ScenarioError(f"speed has period {speed.period:g} s but the point {p} has "
+                                    f"{s.problem.period:g} s")
+    keys = list(points[0])
+    csv = None if csv is None else Path(csv)
+    done = _done_rows(csv, keys)
+    rows: dict[int, dict] = {}
+    for i, p in enumerate(points):
+        if _key_of(p) in done:
+            rows[i] = {**done[_key_of(p)], **p}
+    todo = [i for i in range(len(points)) if i not in rows]
+    bar = tqdm(total=len(points), initial=len(rows), desc=f"sweep ({task})", disable=not progress)
+
+    def record(i: int, row: dict) -> None:
+        rows[i] = {**points[i], **row}
+        bar.update(1)
+        if csv is not None:
+            atomic_write(csv, _table(rows, keys).to_csv(index=False))
+
+    try:
+        if is_path and task == "optimize":  # continuation: one after the other, each from its neighbour
+            previous = None
+            for i in range(len(points)):
+                if i in rows:
+                    previous = FourierSpeed.from_dict(json.loads(rows[i]["speed"])) if rows[i].get("speed") else None
+                    continue
+                start = None if previous is None else rescale(previous, scenarios[i].problem.period)
+                if start is not None and start.n_harmonics > scenarios[i].problem.n_harmonics:
+                    start = None
+                row = (executor.submit(run_point, task, scenarios[i], None, start).result() if executor is not None
+                       else run_point(task, scenarios[i], None, start))
+                record(i, row)
+                previous = FourierSpeed.from_dict(json.loads(row["speed"])) if row.get("ok") else previous
+        elif todo:
+            own = executor is None
+            pool = _default_executor(len(todo)) if own else executor
+            futures = {}
+            try:
+                futures = {pool.submit(run_point, task, scenarios[i], speed): i for i in todo}
+                for fut in as_completed(futures):
+                    record(futures[fut], fut.result())
+            except BaseException:
+                for f in futures:
+                    f.cancel()
+                raise
+            finally:
+                if own:
+                    pool.shutdown(wait=True, cancel_futures=True)
+    finally:
+        bar.close()
+    return _table(rows, keys)
+
+
+def _table(rows: dict[int, dict], keys: list[str]) -> pd.DataFrame:
+    frame = pd.DataFrame([rows[i] for i in sorted(rows)])
+    first = [*keys, *BASE_COLUMNS]
+    return frame[[c for c in first if c in frame] + [c for c in frame if c not in first]]
+
+
+__all__ = ["TASKS", "as_scenario", "points_of", "rescale", "run_point", "sweep"]

@@ -1,0 +1,121 @@
+"""Sweeps: grids and paths, identical tables whatever the executor, failed points as rows, resume."""
+
+import json
+from concurrent.futures import Executor, Future, ProcessPoolExecutor
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import pressocp as po
+from pressocp import sweeps as sweep_module
+from pressocp.scenario import ScenarioError
+
+RIGID = po.Scenario.load("press75").with_overrides({"model.clearance": []})
+SPEED = po.FourierSpeed.constant(0.8)
+
+
+class Serial(Executor):
+    """Runs each task when submitted, in this process."""
+
+    def submit(self, fn, *args, **kwargs):
+        f = Future()
+        try:
+            f.set_result(fn(*args, **kwargs))
+        except BaseException as err:  # noqa: BLE001 - handed to the caller through the future
+            f.set_exception(err)
+        return f
+
+
+def comparable(table: pd.DataFrame) -> pd.DataFrame:
+    return table.drop(columns=["wall_time_s"])
+
+
+def test_grid_and_path_points():
+    grid, is_path = sweep_module.points_of({"slider_mass": [100.0, 200.0], "problem.stroke_rate_spm": [60, 75, 90]})
+    assert not is_path and len(grid) == 6 and grid[1] == {"slider_mass": 100.0, "problem.stroke_rate_spm": 75}
+    path, is_path = sweep_module.points_of([{"slider_mass": 100.0}, {"slider_mass": 200.0}])
+    assert is_path and path[1] == {"slider_mass": 200.0}
+    with pytest.raises(ValueError, match="same keys"):
+        sweep_module.points_of([{"slider_mass": 100.0}, {"rod_length": 0.3}])
+    with pytest.raises(ValueError, match="non-empty list"):
+        sweep_module.points_of({"slider_mass": 100.0})
+
+
+def test_bad_points_fail_before_anything_runs():
+    with pytest.raises(ScenarioError, match="wrist_pin.clearance"):
+        po.sweep(RIGID, {"wrist_pin.clearance": [1e-4, 0.2]}, task="simulate", speed=SPEED, executor=Serial())
+    with pytest.raises(ScenarioError, match="slider_mas"):
+        po.sweep(RIGID, {"slider_mas": [100.0]}, task="simulate", speed=SPEED, executor=Serial())
+    with pytest.raises(ScenarioError, match="period"):
+        po.sweep(RIGID, {"problem.stroke_rate_spm": [60, 75]}, task="simulate", speed=SPEED, executor=Serial())
+    with pytest.raises(ValueError, match="task"):
+        po.sweep(RIGID, {"slider_mass": [100.0]}, task="optimise")
+
+
+def test_simulate_sweep_matches_single_runs_and_is_the_same_on_every_executor():
+    """Slider mass on the ideal press at constant speed: the peak torque grows with the ram's mass, and
+    each row equals the job run alone; one worker, two workers and in-process give the same table."""
+    vary = {"slider_mass": [100.0, 150.0, 200.0], "wrist_pin.clearance": [1e-4, 2e-4]}
+    serial = po.sweep(RIGID, vary, task="simulate", speed=SPEED, executor=Serial(), progress=False)
+    assert list(serial.columns[:3]) == ["slider_mass", "wrist_pin.clearance", "task"]
+    assert serial["ok"].all() and (serial["error"] == "").all() and len(serial) == 6
+    torque = serial.groupby("slider_mass")["peak_torque_N_m"].first().to_numpy()
+    assert np.all(np.diff(torque) > 0)
+    alone = po.rigid_response(RIGID.with_overrides({"slider_mass": 200.0}).press, SPEED,
+                              np.linspace(0, 0.8, 20001)).peak("torque")
+    assert serial["peak_torque_N_m"].iloc[-1] == pytest.approx(alone, rel=1e-12)
+    for workers in (1, 2):
+        with ProcessPoolExecutor(workers) as pool:
+            parallel = po.sweep(RIGID, vary, task="simulate", speed=SPEED, executor=pool, progress=False)
+        pd.testing.assert_frame_equal(comparable(parallel), comparable(serial))
+
+
+def test_a_failed_point_is_a_row(monkeypatch):
+    from pressocp import jobs
+
+    original = jobs.simulate_speed
+
+    def fails_for_heavy_rams(scenario, speed):
+        if scenario.press.slider_mass > 180:
+            raise RuntimeError("integrator failed at t = 0.3 s\nhint")
+        return original(scenario, speed)
+
+    monkeypatch.setattr(jobs, "simulate_speed", fails_for_heavy_rams)
+    table = po.sweep(RIGID, {"slider_mass": [150.0, 200.0]}, task="simulate", speed=SPEED, executor=Serial(),
+                     progress=False)
+    assert table["ok"].tolist() == [True, False]
+    assert table["error"].iloc[1] == "RuntimeError: integrator failed at t = 0.3 s"
+    assert np.isnan(table["peak_torque_N_m"].iloc[1]) and table["peak_torque_N_m"].iloc[0] > 0
+
+
+def test_resume_from_csv_skips_points_done(tmp_path, monkeypatch):
+    csv = tmp_path / "sweep.csv"
+    first = po.sweep(RIGID, {"slider_mass": [100.0, 150.0]}, task="simulate", speed=SPEED, executor=Serial(),
+                     progress=False, csv=csv)
+    assert len(pd.read_csv(csv)) == 2
+    calls = []
+    original = sweep_module.run_point
+    monkeypatch.setattr(sweep_module, "run_point", lambda *a, **k: calls.append(a[1].press.slider_mass) or original(*a, **k))
+    again = po.sweep(RIGID, {"slider_mass": [100.0, 150.0, 200.0]}, task="simulate", speed=SPEED,
+                     executor=Serial(), progress=False, csv=csv)
+    assert calls == [200.0] and len(again) == 3 and len(pd.read_csv(csv)) == 3
+    assert again["peak_torque_N_m"].iloc[:2].tolist() == pytest.approx(first["peak_torque_N_m"].tolist(), rel=1e-9)
+
+
+def test_rescaled_speed_keeps_the_crank_motion_per_cycle():
+    speed = po.FourierSpeed(0.8, [1.0, 0.5], [0.2, -0.3])
+    other = sweep_module.rescale(speed, 1.0)
+    s = np.linspace(0, 1, 101)
+    assert np.allclose(other.theta(s * 1.0), speed.theta(s * 0.8), atol=1e-12)
+
+
+def test_dask_local_cluster_gives_the_same_table():
+    distributed = pytest.importorskip("distributed")
+    vary = {"slider_mass": [100.0, 200.0]}
+    serial = po.sweep(RIGID, vary, task="simulate", speed=SPEED, executor=Serial(), progress=False)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        table = po.sweep(RIGID, vary, task="simulate", speed=SPEED, executor=client.get_executor(), progress=False)
+    pd.testing.assert_frame_equal(comparable(table), comparable(serial))
+    assert json.loads(table["speed"].iloc[0])["period"] == 0.8
