@@ -143,6 +143,8 @@ class PressModel:
         form a transcription uses when it carries the crank motion as its own variables.
     x0 : ndarray
         Consistent scaled initial state: journals centred, no elastic deformation, no rates.
+    symbols : tuple of str
+        Press parameters carried at the end of p (``build_model(..., parameters=...)``).
     """
 
     params: PressParams
@@ -165,6 +167,7 @@ class PressModel:
     accelerations: ca.Function
     at_crank: ca.Function
     x0: np.ndarray = field(repr=False)
+    symbols: tuple[str, ...] = ()
 
     @property
     def nx(self) -> int:
@@ -190,7 +193,7 @@ class PressModel:
     def parameters(self, speed: FourierSpeed) -> np.ndarray:
         """The parameter vector p for a speed (harmonics padded with zeros)."""
         s = speed.padded(self.n_harmonics)
-        return np.concatenate([s.a, s.b, [s.period, s.theta0]])
+        return np.concatenate([s.a, s.b, [s.period, s.theta0], [self.params.value(n) for n in self.symbols]])
 
     def dae(self, explicit: bool = False) -> dict:
         """The DAE dict for `casadi.integrator` (with the quadratures)."""
@@ -223,6 +226,7 @@ def build_model(
     clearance: tuple[str, ...] | list[str] = JOINTS,
     n_elements: int = 4,
     n_harmonics: int = DEFAULT_HARMONICS,
+    parameters: tuple[str, ...] = (),
 ) -> PressModel:
     """Build the press DAE.
 
@@ -239,6 +243,11 @@ def build_model(
         Elements of the flexible rod, 1..64.
     n_harmonics : int
         Harmonics of the Fourier speed in p, 1..50.
+    parameters : tuple of str
+        Press parameters by dotted name (`pressocp.params.NUMERIC_PARAMETERS`, e.g. ``"slider_mass"``,
+        ``"wrist_pin.clearance"``) carried as symbols at the end of p, so that integrators and
+        functions of the model can be differentiated with respect to them (`pressocp.sensitivities`).
+        The state scaling stays at the press's values; ``at_crank`` is built at those values.
 
     Returns
     -------
@@ -248,12 +257,14 @@ def build_model(
     clearance, ne = spec.clearance, spec.n_elements
     nh = chk.integer("n_harmonics", n_harmonics, 1, 50)
     flexible = rod == "flexible"
-    P = params
+    parameters = tuple(parameters)
+    P, phys = params.with_symbols(parameters) if parameters else (params, [])
     l, g = P.rod_length, P.gravity
 
     # --- coordinates --------------------------------------------------------------------------
     t = ca.SX.sym("t")
-    p = ca.SX.sym("p", 2 * nh + 2)
+    p_speed = ca.SX.sym("p", 2 * nh + 2)
+    p = ca.vertcat(p_speed, *phys)
     a, b, period, theta0 = p[:nh], p[nh : 2 * nh], p[2 * nh], p[2 * nh + 1]
     crank = ca.SX.sym("crank", 3)  # theta, omega, alpha: the prescribed crank motion, set from p at the end
     theta_t, omega_t, alpha_t = crank[0], crank[1], crank[2]
@@ -269,12 +280,14 @@ def build_model(
     for j, sl in (("crank_pin", (2, 3)), ("wrist_pin", (4, 5))):
         if j in clearance:
             free += list(sl)
-            scale += [getattr(P, j).clearance] * 2
+            scale += [getattr(params, j).clearance] * 2  # scaling at the press's values
     if flexible:
-        w_s = (P.rod_mass / l) * ELASTIC_SCALE_ACCELERATION * l**4 / (76.8 * P.rod_youngs_modulus * P.rod_area_moment)
+        ln = params.rod_length
+        w_s = (params.rod_mass / ln) * ELASTIC_SCALE_ACCELERATION * ln**4 / (
+            76.8 * params.rod_youngs_modulus * params.rod_area_moment)
         for k in range(nw):
             free.append(6 + k)
-            scale.append(w_s * 3.2 / l if names[6 + k].startswith("w'") else w_s)
+            scale.append(w_s * 3.2 / ln if names[6 + k].startswith("w'") else w_s)
     locked = [i for i in range(6 + nw) if i not in free]
     nf = len(free)
 
@@ -386,8 +399,9 @@ def build_model(
         pin_force("crank_pin", (2, 3)), pin_force("wrist_pin", (4, 5)), ecc("crank_pin"), ecc("wrist_pin"),
         at_state([midspan])[0],
     ]
-    at_crank = ca.Function("at_crank", [x, crank], [ode_expl, *out_exprs], ["x", "crank"],
-                           ["ode", *OUTPUT_NAMES])
+    nominal = [params.value(n) for n in parameters]
+    at_crank = ca.Function("at_crank", [x, crank], ca.substitute([ode_expl, *out_exprs], phys, nominal) if phys
+                           else [ode_expl, *out_exprs], ["x", "crank"], ["ode", *OUTPUT_NAMES])
     motion = ca.vertcat(*series(t, a, b, period, theta0))
 
     def timed(exprs):  # the crank motion of the Fourier speed in p at time t
@@ -413,8 +427,9 @@ def build_model(
     x_scale = np.concatenate([s_q, s_v]) if nf else np.zeros(0)
 
     return PressModel(
-        params=P, rod=rod, clearance=clearance, n_elements=ne, n_harmonics=nh, t=t, x=x, z=z, p=p,
+        params=params, rod=rod, clearance=clearance, n_elements=ne, n_harmonics=nh, t=t, x=x, z=z, p=p,
         ode=ode, alg=alg, quad=quad, ode_explicit=ode_expl, state_names=state_names, x_scale=x_scale,
         outputs=outputs, energy=energy, at_crank=at_crank, x0=np.zeros(2 * nf),
         accelerations=ca.Function("accelerations", [t, x, p], [qdd_free_expl], ["t", "x", "p"], ["qdd"]),
+        symbols=parameters,
     )

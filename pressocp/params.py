@@ -78,9 +78,20 @@ def hertz_internal_stiffness(
     """
     rj = chk.positive("journal_radius", journal_radius, "m")
     c = chk.positive("clearance", clearance, "m")
+    return hertz_formula(rj, c, youngs_modulus, poisson)
+
+
+def hertz_formula(journal_radius, clearance, youngs_modulus: float = STEEL_YOUNGS_MODULUS,
+                  poisson: float = STEEL_POISSON):
+    """`hertz_internal_stiffness` without the checks: numbers or CasADi symbols (for derivatives)."""
     h = (1.0 - poisson**2) / youngs_modulus
-    rb = rj + c
-    return 4.0 / (3.0 * 2.0 * h) * math.sqrt(rb * rj / c)
+    rb = journal_radius + clearance
+    return 4.0 / (3.0 * 2.0 * h) * (rb * journal_radius / clearance) ** 0.5
+
+
+#: Bearing fields that may be None, and the property that gives the value in use.
+DERIVED = {"stiffness": "contact_stiffness", "damping": "damping_value", "smoothing": "smoothing_width",
+           "rod_inertia": "rod_inertia_value"}
 
 
 @dataclass(frozen=True)
@@ -155,14 +166,14 @@ class Bearing:
     def contact_stiffness(self) -> float:
         """K in N/m^exponent (given, or Hertz for steel)."""
         if self.stiffness is not None:
-            return float(self.stiffness)
-        return hertz_internal_stiffness(self.journal_radius, self.clearance)
+            return self.stiffness
+        return hertz_formula(self.journal_radius, self.clearance)
 
     @property
     def damping_value(self) -> float:
         """chi in s/m (Hunt-Crossley) or c in N s/m (Kelvin-Voigt)."""
         if self.damping is not None:
-            return float(self.damping)
+            return self.damping
         chi = 3.0
         if self.law == "hunt-crossley":
             return chi
@@ -171,7 +182,7 @@ class Bearing:
     @property
     def smoothing_width(self) -> float:
         """Smoothing width in m."""
-        return float(self.smoothing) if self.smoothing is not None else SMOOTHING_FRACTION * self.clearance
+        return self.smoothing if self.smoothing is not None else SMOOTHING_FRACTION * self.clearance
 
     @classmethod
     def from_restitution(
@@ -342,12 +353,55 @@ class PressParams:
     def rod_inertia_value(self) -> float:
         """Rod moment of inertia about its centre, kg m^2."""
         if self.rod_inertia is not None:
-            return float(self.rod_inertia)
+            return self.rod_inertia
         return self.rod_mass * self.rod_length**2 / 12.0
 
     def replace(self, **changes) -> "PressParams":
         """A copy with some fields changed (validated again)."""
         return replace(self, **changes)
+
+    # Parameters by dotted name (sensitivities, sweeps) -------------------------------------------
+    def value(self, name: str) -> float:
+        """The numeric value of a parameter by dotted name (`NUMERIC_PARAMETERS`); a field left None
+        gives the value in use (Hertz stiffness, default damping, smoothing width)."""
+        check_parameter(name)
+        owner, field_name = self._owner(name)
+        v = getattr(owner, field_name)
+        if v is None:
+            v = getattr(owner, DERIVED[field_name])
+        return float(v)
+
+    def _owner(self, name: str):
+        if "." in name:
+            joint, field_name = name.split(".")
+            return getattr(self, joint), field_name
+        return self, name
+
+    def with_symbols(self, names: tuple[str, ...]) -> tuple["PressParams", list]:
+        """A copy whose parameters `names` are CasADi SX symbols (named by the dotted name), for models
+        differentiated with respect to them; the copy is not validated and only `build_model` uses it.
+        Returns (press, symbols in the order of `names`)."""
+        import casadi as ca
+
+        def clone(obj, changes):
+            new = object.__new__(type(obj))
+            for f in fields(obj):
+                object.__setattr__(new, f.name, changes.get(f.name, getattr(obj, f.name)))
+            return new
+
+        syms, top, nested = [], {}, {}
+        for name in names:
+            check_parameter(name)
+            sym = ca.SX.sym(name)
+            syms.append(sym)
+            if "." in name:
+                joint, field_name = name.split(".")
+                nested.setdefault(joint, {})[field_name] = sym
+            else:
+                top[name] = sym
+        for joint, changes in nested.items():
+            top[joint] = clone(getattr(self, joint), changes)
+        return clone(self, top), syms
 
     def to_dict(self) -> dict:
         """Plain-data form (JSON/TOML-safe), bearings and process force as nested dicts."""
@@ -407,3 +461,24 @@ class PressParams:
             rod_damping_ratio=0.0,
         )
 
+
+
+#: Parameters a model can be differentiated with respect to, by dotted name.
+NUMERIC_PARAMETERS = (
+    "crank_radius", "rod_length", "crank_inertia", "crank_mass", "crank_com", "rod_mass", "rod_inertia",
+    "slider_mass", "gravity",
+    *(f"{j}.{f}" for j in ("crank_pin", "wrist_pin")
+      for f in ("clearance", "journal_radius", "stiffness", "damping", "tangential_damping")),
+)
+
+
+def check_parameter(name: str) -> str:
+    """Raise ValueError unless `name` is in `NUMERIC_PARAMETERS` (naming the nearest one)."""
+    if name not in NUMERIC_PARAMETERS:
+        import difflib
+
+        near = difflib.get_close_matches(str(name), NUMERIC_PARAMETERS, n=1)
+        hint = f" (did you mean {near[0]!r}?)" if near else ""
+        raise ValueError(f"parameter {name!r} is not a numeric press parameter{hint}; valid: "
+                         f"{', '.join(NUMERIC_PARAMETERS)}")
+    return name

@@ -106,3 +106,18 @@ def test_main_job_on_the_75_spm_scenario(tmp_path, capsys, monkeypatch):
     assert summary["converged"] and summary["verified"] and summary["max_ram_speed_error"] <= 0.01
     assert summary["peak_torque_N_m"] <= 148.0 and summary["initial_peak_torque_N_m"] > 800.0
     assert "peak motor torque" in capsys.readouterr().out
+
+
+def test_sweep_command_writes_table_and_figure(tmp_path, capsys):
+    """``pressocp sweep`` on the ideal press: a 2 x 2 grid of simulations, the table and the figure."""
+    out = tmp_path / "sweep"
+    code = main(["sweep", "--task", "simulate", "--vary", "slider_mass=100:200:2", "--vary",
+                 "wrist_pin.clearance=1e-4,2e-4", "--set", "model.clearance=[]", "--set", "problem.n_harmonics=6",
+                 "--workers", "1", "--out", str(out)])
+    assert code == 0
+    table = pd.read_csv(out / "sweep.csv")
+    assert table["slider_mass"].tolist() == [100.0, 100.0, 200.0, 200.0] and table["ok"].all()
+    assert (out / "sweep.png").stat().st_size > 20_000 and "peak_torque_N_m" in capsys.readouterr().out
+    assert main(["sweep", "--task", "simulate", "--vary", "slider_mass=100:200:2", "--vary",
+                 "wrist_pin.clearance=1e-4,2e-4", "--set", "model.clearance=[]", "--set", "problem.n_harmonics=6",
+                 "--workers", "1", "--out", str(out), "--resume", "--quiet"]) == 0

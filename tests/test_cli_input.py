@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from pressocp.cli import main, parse_set, template
+from pressocp.cli import main, parse_set
 from pressocp.scenario import Scenario
 
 GOOD = """
@@ -79,6 +79,17 @@ BAD_ARGS = [
     ("--speed wrong period", ["simulate", "--speed", "{tmp}/speed1s.json"], ["period", "1", "0.8"]),
     ("--out is a file", ["design", "--out", "{tmp}/afile"], ["--out", "afile"]),
     ("scenario new over a file", ["scenario", "new", "{tmp}/afile"], ["exists", "--force"]),
+    ("--vary without =", ["sweep", "--vary", "slider_mass"], ["--vary", "KEY=START:STOP:N"]),
+    ("--vary count not a number", ["sweep", "--vary", "slider_mass=100:200:x"], ["--vary", "START:STOP:N"]),
+    ("--vary unknown key", ["sweep", "--vary", "slider_mas=100,200"], ["slider_mas", "slider_mass"]),
+    ("--vary implausible value", ["sweep", "--vary", "wrist_pin.clearance=1e-4,0.1"],
+     ["wrist_pin.clearance", "0.1"]),
+    ("--path of unequal lists", ["sweep", "--path", "--vary", "slider_mass=100,200", "--vary",
+                                 "problem.stroke_rate_spm=60,70,80"], ["--path", "same length"]),
+    ("--speed with an optimize sweep", ["sweep", "--vary", "slider_mass=100,200", "--speed", "{tmp}/speed1s.json"],
+     ["--speed", "simulate"]),
+    ("sweep.csv of another run", ["sweep", "--vary", "slider_mass=100,200", "--out", "{tmp}/done"],
+     ["sweep.csv", "--resume"]),
 ]
 
 
@@ -87,6 +98,8 @@ def test_bad_arguments_exit_2(tmp_path, capsys, what, argv, words):
     (tmp_path / "notjson.json").write_text("{period: 1")
     (tmp_path / "speed1s.json").write_text(json.dumps({"period": 1.0, "a": [0.1], "b": [0.0]}))
     (tmp_path / "afile").write_text("x")
+    (tmp_path / "done").mkdir()
+    (tmp_path / "done" / "sweep.csv").write_text("slider_mass,ok\n100,True\n")
     assert main([a.replace("{tmp}", str(tmp_path)) for a in argv]) == 2
     err = capsys.readouterr().err
     assert err.startswith("pressocp: error:") and "Traceback" not in err

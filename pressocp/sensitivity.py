@@ -1,0 +1,204 @@
+"""Local sensitivities of a response's peaks to press parameters, by forward sensitivities through
+the integrator (CasADi AD) of the periodic response.
+
+    s = po.sensitivities(po.build_model(press), speed, ("slider_mass", "wrist_pin.clearance"))
+    s.table        # d peak / d parameter, with the normalised p / J dJ/dp
+
+A peak J = |y(t*)| is differentiated as the value at the peak's time: dJ/dp = sign(y(t*)) dy(t*)/dp
+(the peak time moves with p, but y' = 0 there). When other local maxima come within `UNIQUE_TOL` of
+the peak (a min-max optimum equalises several), J is the maximum of them and its derivative is
+one-sided: each is differentiated and the row gives both sides and is flagged.
+
+The periodic state moves with the parameter too. With Phi(x0, p) the state after one period,
+x0*(p) = Phi(x0*, p) gives dx0*/dp = (I - dPhi/dx0)^-1 dPhi/dp, and y(t*) = Y(x0*, p) then gives
+dy/dp = dY/dx0 dx0*/dp + dY/dp. The Jacobians are forward sensitivities of CVODES (forward mode
+is asked for: adjoints through the contact fail).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+import pandas as pd
+
+from .model import OUTPUT_NAMES, PressModel, build_model
+from .params import check_parameter
+from .simulate import simulate
+from .speed import FourierSpeed
+
+#: Quantities (peak magnitudes) and the model output they are the peak of.
+QUANTITIES = {"peak_torque": "torque", "peak_slider_normal_force": "slider_normal_force",
+              "peak_crank_pin_force": "crank_pin_force", "peak_wrist_pin_force": "wrist_pin_force"}
+#: A second sample within this relative distance of the peak, away from it, makes the peak not unique.
+UNIQUE_TOL = 1e-3
+#: Samples of the response in which the peak's time is located.
+SAMPLES = 20001
+
+
+@dataclass
+class Sensitivities:
+    """Derivatives of peak quantities with respect to press parameters.
+
+    Attributes
+    ----------
+    table : pandas.DataFrame
+        One row per (quantity, parameter): ``value`` (the peak, N m or N), ``parameter_value`` (SI),
+        ``derivative`` (dJ/dp at the largest peak, unit of J per unit of p), ``normalised``
+        (p / J dJ/dp, dimensionless: the % change of J per % change of p), ``time`` (s, the peak's
+        time within the cycle, located between samples by a parabola), ``peaks`` (local maxima
+        within `UNIQUE_TOL` of the largest), ``unique`` (one such peak). When there are several (a
+        min-max optimum equalises them), J is their maximum and its derivative is one-sided:
+        ``derivative_up`` (p increasing: the largest of their derivatives) and ``derivative_down``
+        (p decreasing: the smallest) hold for an exact tie; `change` predicts a finite step.
+    per_peak : pandas.DataFrame
+        One row per (quantity, rival peak, parameter): ``time`` (s), ``value``, ``derivative``.
+    periodic : bool
+        Whether the derivatives include the motion of the periodic state.
+    wall_time : float
+        s.
+    """
+
+    table: pd.DataFrame
+    per_peak: pd.DataFrame
+    periodic: bool
+    wall_time: float
+
+    def change(self, quantity: str, parameter: str, dp: float) -> float:
+        """First-order change of J for a step `dp` of the parameter (its unit): the new maximum of
+        the rival peaks, each moved by its own derivative, minus J."""
+        rows = self.per_peak[(self.per_peak["quantity"] == quantity) & (self.per_peak["parameter"] == parameter)]
+        if rows.empty:
+            raise KeyError(f"no row for {quantity!r} and {parameter!r}")
+        return float(np.max(rows["value"] + dp * rows["derivative"]) - rows["value"].max())
+
+    def derivative(self, quantity: str, parameter: str) -> float:
+        """dJ/dp of one pair."""
+        row = self.table[(self.table["quantity"] == quantity) & (self.table["parameter"] == parameter)]
+        if row.empty:
+            raise KeyError(f"no row for {quantity!r} and {parameter!r}")
+        return float(row["derivative"].iloc[0])
+
+
+def refined(t: np.ndarray, mag: np.ndarray, k: int) -> float:
+    """Time of the vertex of the parabola through sample `k` and its neighbours (t[k] at an end)."""
+    if 0 < k < mag.size - 1:
+        y0, y1, y2 = mag[k - 1], mag[k], mag[k + 1]
+        denom = y0 - 2 * y1 + y2
+        if denom < 0:
+            return float(t[k] + 0.5 * (y0 - y2) / denom * (t[k + 1] - t[k]))
+    return float(t[k])
+
+
+def peak_times(t: np.ndarray, y: np.ndarray, period: float) -> list[float]:
+    """Times of max |y| and of every other local maximum within `UNIQUE_TOL` of it and more than 1 %
+    of the period away from it (the maximum first; one entry: the maximum is unique), each located
+    between samples by a parabola."""
+    mag = np.abs(y)
+    k = int(np.argmax(mag))
+    inner = np.flatnonzero((mag[1:-1] >= mag[:-2]) & (mag[1:-1] >= mag[2:])) + 1
+    rivals = inner[mag[inner] >= (1.0 - UNIQUE_TOL) * mag[k]]
+    times = [refined(t, mag, k)]
+    for i in sorted(rivals, key=lambda i: -mag[i]):
+        gaps = [min(abs(t[i] - s), period - abs(t[i] - s)) for s in times]
+        if min(gaps) > 0.01 * period:
+            times.append(refined(t, mag, int(i)))
+    return times
+
+
+def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[str],
+                  quantities: Sequence[str] = ("peak_torque",), periodic: bool = True,
+                  rtol: float = 1e-10) -> Sensitivities:
+    """dJ/dp of peak quantities J of the response of `model` to `speed`, for press parameters p.
+
+    Parameters
+    ----------
+    model : PressModel
+        A model with states (`build_model`); it is rebuilt with `parameters` as symbols.
+    speed : FourierSpeed
+    parameters : sequence of str
+        Dotted names in `pressocp.params.NUMERIC_PARAMETERS` (``"slider_mass"``, ``"wrist_pin.clearance"``,
+        ``"crank_pin.stiffness"``, ...).
+    quantities : sequence of str
+        Keys of `QUANTITIES`.
+    periodic : bool
+        Differentiate the periodic steady state (True) or the first cycle from the model's rest state.
+    rtol : float
+        Integrator tolerance (CVODES), also of the periodic search.
+
+    Returns
+    -------
+    Sensitivities
+
+    Raises
+    ------
+    ValueError
+        An unknown parameter or quantity, a model without states (checked before integrating).
+    SimulationError
+        The periodic search or the integration failed.
+    """
+    t_start = time.perf_counter()
+    names = tuple(check_parameter(n) for n in parameters)
+    if not names:
+        raise ValueError("parameters must name at least one press parameter")
+    for q in quantities:
+        if q not in QUANTITIES:
+            raise ValueError(f"quantity {q!r} is not one of {', '.join(QUANTITIES)}")
+    if model.is_rigid:
+        raise ValueError("the model has no states: differentiate the closed-form rigid response instead")
+    msym = build_model(model.params, model.rod, model.clearance, model.n_elements, model.n_harmonics, names)
+    pv = msym.parameters(speed)
+    T = speed.period
+    res = simulate(model, speed, periodic=periodic, method="cvodes", rtol=rtol, n_out=SAMPLES)
+    x0 = res.states[:, 0] / model.x_scale
+    t_rel = res.t - res.t[0]
+    peaks = {q: [min(max(tq, 0.0), T) for tq in peak_times(t_rel, getattr(res, QUANTITIES[q]), T)]
+             for q in quantities}
+    times = sorted({tq for q in quantities for tq in peaks[q] if tq > 0.0})
+    grid = [*times, T] if not times or times[-1] < T else times
+
+    n_speed = pv.size - len(names)
+    opts = {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**7}
+    dae = msym.dae(explicit=True)
+    dae.pop("quad")
+    F = ca.integrator("period", "cvodes", dae, 0.0, grid, opts)
+    X0, Pp = ca.MX.sym("x0", msym.nx), ca.MX.sym("p", len(names))
+    pfull = ca.vertcat(ca.DM(pv[:n_speed]), Pp)
+    X = F(x0=X0, p=pfull)["xf"]
+    outs = [X[:, -1]]
+    for q in quantities:
+        for tq in peaks[q]:
+            col = X0 if tq == 0.0 else X[:, grid.index(tq)]
+            outs.append(msym.outputs(tq, col, pfull)[OUTPUT_NAMES.index(QUANTITIES[q])])
+    G = ca.Function("G", [X0, Pp], [ca.vertcat(*outs)], {"ad_weight": 0.0, "ad_weight_sp": 0.0})
+    J = ca.Function("J", [X0, Pp], [ca.jacobian(G(X0, Pp), ca.vertcat(X0, Pp))],
+                    {"ad_weight": 0.0, "ad_weight_sp": 0.0})
+    values = np.asarray(G(x0, pv[n_speed:])).ravel()[msym.nx:]
+    jac = np.asarray(J(x0, pv[n_speed:]))
+    nx = msym.nx
+    phi_x, phi_p = jac[:nx, :nx], jac[:nx, nx:]
+    dx0 = np.linalg.solve(np.eye(nx) - phi_x, phi_p) if periodic else np.zeros((nx, len(names)))
+    rows, per_peak = [], []
+    i = nx
+    for q in quantities:
+        n_peaks = len(peaks[q])
+        y = values[i - nx:i - nx + n_peaks]
+        d = np.sign(y)[:, None] * (jac[i:i + n_peaks, :nx] @ dx0 + jac[i:i + n_peaks, nx:])
+        i += n_peaks
+        value = float(abs(y[0]))
+        for j, n in enumerate(names):
+            pval = float(pv[n_speed + j])
+            per_peak += [{"quantity": q, "parameter": n, "time": tk, "value": float(abs(yk)), "derivative": float(dk)}
+                         for tk, yk, dk in zip(peaks[q], y, d[:, j])]
+            rows.append({"quantity": q, "parameter": n, "value": value, "parameter_value": pval,
+                         "derivative": float(d[0, j]), "derivative_up": float(d[:, j].max()),
+                         "derivative_down": float(d[:, j].min()),
+                         "normalised": float(d[0, j]) * pval / value if value else float("nan"),
+                         "time": peaks[q][0], "peaks": n_peaks, "unique": n_peaks == 1})
+    return Sensitivities(pd.DataFrame(rows), pd.DataFrame(per_peak), periodic, time.perf_counter() - t_start)
+
+
+__all__ = ["QUANTITIES", "Sensitivities", "peak_times", "sensitivities"]
