@@ -97,10 +97,11 @@ def continuation() -> dict:
     rates = [60, 65, 70, 75, 80, 85, 90]
     path = [{"problem.stroke_rate_spm": r} for r in rates]
     with spawn_pool(1) as pool:
-        dt_warm, warm = timed(lambda: po.sweep(scenario, path, "optimize", executor=pool, progress=True))
+        dt_warm, warm = timed(lambda: po.sweep(scenario, path, "optimize", executor=pool, progress=True,
+                                               csv=OUT / "sweep_continuation_warm.csv"))
     with spawn_pool(1) as pool:
         dt_cold, cold = timed(lambda: po.sweep(scenario, {"problem.stroke_rate_spm": rates}, "optimize",
-                                               executor=pool, progress=True))
+                                               executor=pool, progress=True, csv=OUT / "sweep_continuation_cold.csv"))
     cols = ["problem.stroke_rate_spm", "ok", "peak_torque_N_m", "rigid_peak_torque_N_m", "wall_time_s", "status"]
     row = {"case": "continuation", **machine(), "total_s": {"path (warm)": dt_warm, "cold": dt_cold},
            "warm": warm[cols].to_dict("records"), "cold": cold[cols].to_dict("records"),

@@ -15,6 +15,7 @@ from .problem import SpeedProblem
 from .result import SimResult
 from .scenario import Scenario, ScenarioError
 from .rigid import crank_angle_at_height, rigid_inverse_dynamics, rigid_kinematics, rigid_response
+from .sensitivity import Sensitivities, sensitivities
 from .simulate import SimulationError, simulate
 from .speed import FourierSpeed
 from .sweeps import sweep
@@ -25,5 +26,5 @@ __all__ = [
     "SimResult", "SimulationError",
     "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "WarmStart", "build_model", "crank_angle_at_height",
     "design_speed", "hertz_internal_stiffness", "optimize_speed", "rigid_inverse_dynamics", "rigid_kinematics",
-    "rigid_response", "simulate", "sweep",
+    "rigid_response", "sensitivities", "Sensitivities", "simulate", "sweep",
 ]

@@ -1,4 +1,6 @@
-"""Command line: ``pressocp`` (or ``python -m pressocp``).
+"""pressocp: crank-speed design for servo mechanical presses (run `pressocp COMMAND -h` for a command).
+
+Also `python -m pressocp`.
 
     pressocp                                   the main job: optimise the 75 spm scenario, write out/
     pressocp optimize [SCENARIO] --out DIR     minimum peak torque (or the scenario's objective)

@@ -240,3 +240,27 @@ def plot_sweep(table, keys: Sequence[str], title: str = "") -> "plt.Figure":
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     return fig
+
+
+def plot_tornado(sensitivities, quantity: str = "peak_torque", title: str = "") -> "plt.Figure":
+    """Normalised sensitivities p/J dJ/dp of one quantity (a `pressocp.Sensitivities`), largest on top:
+    the % change of the peak per % change of each parameter. One-sided rows (rival peaks) show both
+    sides."""
+    t = sensitivities.table[sensitivities.table["quantity"] == quantity].copy()
+    scale = t["parameter_value"] / t["value"]
+    t["up"], t["down"] = t["derivative_up"] * scale, t["derivative_down"] * scale
+    t = t.reindex(t["normalised"].abs().sort_values().index)
+    fig, ax = plt.subplots(figsize=(7, 0.45 * len(t) + 1.2))
+    y = np.arange(len(t))
+    ax.barh(y, t["normalised"], color=["tab:red" if v > 0 else "tab:blue" for v in t["normalised"]])
+    for k, (_, row) in enumerate(t.iterrows()):
+        if not row["unique"]:
+            ax.plot([row["down"], row["up"]], [k, k], "k|-", lw=1, ms=8)
+    ax.set_yticks(y, t["parameter"])
+    ax.axvline(0, color="k", lw=0.8)
+    ax.set_xlabel(f"p / J · dJ/dp of {quantity} (% per %)")
+    ax.grid(alpha=0.3, axis="x")
+    if title:
+        ax.set_title(title, fontsize=9)
+    fig.tight_layout()
+    return fig

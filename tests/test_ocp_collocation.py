@@ -96,6 +96,7 @@ def test_compiled_point_function_agrees_with_the_virtual_machine():
         np.testing.assert_allclose(np.asarray(b), np.asarray(a), rtol=1e-10, atol=1e-9)
 
 
+@pytest.mark.slow  # 15 s; the default path's JIT is also exercised end to end by the slow 75 spm tests
 def test_compiled_hessian_with_few_directions_agrees_with_the_virtual_machine():
     """The exact Hessian of a collocation NLP compiled with the options a jit solve uses
     (`nlp_options`: few directions per sweep) equals the virtual machine's with CasADi's defaults."""

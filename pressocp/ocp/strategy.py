@@ -63,9 +63,9 @@ class Strategy:
     ----------
     mode : {"auto", "all", "continue"}
         "auto": use no more model than the scene needs (a verified rigid-press answer ends the
-        chain); "all": run every stage; "continue": as "auto", but the stages on models with states
-        start from the initial speed (a neighbouring optimum, in a continuation) with no
-        no-reversal or soft stage.
+        chain); "all": run every stage; "continue": as "auto", but when the initial speed (a
+        neighbouring optimum, in a continuation) does not impact on the model, the stages on models
+        with states start from it, with no no-reversal or soft stage.
     rigid : Rigid
         Transcription of the rigid and no-reversal stages.
     tension_margin : float or None
@@ -131,7 +131,7 @@ class Strategy:
                                                                model.n_harmonics)
         rigid.check = self.check(base, rigid, problem)
         start = rigid
-        cont = self.mode == "continue"
+        cont = self.mode == "continue" and not rigid.check.verified and self.fits(base, initial, problem)
         if not rigid.check.verified and not cont and self.tension_margin is not None \
                 and problem.press.process_force.force == 0.0:
             bound = self.tension_margin * problem.hanging_weight
@@ -161,7 +161,7 @@ class Strategy:
             chain.append(("target", base))
             if model.rod == "flexible":
                 chain.append(("flexible", model))
-        speed = initial if cont and not rigid.check.verified else start.speed
+        speed = initial if cont else start.speed
         for name, m in chain:
             st = transcription.solve(problem, m, WarmStart(speed), name, progress)
             stages.append(st)
@@ -171,6 +171,12 @@ class Strategy:
         if self.refine_rounds:
             stages.extend(self.refine(problem, base, stages[-1], transcription, progress))
         return stages
+
+    def fits(self, model: PressModel, speed: FourierSpeed, problem: SpeedProblem) -> bool:
+        """Whether `speed` does not impact on `model` (its objective there within `IMPACT_RATIO` of its
+        rigid-press value): a start the clearance stage can take as it is."""
+        reference = get_objective(problem.objective).value(rigid_reference(problem, speed))
+        return bool(screen(model, speed, reference, problem.objective, CHECK_RTOL)[1] <= IMPACT_RATIO)
 
     def check(self, model: PressModel, stage: StageResult, problem: SpeedProblem) -> Check:
         """Re-simulate a rigid-press stage's answer on `model` (`screen`, `CHECK_RTOL`)."""
