@@ -176,7 +176,8 @@ def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence
         The values not varied.
     vary : dict of lists, or list of dicts
         A grid (every combination) or a path (in order; optima warm-started from their neighbour's,
-        run one after the other). Keys are dotted scenario keys: ``"wrist_pin.clearance"`` (m),
+        run one after the other: measured slower than cold starts along the stroke rate, see
+        benchmarks/README.md, so a grid is the better choice unless the optima are close). Keys are dotted scenario keys: ``"wrist_pin.clearance"`` (m),
         ``"slider_mass"`` (kg), ``"problem.stroke_rate_spm"``, ``"problem.ram_speed"`` (m/s), ...
     task : {"optimize", "simulate", "impacts"}
         What each point runs: `optimize_speed` (verified optimum), the periodic response of `speed`
