@@ -61,7 +61,7 @@ def impact_speed():
     return design_speed(SpeedProblem(PressParams(), period=0.8, ram_speed=-0.1)).speed
 
 
-@pytest.mark.parametrize("rod", ["rigid", "flexible"])
+@pytest.mark.parametrize("rod", ["rigid", pytest.param("flexible", marks=pytest.mark.slow)])  # flexible: 13 s
 def test_energy_balance_with_clearances(rod, impact_speed):
     """W_motor + W_process = dT + dV + contact work (stored + dissipated) + rod damping work."""
     m = build_model(PressParams(), rod=rod, n_elements=2)
