@@ -45,6 +45,7 @@ def test_rigid_limit_flores(stiffness):
     assert max(abs(e) for e in _rel_peak_errors(r, ref).values()) < 0.02
 
 
+@pytest.mark.slow  # 13 s; the flexible rod is checked by default against Simeon's slider crank
 def test_flexible_rod_with_large_EI_is_rigid():
     p = PressParams.flores(clearance=1e-6).replace(rod_youngs_modulus=2.1e13)
     s = FourierSpeed.constant(FLORES_PERIOD)
