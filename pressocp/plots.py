@@ -111,7 +111,7 @@ def save(fig, path: str | Path) -> Path:
 
 
 def plot_sixbar_emulation(emulation: dict, constant_height=None, zone_times=None):
-    """Seed Figs. 3-5: six-bar stroke, the four-bar's with the fitted speed, and that speed.
+    """Figs. 3-5 of the source paper: six-bar stroke, the four-bar's with the fitted speed, and that speed.
 
     Parameters
     ----------
@@ -150,7 +150,7 @@ def plot_sixbar_emulation(emulation: dict, constant_height=None, zone_times=None
 
 
 def plot_impact_study(study) -> "plt.Figure":
-    """Seed Figs. 6 and 9: torque, slider normal force and wrist-pin force, clearance vs ideal joints,
+    """Figs. 6 and 9 of the source paper: torque, slider normal force and wrist-pin force, clearance vs ideal joints,
     at constant speed (left) and at the rigid-designed speed (right)."""
     fig, axes = plt.subplots(4, 2, figsize=(12, 9), sharex="col")
     cols = [("constant crank speed", study.constant, study.constant_rigid),
@@ -181,7 +181,7 @@ def plot_impact_study(study) -> "plt.Figure":
 def plot_speed_design(result, title: str = "") -> "plt.Figure":
     """Initial vs optimal speed (an `pressocp.ocp.OcpResult`): crank speed, motor torque, slider normal
     force and ram velocity on the target model, with the rigid optimum on the rigid model dashed and
-    the working window shaded (the seed's Figs. 9-11)."""
+    the working window shaded (Figs. 9-11 of the source paper)."""
     si, so = result.initial_simulation, result.simulation
     if si is None or so is None:
         raise ValueError("result must hold the initial and optimal simulations (from optimize_speed)")
