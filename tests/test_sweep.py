@@ -119,3 +119,22 @@ def test_dask_local_cluster_gives_the_same_table():
         table = po.sweep(RIGID, vary, task="simulate", speed=SPEED, executor=client.get_executor(), progress=False)
     pd.testing.assert_frame_equal(comparable(table), comparable(serial))
     assert json.loads(table["speed"].iloc[0])["period"] == 0.8
+
+
+def test_a_path_of_optima_starts_each_from_its_neighbour(monkeypatch):
+    """On the ideal press with 6 harmonics (seconds): the second optimum of a path starts from the
+    first, rescaled to its period; its answer equals a cold solve of that point."""
+    base = RIGID.with_overrides({"problem.n_harmonics": 6})
+    starts = []
+    original = sweep_module.run_point
+
+    def spy(task, scenario, speed=None, initial=None):
+        starts.append(None if initial is None else initial.period)
+        return original(task, scenario, speed, initial)
+
+    monkeypatch.setattr(sweep_module, "run_point", spy)
+    path = [{"problem.stroke_rate_spm": 60}, {"problem.stroke_rate_spm": 66}]
+    warm = po.sweep(base, path, task="optimize", executor=Serial(), progress=False)
+    assert starts == [None, pytest.approx(60 / 66)] and warm["ok"].all()
+    cold = po.sweep(base, {"problem.stroke_rate_spm": [66]}, task="optimize", executor=Serial(), progress=False)
+    assert warm["peak_torque_N_m"].iloc[1] == pytest.approx(cold["peak_torque_N_m"].iloc[0], rel=1e-3)
