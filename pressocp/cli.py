@@ -187,7 +187,7 @@ def _prepare(args: argparse.Namespace):
         return _prepare_sweep(args, scenario, out)
     if args.command == "simulate":
         speed = jobs.read_speed(args.speed) if args.speed is not None else None
-        jobs.check_speed(speed, scenario.problem)
+        scenario.check_speed(speed, "--speed")
         job = lambda: jobs.simulate_job(scenario, out, speed, str(args.speed) if args.speed else "rigid design")  # noqa: E731
     elif args.command == "design":
         job = lambda: jobs.design_job(scenario, out)  # noqa: E731
@@ -257,7 +257,7 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
     if speed is not None and args.task != "simulate":
         raise InputError(f"--speed is the speed a simulate sweep evaluates; --task is {args.task}")
     for p in points:
-        jobs.check_speed(speed, scenario.with_overrides(p).problem)
+        scenario.with_overrides(p).check_speed(speed, "--speed")
     if args.workers is not None and not 1 <= args.workers <= 256:
         raise InputError(f"--workers must be in [1, 256], got {args.workers}")
     csv = out / "sweep.csv"

@@ -13,12 +13,11 @@ import numpy as np
 from .design import design_speed
 from .io import atomic_write, write_json
 from .objectives import get as get_objective
-from .ocp.result import OcpResult, versions
-from .ocp.verify import is_periodic, rigid_reference, verify_speed, window_times
+from .ocp.result import PEAK_SERIES, OcpResult, versions
+from .ocp.verify import is_periodic, ram_speed_error, rigid_reference, verify_speed, window_times
 from .plots import plot_impact_study, plot_responses, save
 from .problem import SpeedProblem
-from .report import (describe_problem, format_table, load_table, peak_summary, ram_speed_error, stamp,
-                     write_cycle_table)
+from .report import describe_problem, format_table, load_table, peak_summary, stamp, write_cycle_table
 from .result import SimResult
 from .scenario import Scenario
 from .speed import FourierSpeed
@@ -26,7 +25,7 @@ from .speed import FourierSpeed
 #: Figures of a response pair: file name -> series stacked in it.
 FIGURES = {
     "speed.png": ("omega", "ram_height", "ram_velocity"),
-    "loads.png": ("torque", "slider_normal_force", "crank_pin_force", "wrist_pin_force"),
+    "loads.png": PEAK_SERIES,
     "journals.png": ("crank_pin_eccentricity", "wrist_pin_eccentricity"),
 }
 
@@ -80,14 +79,6 @@ def read_speed(path: str | Path) -> FourierSpeed:
         return FourierSpeed.from_dict(data)
     except (ValueError, TypeError) as err:
         raise ValueError(f"--speed: {path}: {err}") from None
-
-
-def check_speed(speed: FourierSpeed | None, problem: SpeedProblem) -> None:
-    """Raise ValueError unless `speed` (if any) has the problem's period."""
-    if speed is not None and not np.isclose(speed.period, problem.period, rtol=1e-9, atol=0.0):
-        raise ValueError(f"--speed: the speed's period is {speed.period:g} s but the scenario's is "
-                         f"{problem.period:g} s; set the scenario's cycle to match, e.g. "
-                         f"--set problem.period_s={speed.period!r}")
 
 
 def _problem_summary(problem: SpeedProblem) -> dict:
@@ -201,7 +192,7 @@ def simulate_job(scenario: Scenario, out: Path, speed: FourierSpeed | None = Non
     """A speed (default: the scenario's rigid design) on the scenario's model: periodic response
     (CVODES at the solver's ``verify_rtol``), with the ideal-joint response for comparison."""
     problem = scenario.problem
-    check_speed(speed, problem)
+    scenario.check_speed(speed, "--speed")
     if speed is None:
         speed = design_speed(problem).speed
     t0 = time.perf_counter()
@@ -276,11 +267,10 @@ def impacts_job(scenario: Scenario, out: Path) -> JobReport:
              write_json(out / "speed.json", st.design.speed.to_dict()),
              save(plot_impact_study(st), out / "impacts.png")]
     rows = [["model / ideal joints", "torque", "normal force", "crank pin", "wrist pin"],
-            *([f"{k} speed", *(f"×{r[n]:.2f}" for n in ("torque", "slider_normal_force", "crank_pin_force",
-                                                         "wrist_pin_force"))] for k, r in ratios.items())]
+            *([f"{k} speed", *(f"×{r[n]:.2f}" for n in PEAK_SERIES)] for k, r in ratios.items())]
     text = "\n".join([f"{scenario.name}: impacts on the {where}", f"  {describe_problem(scenario.problem)}", "",
                       format_table(rows), "", f"  {wall:.1f} s"])
     return _finish("impacts", out, summary, text, "", files, True)
 
 
-__all__ = ["FIGURES", "JobReport", "check_speed", "optimum_summary", "simulate_speed", "simulation_summary", "design_job", "impacts_job", "optimize_job", "read_speed", "simulate_job"]
+__all__ = ["FIGURES", "JobReport", "optimum_summary", "simulate_speed", "simulation_summary", "design_job", "impacts_job", "optimize_job", "read_speed", "simulate_job"]

@@ -5,15 +5,13 @@ No backend is chosen here: in Jupyter the figures show inline, and a script pick
 
 from __future__ import annotations
 
-import os
-import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
 
-from .io import file_mode
+from .io import atomic_path
 from .result import SimResult
 from .rigid import rigid_response
 
@@ -94,20 +92,13 @@ def plot_responses(
 
 
 def save(fig, path: str | Path) -> Path:
-    """Save a figure as PNG (150 dpi) atomically (a temporary file, then renamed) and close it."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=".png")
-    os.close(fd)
+    """Save a figure as PNG (150 dpi) atomically (`pressocp.io.atomic_path`) and close it."""
     try:
-        fig.savefig(tmp, dpi=150, format="png")
-        os.chmod(tmp, file_mode())
-        os.replace(tmp, path)
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=150, format="png")
     finally:
         plt.close(fig)
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-    return path
+    return Path(path)
 
 
 def plot_sixbar_emulation(emulation: dict, constant_height=None, zone_times=None):

@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 
 from .io import atomic_write
-from .problem import SpeedProblem, in_window
+from .problem import SpeedProblem
 from .result import SERIES_UNITS, SimResult
 
 #: Loads reported by every job: `SimResult` series -> (summary key stem, label, unit).
@@ -27,15 +27,6 @@ LOADS = {
 def peak_summary(sim: SimResult, prefix: str = "") -> dict[str, float]:
     """Peak magnitudes of `LOADS`, keyed ``{prefix}peak_torque_N_m`` and so on (N m, N)."""
     return {prefix + key: sim.peak(name) for name, (key, _, _) in LOADS.items()}
-
-
-def ram_speed_error(sim: SimResult, problem: SpeedProblem) -> float:
-    """max |v - ram_speed| / |ram_speed| over the samples at which the response's own ram is in the
-    height window on the downstroke (0 when no sample is)."""
-    mask = in_window(problem, sim.theta, sim.ram_height)
-    if not mask.any():
-        return 0.0
-    return float(np.max(np.abs(sim.ram_velocity[mask] / problem.ram_speed - 1.0)))
 
 
 def cycle_table(responses: Mapping[str, SimResult]) -> pd.DataFrame:
@@ -92,5 +83,4 @@ def describe_problem(problem: SpeedProblem) -> str:
             f"objective {problem.objective}")
 
 
-__all__ = ["LOADS", "cycle_table", "describe_problem", "format_table", "load_table", "peak_summary",
-           "ram_speed_error", "stamp", "write_cycle_table"]
+__all__ = ["LOADS", "cycle_table", "describe_problem", "format_table", "load_table", "peak_summary", "stamp", "write_cycle_table"]

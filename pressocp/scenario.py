@@ -23,6 +23,7 @@ type names the expected type, and a value out of range names the key, the value 
 from __future__ import annotations
 
 import difflib
+import math
 import tomllib
 import typing
 from dataclasses import dataclass, field, fields
@@ -34,6 +35,7 @@ from .model import ModelSpec, PressModel
 from .ocp import Collocation, MultipleShooting, OcpResult, Strategy, optimize_speed
 from .params import Bearing, PressParams, ProcessForce
 from .problem import SpeedProblem
+from .speed import FourierSpeed
 
 #: Transcriptions a scenario can name ("auto": the default chain's, collocation).
 TRANSCRIPTIONS = ("auto", "collocation", "shooting-idas", "shooting-cvodes")
@@ -93,14 +95,24 @@ class Scenario:
     def press(self) -> PressParams:
         return self.problem.press
 
+    def check_speed(self, speed: FourierSpeed | None, name: str = "speed") -> None:
+        """Raise ScenarioError unless `speed` (if given) has the problem's period."""
+        if speed is not None and not math.isclose(speed.period, self.problem.period, rel_tol=1e-9, abs_tol=0.0):
+            raise ScenarioError(f"{name}: the speed's period is {speed.period:g} s but the scenario's is "
+                                f"{self.problem.period:g} s; set the scenario's cycle to match, e.g. "
+                                f"--set problem.period_s={speed.period!r}")
+
     def build_model(self) -> PressModel:
         """The scenario's model level for its press (`ModelSpec.build`)."""
         return self.model.build(self.press, self.problem.n_harmonics)
 
-    def optimize(self, progress: bool = True) -> OcpResult:
-        """`optimize_speed` of the problem on the scenario's model with its solver choice."""
+    def optimize(self, progress: bool = True, *, initial: FourierSpeed | None = None,
+                 strategy: Strategy | None = None) -> OcpResult:
+        """`optimize_speed` of the problem on the scenario's model with its solver choice (`strategy`
+        replaces the solver's stage chain, `initial` the start)."""
         return optimize_speed(self.problem, self.build_model(), self.solver.make_transcription(),
-                              self.solver.make_strategy(), progress)
+                              self.solver.make_strategy() if strategy is None else strategy, progress,
+                              initial=initial)
 
     # Reading -----------------------------------------------------------------------------------
     @classmethod

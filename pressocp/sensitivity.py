@@ -173,11 +173,10 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
         for tq in peaks[q]:
             col = X0 if tq == 0.0 else X[:, grid.index(tq)]
             outs.append(msym.outputs(tq, col, pfull)[OUTPUT_NAMES.index(QUANTITIES[q])])
-    G = ca.Function("G", [X0, Pp], [ca.vertcat(*outs)], {"ad_weight": 0.0, "ad_weight_sp": 0.0})
-    J = ca.Function("J", [X0, Pp], [ca.jacobian(G(X0, Pp), ca.vertcat(X0, Pp))],
-                    {"ad_weight": 0.0, "ad_weight_sp": 0.0})
-    values = np.asarray(G(x0, pv[n_speed:])).ravel()[msym.nx:]
-    jac = np.asarray(J(x0, pv[n_speed:]))
+    g = ca.vertcat(*outs)
+    J = ca.Function("J", [X0, Pp], [g, ca.jacobian(g, ca.vertcat(X0, Pp))], {"ad_weight": 0.0, "ad_weight_sp": 0.0})
+    g_value, jac = (np.asarray(v) for v in J(x0, pv[n_speed:]))
+    values = g_value.ravel()[msym.nx:]
     nx = msym.nx
     phi_x, phi_p = jac[:nx, :nx], jac[:nx, nx:]
     dx0 = np.linalg.solve(np.eye(nx) - phi_x, phi_p) if periodic else np.zeros((nx, len(names)))

@@ -10,6 +10,7 @@ import numpy as np
 from . import beam
 from .design import SpeedDesign, design_speed
 from .model import ModelSpec, build_model
+from .ocp.result import PEAK_SERIES
 from .ocp.verify import verify_speed
 from .params import PressParams
 from .problem import SpeedProblem
@@ -37,9 +38,8 @@ class ImpactStudy:
 
     def ratios(self) -> dict[str, dict[str, float]]:
         """Peak model value / peak rigid value for each load, for both speeds."""
-        names = ("torque", "slider_normal_force", "crank_pin_force", "wrist_pin_force")
         return {
-            label: {n: clr.peak(n) / rig.peak(n) for n in names}
+            label: {n: clr.peak(n) / rig.peak(n) for n in PEAK_SERIES}
             for label, clr, rig in (("constant", self.constant, self.constant_rigid),
                                     ("designed", self.designed, self.designed_rigid))
         }

@@ -23,6 +23,7 @@ import os
 import time
 from collections.abc import Mapping, Sequence
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -32,7 +33,7 @@ from tqdm.auto import tqdm
 from .io import atomic_write
 from .model import ModelSpec
 from .problem import SpeedProblem
-from .scenario import Scenario, ScenarioError
+from .scenario import Scenario
 from .speed import FourierSpeed
 from .studies import impact_study
 
@@ -83,8 +84,8 @@ def run_point(task: str, scenario: Scenario, speed: FourierSpeed | None = None,
     row: dict[str, Any] = {"task": task, "ok": False, "error": ""}
     try:
         if task == "optimize":
-            result = (scenario.optimize(progress=False) if initial is None else
-                      _optimize_from(scenario, initial))
+            result = scenario.optimize(False, initial=initial, strategy=None if initial is None else
+                                       replace(scenario.solver.make_strategy(), mode="continue"))
             summary = jobs.optimum_summary(scenario, result)
             row.update(ok=bool(result.success and result.verified), speed=json.dumps(result.speed.to_dict()))
         elif task == "simulate":
@@ -105,17 +106,6 @@ def run_point(task: str, scenario: Scenario, speed: FourierSpeed | None = None,
         row["error"] = f"{type(err).__name__}: {str(err).splitlines()[0] if str(err) else ''}"
     row["wall_time_s"] = time.perf_counter() - t0
     return row
-
-
-def _optimize_from(scenario: Scenario, initial: FourierSpeed):
-    """The optimum with its stages on the model started from `initial` (``Strategy(mode="continue")``)."""
-    from dataclasses import replace
-
-    from .ocp import optimize_speed
-
-    strategy = replace(scenario.solver.make_strategy(), mode="continue")
-    return optimize_speed(scenario.problem, scenario.build_model(), scenario.solver.make_transcription(),
-                          strategy, False, initial=initial)
 
 
 def rescale(speed: FourierSpeed, period: float) -> FourierSpeed:
@@ -218,9 +208,7 @@ def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence
         if task != "simulate":
             raise ValueError(f"speed is the speed a simulate sweep evaluates; task is {task!r}")
         for p, s in zip(points, scenarios):
-            if abs(s.problem.period - speed.period) > 1e-9 * speed.period:
-                raise ScenarioError(f"speed has period {speed.period:g} s but the point {p} has "
-                                    f"{s.problem.period:g} s")
+            s.check_speed(speed, f"speed (point {p})")
     keys = list(points[0])
     csv = None if csv is None else Path(csv)
     done = _done_rows(csv, keys)

@@ -175,19 +175,24 @@ class Strategy:
     def fits(self, model: PressModel, speed: FourierSpeed, problem: SpeedProblem) -> bool:
         """Whether `speed` does not impact on `model` (its objective there within `IMPACT_RATIO` of its
         rigid-press value): a start the clearance stage can take as it is."""
-        reference = get_objective(problem.objective).value(rigid_reference(problem, speed))
-        return bool(screen(model, speed, reference, problem.objective, CHECK_RTOL)[1] <= IMPACT_RATIO)
+        return self.screened(model, speed, problem)[1] <= IMPACT_RATIO
+
+    @staticmethod
+    def screened(model: PressModel, speed: FourierSpeed, problem: SpeedProblem):
+        """`screen` of `speed` on `model` against its rigid-press objective: (sim, ratio, dense rigid
+        response)."""
+        dense = rigid_reference(problem, speed)
+        sim, ratio = screen(model, speed, get_objective(problem.objective).value(dense), problem.objective,
+                            CHECK_RTOL)
+        return sim, float(ratio), dense
 
     def check(self, model: PressModel, stage: StageResult, problem: SpeedProblem) -> Check:
         """Re-simulate a rigid-press stage's answer on `model` (`screen`, `CHECK_RTOL`)."""
-        objective = get_objective(problem.objective)
-        dense = rigid_reference(problem, stage.speed)
-        reference = objective.value(dense)
-        sim, ratio = screen(model, stage.speed, reference, problem.objective, CHECK_RTOL)
+        sim, ratio, dense = self.screened(model, stage.speed, problem)
         viol = max(ram_speed_violation(sim, problem), 0.0)
         periodic = is_periodic(sim)
         ne = rigid_inverse_dynamics(problem.press, *stage.speed.evaluate(dense.t))
-        return Check(model=model.spec.describe(), objective=objective.value(sim), ratio=float(ratio),
+        return Check(model=model.spec.describe(), objective=get_objective(problem.objective).value(sim), ratio=ratio,
                      periodic=periodic, ram_speed_violation=viol, peak_torque=sim.peak("torque"),
                      verified=bool(periodic is True and ratio <= self.verified_ratio and viol <= 0.0),
                      min_rod_tension=float(min(ne["crank_pin_tension"].min(), ne["wrist_pin_tension"].min())))

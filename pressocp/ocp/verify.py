@@ -26,13 +26,23 @@ def rigid_reference(problem: SpeedProblem, speed: FourierSpeed) -> SimResult:
     return rigid_response(problem.press, speed, np.linspace(0.0, problem.period, VERIFY_SAMPLES))
 
 
-def ram_speed_violation(sim: SimResult, problem: SpeedProblem) -> float:
-    """max |v - ram_speed| - tol over the samples at which the response's own ram is in the height
-    window on the downstroke, m/s (<= 0: within tolerance; -tol when no sample is in the window)."""
+def ram_speed_deviation(sim: SimResult, problem: SpeedProblem) -> float | None:
+    """max |v - ram_speed| over the samples at which the response's own ram is in the height window
+    on the downstroke, m/s; None when no sample is."""
     mask = in_window(problem, sim.theta, sim.ram_height)
-    if not mask.any():
-        return -problem.tol
-    return float(np.max(np.abs(sim.ram_velocity[mask] - problem.ram_speed))) - problem.tol
+    return float(np.max(np.abs(sim.ram_velocity[mask] - problem.ram_speed))) if mask.any() else None
+
+
+def ram_speed_violation(sim: SimResult, problem: SpeedProblem) -> float:
+    """`ram_speed_deviation` - tol, m/s (<= 0: within tolerance; -tol when no sample is in the window)."""
+    dev = ram_speed_deviation(sim, problem)
+    return -problem.tol if dev is None else dev - problem.tol
+
+
+def ram_speed_error(sim: SimResult, problem: SpeedProblem) -> float:
+    """`ram_speed_deviation` relative to |ram_speed| (0 when no sample is in the window)."""
+    dev = ram_speed_deviation(sim, problem)
+    return 0.0 if dev is None else dev / abs(problem.ram_speed)
 
 
 def window_times(sim: SimResult, problem: SpeedProblem) -> tuple[float, float]:
