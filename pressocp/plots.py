@@ -211,7 +211,8 @@ def plot_sweep(table, keys: Sequence[str], title: str = "") -> "plt.Figure":
     fig, axes = plt.subplots(len(rows), 1, figsize=(7, 2.4 * len(rows) + 0.6), sharex=True)
     for k, (values, group) in enumerate(groups):
         values = values if isinstance(values, tuple) else (values,)
-        label = ", ".join(f"{o} = {v:g}" for o, v in zip(others, values)) or ("optimum" if "rigid_peak_torque_N_m" in group else "model")
+        label = (", ".join(f"{o} = {v:g}" for o, v in zip(others, values))
+                 or ("optimum" if "rigid_peak_torque_N_m" in group else "model"))
         group = group.sort_values(x)
         for ax, (col, _) in zip(axes, rows):
             if col in group:
