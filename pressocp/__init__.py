@@ -8,8 +8,8 @@
 from .design import DesignSettings, SpeedDesign, design_speed
 from .model import ModelSpec, PressModel, build_model
 from .objectives import OBJECTIVES, Objective
-from .ocp import (Collocation, MultipleShooting, OcpResult, Rigid, StageResult, Strategy, WarmStart,
-                  optimize_speed)
+from .ocp import (Collocation, MultipleShooting, OcpResult, OptimumSensitivities, Rigid, SensitivityError,
+                  StageResult, Strategy, WarmStart, optimize_speed, optimum_sensitivities)
 from .params import Bearing, PressParams, ProcessForce, hertz_internal_stiffness
 from .problem import SpeedProblem
 from .result import SimResult
@@ -22,9 +22,9 @@ from .sweeps import sweep
 
 __all__ = [
     "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "FourierSpeed", "ModelSpec", "MultipleShooting",
-    "Objective", "OcpResult", "PressModel", "PressParams", "ProcessForce", "Rigid", "Scenario", "ScenarioError",
-    "SimResult", "SimulationError",
+    "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams", "ProcessForce", "Rigid", "Scenario", "ScenarioError",
+    "SensitivityError", "SimResult", "SimulationError",
     "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "WarmStart", "build_model", "crank_angle_at_height",
-    "design_speed", "hertz_internal_stiffness", "optimize_speed", "rigid_inverse_dynamics", "rigid_kinematics",
+    "design_speed", "hertz_internal_stiffness", "optimize_speed", "optimum_sensitivities", "rigid_inverse_dynamics", "rigid_kinematics",
     "rigid_response", "sensitivities", "Sensitivities", "simulate", "sweep",
 ]

@@ -138,9 +138,10 @@ class PressModel:
     accelerations : ca.Function
         (t, x, p) -> accelerations of the free coordinates (the consistent z of the DAE).
     at_crank : ca.Function
-        (x, crank) -> (dx/dt, the outputs named in `OUTPUT_NAMES`) at a given crank motion
+        (x, crank, q) -> (dx/dt, the outputs named in `OUTPUT_NAMES`) at a given crank motion
         ``crank = [theta (rad), omega (rad/s), alpha (rad/s^2)]`` instead of the Fourier speed in p: the
-        form a transcription uses when it carries the crank motion as its own variables.
+        form a transcription uses when it carries the crank motion as its own variables. ``q`` holds
+        the values of the carried press parameters `symbols` (empty without them; `nominal`).
     x0 : ndarray
         Consistent scaled initial state: journals centred, no elastic deformation, no rates.
     symbols : tuple of str
@@ -190,10 +191,15 @@ class PressModel:
         the joints that have one (the rod in tension rests the journals on their bearing walls)."""
         return float(sum(getattr(self.params, j).clearance for j in self.clearance))
 
+    @property
+    def nominal(self) -> np.ndarray:
+        """The press's values of the carried parameters `symbols` (the ``q`` of ``at_crank``)."""
+        return np.array([self.params.value(n) for n in self.symbols], float)
+
     def parameters(self, speed: FourierSpeed) -> np.ndarray:
         """The parameter vector p for a speed (harmonics padded with zeros)."""
         s = speed.padded(self.n_harmonics)
-        return np.concatenate([s.a, s.b, [s.period, s.theta0], [self.params.value(n) for n in self.symbols]])
+        return np.concatenate([s.a, s.b, [s.period, s.theta0], self.nominal])
 
     def dae(self, explicit: bool = False) -> dict:
         """The DAE dict for `casadi.integrator` (with the quadratures)."""
@@ -247,7 +253,8 @@ def build_model(
         Press parameters by dotted name (`pressocp.params.NUMERIC_PARAMETERS`, e.g. ``"slider_mass"``,
         ``"wrist_pin.clearance"``) carried as symbols at the end of p, so that integrators and
         functions of the model can be differentiated with respect to them (`pressocp.sensitivities`).
-        The state scaling stays at the press's values; ``at_crank`` is built at those values.
+        The state scaling stays at the press's values. ``at_crank`` takes them as its input ``q``,
+        so that an NLP can carry them as its parameters (`pressocp.optimum_sensitivities`).
 
     Returns
     -------
@@ -399,9 +406,8 @@ def build_model(
         pin_force("crank_pin", (2, 3)), pin_force("wrist_pin", (4, 5)), ecc("crank_pin"), ecc("wrist_pin"),
         at_state([midspan])[0],
     ]
-    nominal = [params.value(n) for n in parameters]
-    at_crank = ca.Function("at_crank", [x, crank], ca.substitute([ode_expl, *out_exprs], phys, nominal) if phys
-                           else [ode_expl, *out_exprs], ["x", "crank"], ["ode", *OUTPUT_NAMES])
+    at_crank = ca.Function("at_crank", [x, crank, ca.vertcat(*phys) if phys else ca.SX(0, 1)],
+                           [ode_expl, *out_exprs], ["x", "crank", "q"], ["ode", *OUTPUT_NAMES])
     motion = ca.vertcat(*series(t, a, b, period, theta0))
 
     def timed(exprs):  # the crank motion of the Fourier speed in p at time t

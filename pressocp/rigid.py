@@ -99,10 +99,25 @@ def crank_angle_at_height(params: PressParams, height: Any, stroke: str = "down"
     return theta if stroke == "down" else 2 * np.pi - theta
 
 
+#: Outputs of `inverse_dynamics`, in order.
+INVERSE_DYNAMICS_OUTPUTS = ("torque", "crank_pin_force", "wrist_pin_force", "slider_normal_force", "ram_height",
+                            "ram_velocity", "ram_acceleration", "kinetic_energy", "potential_energy",
+                            "crank_pin_tension", "wrist_pin_tension")
+
+
 @lru_cache(maxsize=32)
 def inverse_dynamics_function(params: PressParams) -> ca.Function:
-    l, g = params.rod_length, params.gravity
+    """(theta, omega, alpha) -> `INVERSE_DYNAMICS_OUTPUTS` of the ideal press (SX, one sample)."""
     theta, omega, alpha = ca.SX.sym("theta"), ca.SX.sym("omega"), ca.SX.sym("alpha")
+    out = inverse_dynamics(params, theta, omega, alpha)
+    return ca.Function("rigid_inverse_dynamics", [theta, omega, alpha], [out[k] for k in INVERSE_DYNAMICS_OUTPUTS],
+                       ["theta", "omega", "alpha"], list(INVERSE_DYNAMICS_OUTPUTS))
+
+
+def inverse_dynamics(params: PressParams, theta: ca.SX, omega: ca.SX, alpha: ca.SX) -> dict[str, ca.SX]:
+    """`INVERSE_DYNAMICS_OUTPUTS` of the ideal press as SX expressions of the crank motion (and of any
+    parameter of `params` that is a symbol, `PressParams.with_symbols`)."""
+    l, g = params.rod_length, params.gravity
 
     # Absolute coordinates and their rates.
     q = ca.SX.sym("q", 6)  # theta, xG, yG, phi, xS, yS
@@ -137,16 +152,9 @@ def inverse_dynamics_function(params: PressParams) -> ca.Function:
     # so without a process force its weight keeps the rod in tension until the ram's downward
     # acceleration exceeds g; the sign change is the joint-force reversal that makes journals impact
     e = mech.unit(pos["rod_angle"])
-    return ca.Function(
-        "rigid_inverse_dynamics",
-        [theta, omega, alpha],
-        [lam[5], ca.norm_2(lam[0:2]), ca.norm_2(lam[2:4]), lam[4], h, qd_of[5], qdd_of[5], T, V,
-         -ca.dot(lam[0:2], e), -ca.dot(lam[2:4], e)],
-        ["theta", "omega", "alpha"],
-        ["torque", "crank_pin_force", "wrist_pin_force", "slider_normal_force", "ram_height",
-         "ram_velocity", "ram_acceleration", "kinetic_energy", "potential_energy",
-         "crank_pin_tension", "wrist_pin_tension"],
-    )
+    values = [lam[5], ca.norm_2(lam[0:2]), ca.norm_2(lam[2:4]), lam[4], h, qd_of[5], qdd_of[5], T, V,
+              -ca.dot(lam[0:2], e), -ca.dot(lam[2:4], e)]
+    return dict(zip(INVERSE_DYNAMICS_OUTPUTS, values))
 
 
 def rigid_inverse_dynamics(params: PressParams, theta: Any, omega: Any, alpha: Any) -> dict[str, np.ndarray]:

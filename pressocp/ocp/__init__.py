@@ -6,9 +6,11 @@ from .collocation import Collocation, CollocationGrid
 from .optimize import optimize_speed
 from .result import OcpResult
 from .rigid import Rigid
+from .sensitivity import OptimumSensitivities, SensitivityError, optimum_sensitivities
 from .shooting import MultipleShooting, ShootingError, ShootingGrid
 from .stage import Check, StageResult, WarmStart
 from .strategy import Strategy
 
-__all__ = ["Check", "Collocation", "CollocationGrid", "MultipleShooting", "OcpResult", "Rigid", "ShootingError",
-           "ShootingGrid", "StageResult", "Strategy", "WarmStart", "optimize_speed"]
+__all__ = ["Check", "Collocation", "CollocationGrid", "MultipleShooting", "OcpResult", "OptimumSensitivities", "Rigid",
+           "SensitivityError", "ShootingError", "ShootingGrid", "StageResult", "Strategy", "WarmStart",
+           "optimize_speed", "optimum_sensitivities"]

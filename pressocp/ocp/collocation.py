@@ -142,18 +142,18 @@ class CollocationGrid(UniformPartition):
 
 
 def point_function(model: PressModel, names: tuple[str, ...], jit: bool = False) -> ca.Function:
-    """The model at one collocation point: ``(x [nx], crank [3]) -> (dx/dt [nx], y [len(names)])``,
-    the outputs `names` (`PressModel.at_crank`). With `jit`, it and its derivatives are compiled by
-    the system C compiler (`JIT_OPTIONS`)."""
-    x, crank = ca.SX.sym("x", model.nx), ca.SX.sym("crank", 3)
-    out = model.at_crank(x, crank)
+    """The model at one collocation point: ``(x [nx], crank [3], q) -> (dx/dt [nx], y [len(names)])``,
+    the outputs `names` and ``q`` the carried press parameters (`PressModel.at_crank`). With `jit`, it
+    and its derivatives are compiled by the system C compiler (`JIT_OPTIONS`)."""
+    x, crank, q = ca.SX.sym("x", model.nx), ca.SX.sym("crank", 3), ca.SX.sym("q", len(model.symbols))
+    out = model.at_crank(x, crank, q)
     y = ca.vertcat(*[out[1 + OUTPUT_NAMES.index(n)] for n in names])
     opts = {**JIT_OPTIONS, "der_options": JIT_OPTIONS} if jit else {}
-    return ca.Function("point", [x, crank], [out[0], y], ["x", "crank"], ["ode", "y"], opts)
+    return ca.Function("point", [x, crank, q], [out[0], y], ["x", "crank", "q"], ["ode", "y"], opts)
 
 
 def collocation_residuals(model: PressModel, grid: CollocationGrid, names: tuple[str, ...], X, crank,
-                          jit: bool = False) -> tuple:
+                          jit: bool = False, q=None) -> tuple:
     """Collocation defects, element end values and outputs of the whole grid.
 
     The model is evaluated point by point (one mapped `point_function`) and the Radau matrices act
@@ -168,6 +168,8 @@ def collocation_residuals(model: PressModel, grid: CollocationGrid, names: tuple
         theta (rad), omega (rad/s), alpha (rad/s^2) at `CollocationGrid.times`.
     jit : bool
         Compile the point function (`point_function`).
+    q : ca.MX or array, optional
+        Values of the model's carried parameters (default `PressModel.nominal`).
 
     Returns
     -------
@@ -179,7 +181,8 @@ def collocation_residuals(model: PressModel, grid: CollocationGrid, names: tuple
     K, d = grid.elements, grid.degree
     X = X if isinstance(X, ca.MX) else ca.DM(np.asarray(X, float))
     crank = crank if isinstance(crank, ca.MX) else ca.DM(np.asarray(crank, float))
-    F, Y = point_function(model, names, jit).map(K * d)(X[:, grid.radau], crank)
+    q = ca.DM(model.nominal) if q is None else q
+    F, Y = point_function(model, names, jit).map(K * d)(X[:, grid.radau], crank, q)
     # block-diagonal C (K(d+1) x Kd) and D (K(d+1) x K) as sparse matrices
     k, j, m = (a.ravel() for a in np.meshgrid(np.arange(K), np.arange(d + 1), np.arange(d), indexing="ij"))
     Cb = ca.DM.triplet((k * (d + 1) + j).tolist(), (k * d + m).tolist(), C[j, m].tolist(), K * (d + 1), K * d)
@@ -249,7 +252,9 @@ class Collocation(StateSettings):
 
     def solve(self, problem: SpeedProblem, model: PressModel, start: WarmStart, name: str = "target",
               progress: bool = False) -> StageResult:
-        """One collocation stage on `model`, warm-started at the start speed's periodic response."""
+        """One collocation stage on `model`, warm-started at the start speed's periodic response. A
+        model that carries press parameters (``build_model(..., parameters=...)``) puts them into the
+        NLP's p, and the stage holds the NLP at its solution (``StageResult.point``)."""
         check_states(problem, model)
         grid = self.grid(problem.period)
         K, d, n, T = grid.elements, grid.degree, problem.n_harmonics, problem.period
@@ -262,7 +267,8 @@ class Collocation(StateSettings):
         X = ca.MX.sym("X", zi.size + wi.size)
         Z, Wv = X[zi.ravel(order="F").tolist()].reshape(zi.shape), X[wi.ravel(order="F").tolist()].reshape(wi.shape)
         W = Wv * ca.DM(crank_scale(T))
-        defect, Xf, Y = collocation_residuals(model, grid, names, Z, W, jit)
+        q = ca.MX.sym("q", len(model.symbols)) if model.symbols else None
+        defect, Xf, Y = collocation_residuals(model, grid, names, Z, W, jit, q)
         W0 = crank_motion(start.speed.padded(n), grid.times)
         y0 = np.asarray(collocation_residuals(model, grid, names, states, W0)[2])
         X0 = np.zeros(X.numel())
@@ -283,6 +289,7 @@ class Collocation(StateSettings):
             cons, name=name, transcription=repr(self), desc=f"{name} ({K}x{d} radau{', jit' if jit else ''})",
             options={**nlp_options(jit), **self.ipopt}, progress=progress, backoff=self.backoff,
             omega_samples=self.omega_samples, coefficient_step=None,
-            fixed=None if self.periodic else zi[:, 0], details=details)
+            fixed=None if self.periodic else zi[:, 0], details=details,
+            parameters=None if q is None else (q, model.nominal))
         r.states = r.states[zi]
         return r

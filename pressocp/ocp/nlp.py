@@ -242,9 +242,9 @@ class IterationRecord(ca.Callback):
     """IPOPT iteration callback: objective history, the least-infeasible iterate, optional tqdm bar
     showing the objective in its own unit."""
 
-    def __init__(self, nx: int, cons: Constraints, objective: Objective, scale: float, bar=None):
+    def __init__(self, nx: int, cons: Constraints, objective: Objective, scale: float, bar=None, np_: int = 0):
         ca.Callback.__init__(self)
-        self.nx, self.ng, self.lbg, self.ubg, self.bar = nx, cons.size, cons.lbg, cons.ubg, bar
+        self.nx, self.ng, self.np, self.lbg, self.ubg, self.bar = nx, cons.size, np_, cons.lbg, cons.ubg, bar
         self.objective, self.scale = objective, scale
         self.history: list[float] = []
         self.best: tuple[float, float, np.ndarray] | None = None
@@ -270,6 +270,8 @@ class IterationRecord(ca.Callback):
             return ca.Sparsity.dense(self.nx)
         if n in ("g", "lam_g"):
             return ca.Sparsity.dense(self.ng)
+        if n == "lam_p" and self.np:
+            return ca.Sparsity.dense(self.np)
         return ca.Sparsity(0, 0)
 
     def eval(self, arg):
@@ -283,6 +285,35 @@ class IterationRecord(ca.Callback):
             self.bar.update(1)
             self.bar.set_postfix_str(f"{self.objective.name} {f:.5g} {self.objective.unit}, infeasibility {viol:.2g}")
         return [0]
+
+
+@dataclass
+class ParametricPoint:
+    """An NLP ``min f(x, p) s.t. lbg <= g(x, p) <= ubg, lbx <= x <= ubx`` at IPOPT's solution for the
+    parameter values ``p``: what a parametric sensitivity needs (`pressocp.ocp.kkt`).
+
+    Attributes
+    ----------
+    nlp : ca.Function
+        (x, p) -> (f, g).
+    x, p, lam_x, lam_g : ndarray
+        The solution, the parameter values and the multipliers (CasADi's sign convention: positive
+        at an upper bound, negative at a lower one).
+    lbx, ubx, lbg, ubg : ndarray
+    groups : list of (name, first index, size)
+        The constraint groups (`Constraints.groups`).
+    """
+
+    nlp: ca.Function
+    x: np.ndarray
+    p: np.ndarray
+    lam_x: np.ndarray
+    lam_g: np.ndarray
+    lbx: np.ndarray
+    ubx: np.ndarray
+    lbg: np.ndarray
+    ubg: np.ndarray
+    groups: list
 
 
 @dataclass
@@ -306,6 +337,8 @@ class NlpOutcome:
         Largest violation per constraint group at the start and at ``w``.
     wall_time : float
         s.
+    point : ParametricPoint or None
+        The NLP at IPOPT's solution, when it has parameters and IPOPT succeeded.
     """
 
     w: np.ndarray
@@ -318,14 +351,23 @@ class NlpOutcome:
     violations_start: dict
     violations: dict
     wall_time: float
+    point: ParametricPoint | None = None
+
+
+def parameter_symbols(q) -> tuple:
+    """``(symbol, values)`` of an NLP's parameters from ``(symbol, values)`` or None (an empty
+    parameter vector)."""
+    return (ca.MX(0, 1), np.zeros(0)) if q is None else (q[0], np.asarray(q[1], float).ravel())
 
 
 def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarray, ubw: np.ndarray,
-              options: dict, objective: Objective, scale: float, desc: str = "", progress: bool = False
-              ) -> NlpOutcome:
-    """IPOPT on ``min f(w) s.t. cons, lbw <= w <= ubw`` from ``w0``.
+              options: dict, objective: Objective, scale: float, desc: str = "", progress: bool = False,
+              parameters: tuple | None = None) -> NlpOutcome:
+    """IPOPT on ``min f(w, q) s.t. cons, lbw <= w <= ubw`` from ``w0``.
 
     ``options`` are complete nlpsol options (e.g. `IPOPT_RIGID` or `IPOPT_WARM` plus overrides).
+    ``parameters``: ``(q, values)``, a symbol the expressions depend on and its values (the NLP's p);
+    the outcome then holds the `ParametricPoint`.
     Ctrl-C raises `KeyboardInterrupt` (with ``best`` holding the least-infeasible iterate)."""
     t0 = time.perf_counter()
     bar = None
@@ -333,19 +375,26 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
         from tqdm.auto import tqdm
 
         bar = tqdm(desc=desc or name, unit="it", leave=True)
-    cb = IterationRecord(w.numel(), cons, objective, scale, bar)
+    q, q0 = parameter_symbols(parameters)
+    cb = IterationRecord(w.numel(), cons, objective, scale, bar, q0.size)
     gall = cons.g
-    solver = ca.nlpsol(name, "ipopt", {"x": w, "f": f, "g": gall}, {**options, "iteration_callback": cb})
-    g_fun = ca.Function("constraints", [w], [gall])
-    viol_start = cons.by_group(g_fun(w0))
+    solver = ca.nlpsol(name, "ipopt", {"x": w, "p": q, "f": f, "g": gall}, {**options, "iteration_callback": cb})
+    g_fun = ca.Function("constraints", [w, q], [gall])
+    viol_start = cons.by_group(g_fun(w0, q0))
+    point = None
     try:
         with interruptible() as hit:
             try:
-                sol = solver(x0=w0, lbx=lbw, ubx=ubw, lbg=cons.lbg, ubg=cons.ubg)
+                sol = solver(x0=w0, p=q0, lbx=lbw, ubx=ubw, lbg=cons.lbg, ubg=cons.ubg)
                 st = solver.stats()
                 wo, success, status = np.asarray(sol["x"]).ravel(), bool(st["success"]), str(st["return_status"])
                 iters = int(st.get("iter_count", len(cb.history)))
                 barrier = [float(m) for m in st.get("iterations", {}).get("mu", [])]
+                if q0.size and success:
+                    point = ParametricPoint(
+                        ca.Function("nlp", [w, q], [f, gall], ["x", "p"], ["f", "g"]), wo, q0,
+                        np.asarray(sol["lam_x"]).ravel(), np.asarray(sol["lam_g"]).ravel(), np.asarray(lbw, float),
+                        np.asarray(ubw, float), cons.lbg, cons.ubg, list(cons.groups))
             except RuntimeError as err:  # IPOPT itself raised (e.g. an evaluation error at the start)
                 if hit:
                     raise
@@ -361,9 +410,9 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
     if not success and cb.best is not None:
         wo = cb.best[2]
     try:
-        viol_end = cons.by_group(g_fun(wo))
+        viol_end = cons.by_group(g_fun(wo, q0))
     except RuntimeError:  # an integrator failing at the returned iterate: the caller locates it
         viol_end = {}
     return NlpOutcome(w=wo, last_w=last, success=success, status=status, iterations=iters, history=list(cb.history),
                       barrier=barrier, violations_start=viol_start, violations=viol_end,
-                      wall_time=time.perf_counter() - t0)
+                      wall_time=time.perf_counter() - t0, point=point)

@@ -17,7 +17,7 @@ from ..design import design_speed
 from ..model import ModelSpec, PressModel
 from ..objectives import get as get_objective
 from ..problem import SpeedProblem
-from ..rigid import crank_angle_at_height, inverse_dynamics_function, rigid_response
+from ..rigid import crank_angle_at_height, inverse_dynamics, rigid_response
 from ..speed import FourierSpeed
 from .nlp import (IPOPT_RIGID, Constraints, add_kinematic_window, add_objective, add_pin_cap, add_speed_bounds,
                   lifted_crank, scaled_crank_start, solve_nlp)
@@ -28,11 +28,13 @@ LOAD_OUTPUTS = ("torque", "slider_normal_force", "crank_pin_force", "wrist_pin_f
                 "wrist_pin_tension")
 
 
-def loads_function(problem: SpeedProblem) -> ca.Function:
-    """(theta, omega, alpha) -> `LOAD_OUTPUTS` of the ideal press (inverse dynamics), SX, one sample."""
+def loads_function(problem: SpeedProblem, symbols: tuple[str, ...] = ()) -> ca.Function:
+    """(theta, omega, alpha, q) -> `LOAD_OUTPUTS` of the ideal press (inverse dynamics), SX, one
+    sample; ``q`` holds the press parameters `symbols` (dotted names), empty without them."""
     th, om, al = ca.SX.sym("theta"), ca.SX.sym("omega"), ca.SX.sym("alpha")
-    dyn = inverse_dynamics_function(problem.press)(theta=th, omega=om, alpha=al)
-    return ca.Function("loads", [th, om, al], [dyn[k] for k in LOAD_OUTPUTS])
+    press, q = problem.press.with_symbols(tuple(symbols)) if symbols else (problem.press, [])
+    dyn = inverse_dynamics(press, th, om, al)
+    return ca.Function("loads", [th, om, al, ca.vertcat(*q) if q else ca.SX(0, 1)], [dyn[k] for k in LOAD_OUTPUTS])
 
 
 @dataclass(frozen=True)
@@ -78,6 +80,8 @@ class Rigid:
             The model the answer is meant for. Its ram hangs lower by its clearances
             (`PressModel.ram_drop`), so it enters the height window earlier: the rigid window is
             widened upward by that drop, so that the ram speed holds on that model's window too.
+            Press parameters it carries (`PressModel.symbols`) become the NLP's p, and the stage holds
+            the NLP at its solution (``StageResult.point``); a bearing's parameters do not enter.
         start : WarmStart, optional
             Start speed; default the kinematic design (`design_speed`).
         name : str
@@ -110,10 +114,12 @@ class Rigid:
         t1_0 = float(np.clip(t1_0, 0.0, T - duration))
 
         c, s, t1 = ca.MX.sym("c", 2 * n), ca.MX.sym("s"), ca.MX.sym("t1")
+        symbols = () if model is None else model.symbols
+        q = ca.MX.sym("q", len(symbols)) if symbols else ca.MX(0, 1)
         ts = np.linspace(0.0, T, N, endpoint=False)
         cons = Constraints()
         Wv, W = lifted_crank(cons, c, T, ts)
-        y = dict(zip(LOAD_OUTPUTS, loads_function(P).map(N)(W[0, :], W[1, :], W[2, :])))
+        y = dict(zip(LOAD_OUTPUTS, loads_function(P, symbols).map(N)(W[0, :], W[1, :], W[2, :], q)))
         y.update(theta=W[0, :], omega=W[1, :])
         scale = objective.value(rigid_response(P.press, initial, ts))
         f = add_objective(cons, objective, y, s, scale)
@@ -129,7 +135,8 @@ class Rigid:
         lbw = np.concatenate([np.full(2 * n, -np.inf), [0.0, 0.0], np.full(W0.size, -np.inf)])
         ubw = np.concatenate([np.full(2 * n, np.inf), [np.inf, T - duration], np.full(W0.size, np.inf)])
         out = solve_nlp(f"rigid_{name}", w, f, cons, w0, lbw, ubw, {**IPOPT_RIGID, **self.ipopt}, objective, scale,
-                        desc=f"{name} (rigid press, {N} samples)", progress=progress)
+                        desc=f"{name} (rigid press, {N} samples)", progress=progress,
+                        parameters=(q, model.nominal) if symbols else None)
         speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
         sampled = rigid_response(P.press, speed, ts)
         return StageResult(
@@ -138,4 +145,4 @@ class Rigid:
             speed=speed, last_speed=FourierSpeed.from_coefficients(T, out.last_w[: 2 * n]),
             t1=float(out.w[2 * n + 1]), history=out.history, barrier=out.barrier,
             violations_start=out.violations_start, violations=out.violations,
-            details={"window_extension_m": drop, "min_tension_N": P.min_tension})
+            details={"window_extension_m": drop, "min_tension_N": P.min_tension}, point=out.point)

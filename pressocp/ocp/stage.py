@@ -17,6 +17,7 @@ import numpy as np
 from ..model import PressModel
 from ..problem import SpeedProblem
 from ..speed import FourierSpeed
+from .nlp import ParametricPoint
 
 
 @dataclass
@@ -109,6 +110,9 @@ class StageResult:
         The answer re-simulated on the target model (rigid stages of a chain).
     states : ndarray or None
         Scaled states of the solution (node or collocation states); not saved.
+    point : ParametricPoint or None
+        The NLP at its solution, when the stage's model carried press parameters
+        (`pressocp.optimum_sensitivities`); not saved.
     """
 
     name: str
@@ -129,6 +133,7 @@ class StageResult:
     details: dict = field(default_factory=dict)
     check: Check | None = None
     states: np.ndarray | None = field(default=None, repr=False)
+    point: ParametricPoint | None = field(default=None, repr=False)
 
     @classmethod
     def skipped(cls, name: str, reason: str, model: str, start: "StageResult") -> "StageResult":
@@ -142,9 +147,9 @@ class StageResult:
         return self.transcription == "skipped"
 
     def to_dict(self) -> dict:
-        """Plain data (JSON-safe); ``states`` is left out."""
-        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ("states", "speed", "last_speed",
-                                                                                     "check")}
+        """Plain data (JSON-safe); ``states`` and ``point`` are left out."""
+        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ("states", "point", "speed",
+                                                                                     "last_speed", "check")}
         d.update(speed=self.speed.to_dict(), last_speed=self.last_speed.to_dict(),
                  check=None if self.check is None else asdict(self.check))
         return d

@@ -19,7 +19,7 @@ from ..problem import SpeedProblem
 from ..simulate import SimulationError, integrate, periodic_state
 from ..speed import FourierSpeed
 from .nlp import (IPOPT_WARM, Constraints, add_dense_speed_bounds, add_objective, add_pin_cap, needed_outputs,
-                  solve_nlp)
+                  parameter_symbols, solve_nlp)
 from .stage import StageResult, WarmStart, settings_repr
 from .verify import settled_state
 
@@ -154,7 +154,8 @@ def check_states(problem: SpeedProblem, model: PressModel) -> None:
 def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, c, X, X0: np.ndarray, y: dict,
                  y0: dict, times: np.ndarray, cons: Constraints, *, name: str, transcription: str, desc: str,
                  options: dict, progress: bool, backoff: float, omega_samples: int,
-                 coefficient_step: float | None, fixed: np.ndarray | None, details: dict) -> StageResult:
+                 coefficient_step: float | None, fixed: np.ndarray | None, details: dict,
+                 parameters: tuple | None = None) -> StageResult:
     """The NLP of a state transcription from its pieces, solved.
 
     Parameters
@@ -171,6 +172,9 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
         Share of the ram-speed tolerance held at the samples.
     fixed : ndarray of int, optional
         Entries of X held at X0 (the first state of a non-periodic response).
+    parameters : (ca.MX, ndarray), optional
+        The model's carried press parameters as the NLP's p, and their values; the stage then holds
+        the NLP at its solution (``StageResult.point``).
     """
     P, T, n = problem, problem.period, problem.n_harmonics
     objective = get_objective(P.objective)
@@ -191,11 +195,13 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
     if fixed is not None:
         k = 2 * n + 1 + np.asarray(fixed)
         lbw[k] = ubw[k] = w0[k]
-    out = solve_nlp(name, w, f, cons, w0, lbw, ubw, {**IPOPT_WARM, **options}, objective, scale, desc, progress)
+    out = solve_nlp(name, w, f, cons, w0, lbw, ubw, {**IPOPT_WARM, **options}, objective, scale, desc, progress,
+                    parameters)
     speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
+    q, q0 = parameter_symbols(parameters)
     try:
-        y_fun = ca.Function("y_at", [w], [ca.vertcat(*[y[k] for k in objective.outputs])])
-        rows = np.asarray(y_fun(out.w))
+        y_fun = ca.Function("y_at", [w, q], [ca.vertcat(*[y[k] for k in objective.outputs])])
+        rows = np.asarray(y_fun(out.w, q0))
         value = objective.value({k: rows[i] for i, k in enumerate(objective.outputs)})
     except RuntimeError:  # an integrator failing at the returned iterate: the caller locates it
         value = float("nan")
@@ -204,4 +210,4 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
         iterations=out.iterations, wall_time=out.wall_time, objective=value, speed=speed,
         last_speed=FourierSpeed.from_coefficients(T, out.last_w[: 2 * n]), t1=float(times[inside[0]]),
         history=out.history, barrier=out.barrier, violations_start=out.violations_start, violations=out.violations,
-        details=details, states=out.w[2 * n + 1 :])
+        details=details, states=out.w[2 * n + 1 :], point=out.point)

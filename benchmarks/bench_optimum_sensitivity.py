@@ -1,0 +1,121 @@
+"""Sensitivity of the optimum: dJ*/dp from the NLP's parametric sensitivity against central
+differences of re-solved optima.
+
+For each scenario (``press60``: the rigid-press optimum is the answer; ``press75``: collocation on the
+clearance model), the default call optimises; `po.optimum_sensitivities` differentiates the answer
+with respect to the slider mass; then the optimum is re-solved from scratch (the default call) with
+the slider mass 2 % up and 2 % down. Both the stage's own objective (what the NLP minimises) and the
+verified objective (periodic re-simulation) are differenced. Writes
+``results/optimum_sensitivity.json`` and ``.png``.
+
+    python benchmarks/bench_optimum_sensitivity.py [press60] [press75] [--step 0.02]
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import os
+import platform
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+import pressocp as po  # noqa: E402
+from pressocp.ocp.result import versions  # noqa: E402
+from pressocp.plots import save  # noqa: E402
+
+OUT = Path(__file__).parent / "results"
+PARAMETER = "slider_mass"
+
+
+def answer_objective(result: po.OcpResult) -> float:
+    """The objective of the stage that produced the answer (what its NLP minimised)."""
+    return next(s for s in reversed(result.stages) if not s.was_skipped).objective
+
+
+def case(name: str, step: float) -> dict:
+    problem = po.Scenario.load(name).problem
+    press = problem.press
+    t0 = time.perf_counter()
+    result = po.optimize_speed(problem, progress=False)
+    t_opt = time.perf_counter() - t0
+    sens = po.optimum_sensitivities(result, (PARAMETER,))
+    row = sens.table.iloc[0]
+    p = press.value(PARAMETER)
+    solves = {}
+    for sign in (+1, -1):
+        pressed = press.replace(**{PARAMETER: p * (1 + sign * step)})
+        t0 = time.perf_counter()
+        r = po.optimize_speed(problem.replace(press=pressed), progress=False)
+        solves["up" if sign > 0 else "down"] = {"wall_time_s": time.perf_counter() - t0, "success": r.success,
+                                                "stage": next(s for s in reversed(r.stages) if not s.was_skipped).name,
+                                                "objective": answer_objective(r), "verified": r.verified_objective}
+    fd = (solves["up"]["objective"] - solves["down"]["objective"]) / (2 * step * p)
+    fd_verified = (solves["up"]["verified"] - solves["down"]["verified"]) / (2 * step * p)
+    resolve_pair = solves["up"]["wall_time_s"] + solves["down"]["wall_time_s"]
+    return {
+        "scenario": name, "parameter": PARAMETER, "parameter_value": p, "step_relative": step,
+        "stage": sens.stage, "optimize_wall_time_s": t_opt, "result_objective": answer_objective(result),
+        "resolved_objective": sens.objective, "verified_objective": result.verified_objective,
+        "derivative": float(row["derivative"]), "derivative_check": float(row["derivative_check"]),
+        "normalised": float(row["normalised"]), "step_up": float(row["step_up"]),
+        "step_down": float(row["step_down"]), "change_up": row["change_up"], "change_down": row["change_down"],
+        "weakly_active": int(row["weakly_active"]), "active": sens.active,
+        "fd_derivative": fd, "fd_derivative_verified": fd_verified,
+        "relative_difference": float(row["derivative"]) / fd - 1,
+        "relative_difference_verified": float(row["derivative"]) / fd_verified - 1,
+        "resolves": solves, "sensitivity_resolve_s": sens.resolve_time, "sensitivity_kkt_s": sens.kkt_time,
+        "two_resolves_s": resolve_pair,
+        "ratio_kkt_to_two_resolves": sens.kkt_time / resolve_pair,
+        "ratio_total_to_two_resolves": (sens.resolve_time + sens.kkt_time) / resolve_pair,
+    }
+
+
+def figure(rows: list[dict]) -> None:
+    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
+    x = np.arange(len(rows))
+    ax = axes[0]
+    ax.bar(x - 0.2, [r["derivative"] for r in rows], 0.4, label="NLP sensitivity (KKT)")
+    ax.bar(x + 0.2, [r["fd_derivative"] for r in rows], 0.4, label=f"central difference of re-solved optima "
+                                                                    f"(±{rows[0]['step_relative']:.0%})")
+    ax.set_xticks(x, [f"{r['scenario']}\n({r['stage']})" for r in rows])
+    ax.set_ylabel("dJ*/d slider mass [N·m/kg]")
+    ax.legend(fontsize=7)
+    ax = axes[1]
+    ax.bar(x - 0.27, [r["sensitivity_kkt_s"] for r in rows], 0.27, label="KKT solve")
+    ax.bar(x, [r["sensitivity_resolve_s"] for r in rows], 0.27, label="re-solve at the answer")
+    ax.bar(x + 0.27, [r["two_resolves_s"] for r in rows], 0.27, label="two re-solved optima (difference)")
+    ax.set_xticks(x, [r["scenario"] for r in rows])
+    ax.set_ylabel("wall time [s]")
+    ax.legend(fontsize=7)
+    for a in axes:
+        a.grid(alpha=0.3, axis="y")
+    fig.tight_layout()
+    save(fig, OUT / "optimum_sensitivity.png")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("scenarios", nargs="*", default=["press60", "press75"])
+    ap.add_argument("--step", type=float, default=0.02)
+    args = ap.parse_args()
+    rows = []
+    for name in args.scenarios:
+        rows.append(case(name, args.step))
+        print(json.dumps({k: v for k, v in rows[-1].items() if k != "resolves"}, indent=1, default=str), flush=True)
+    OUT.mkdir(exist_ok=True)
+    meta = {"date": datetime.datetime.now().isoformat(timespec="seconds"), "machine": platform.node(),
+            "cpus": os.cpu_count(), "platform": platform.platform(), "versions": versions()}
+    (OUT / "optimum_sensitivity.json").write_text(json.dumps({**meta, "cases": rows}, indent=2, default=str) + "\n")
+    figure(rows)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,218 @@
+"""Sensitivity of an optimal design to press parameters: dJ*/dp and d(coefficients)/dp from the
+NLP's parametric sensitivity.
+
+    s = po.optimum_sensitivities(result, ("slider_mass", "wrist_pin.clearance"))
+    s.table                     # dJ*/dp, normalised, how far the active set holds
+    s.predict("slider_mass", 5.0)   # first-order optimum speed for 5 kg more
+
+The stage that produced the answer (the rigid press, or collocation on the clearance or flexible
+model) is solved once more, from the answer, with the parameters as the NLP's p (the model built
+with them as symbols); the implicit function theorem on its KKT system (`pressocp.ocp.kkt`) then gives
+the derivatives for every parameter at the cost of one linear solve. The re-solve starts at the
+optimum, so it takes few iterations; its objective is reported next to the result's.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from ..model import ModelSpec, build_model
+from ..objectives import get as get_objective
+from ..params import check_parameter
+from ..speed import FourierSpeed
+from .collocation import Collocation
+from .kkt import KktSensitivity, kkt_sensitivity
+from .result import OcpResult
+from .rigid import Rigid
+from .stage import StageResult, WarmStart
+
+#: Parameters that move the working window (its heights are fractions of the stroke) or the ideal
+#: press's kinematics: a derivative of the optimum holding the problem fixed does not exist for them.
+KINEMATIC = ("crank_radius", "rod_length")
+#: A predicted active-set change within this relative step of p makes the derivative one-sided.
+ONE_SIDED = 1e-6
+#: Stages answered on the ideal press.
+RIGID_STAGES = ("rigid", "no_reversal")
+
+
+class SensitivityError(RuntimeError):
+    """The re-solve at the answer did not converge, so the KKT system is not at a solution."""
+
+
+@dataclass
+class OptimumSensitivities:
+    """Derivatives of an optimal design with respect to press parameters.
+
+    Attributes
+    ----------
+    table : pandas.DataFrame
+        One row per parameter: ``parameter_value`` (SI), ``objective`` (J*, the objective's unit),
+        ``derivative`` (dJ*/dp, envelope theorem), ``derivative_check`` (the same from the optimum's
+        own derivative; the two agree when the KKT solve is sound), ``normalised`` (p / J* dJ*/dp),
+        ``step_up`` and ``step_down`` (relative steps dp/p to the first predicted change of the active
+        set, weakly active constraints aside) with ``change_up`` and ``change_down`` (the constraint
+        group that changes), ``weakly_active`` (inequalities at their bound with a multiplier near
+        zero: they may enter or leave at once, so the derivative may be one-sided; a min-max optimum
+        has many in its epigraph) and ``one_sided`` (the active set changes within `ONE_SIDED`
+        relative in one direction: the derivative holds for the other only).
+    coefficients : pandas.DataFrame
+        d(Fourier coefficient)/dp, rad/s per unit of p: rows ``a1..an, b1..bn``, a column per parameter.
+    stage : str
+        The stage whose NLP was differentiated ("rigid", "no_reversal", "target" or "flexible").
+    objective : float
+        J* of the re-solve (its unit).
+    result_objective : float
+        J* as the result's stage reported it.
+    active, weakly_active : dict
+        Active and weakly active inequality constraints per group (e.g. the epigraph's samples).
+    resolve_time, kkt_time : float
+        s: the re-solve at the answer (model build, NLP, IPOPT) and the sensitivity (derivatives,
+        KKT factorisation and solve).
+    kkt : KktSensitivity
+    speed : FourierSpeed
+        The re-solved optimum.
+    """
+
+    table: pd.DataFrame
+    coefficients: pd.DataFrame
+    stage: str
+    objective: float
+    result_objective: float
+    active: dict
+    weakly_active: dict
+    resolve_time: float
+    kkt_time: float
+    kkt: KktSensitivity
+    speed: FourierSpeed
+
+    def derivative(self, parameter: str) -> float:
+        """dJ*/dp of one parameter."""
+        row = self.table[self.table["parameter"] == parameter]
+        if row.empty:
+            raise KeyError(f"no row for {parameter!r}; parameters: {', '.join(self.table['parameter'])}")
+        return float(row["derivative"].iloc[0])
+
+    def predict(self, parameter: str, dp: float) -> FourierSpeed:
+        """First-order optimum speed for a step `dp` of `parameter` (its unit): a warm start for the
+        re-solve at p + dp."""
+        if parameter not in self.coefficients.columns:
+            raise KeyError(f"no column for {parameter!r}")
+        c = self.speed.coefficients + dp * self.coefficients[parameter].to_numpy()
+        return FourierSpeed.from_coefficients(self.speed.period, c)
+
+
+def answer_stage(result: OcpResult) -> StageResult:
+    """The stage that produced the result's answer (the last that ran)."""
+    if not result.success:
+        raise ValueError(f"the result did not converge ({result.status}): an optimum is needed")
+    return next(s for s in reversed(result.stages) if not s.was_skipped)
+
+
+def per_group(mask: np.ndarray, groups: list) -> dict[str, int]:
+    """Number of True entries of `mask` per constraint group name (groups without one left out)."""
+    out: dict[str, int] = {}
+    for name, i0, size in groups:
+        k = int(mask[i0 : i0 + size].sum())
+        if k:
+            out[name] = out.get(name, 0) + k
+    return out
+
+
+def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress: bool = False
+                          ) -> OptimumSensitivities:
+    """dJ*/dp and d(coefficients)/dp of an optimal design for press parameters p.
+
+    Parameters
+    ----------
+    result : OcpResult
+        A converged optimum (`optimize_speed`; also one reloaded from JSON).
+    parameters : sequence of str
+        Dotted names in `pressocp.params.NUMERIC_PARAMETERS`, but not the kinematic ones (`KINEMATIC`);
+        a bearing's parameters only when the answer comes from a model with clearance.
+    progress : bool
+        A tqdm bar over the re-solve's iterations.
+
+    Returns
+    -------
+    OptimumSensitivities
+
+    Raises
+    ------
+    ValueError
+        An unknown, kinematic or (for a rigid-press answer) bearing parameter, an unconverged result,
+        or an answer from multiple shooting (checked before any solve).
+    SensitivityError
+        The re-solve at the answer did not converge.
+    """
+    if not isinstance(result, OcpResult):
+        raise ValueError(f"result must be an OcpResult, got {type(result).__name__}")
+    names = tuple(check_parameter(n) for n in parameters)
+    if not names:
+        raise ValueError("parameters must name at least one press parameter")
+    if len(set(names)) != len(names):
+        raise ValueError(f"parameters name one twice: {names!r}")
+    for n in names:
+        if n in KINEMATIC:
+            raise ValueError(f"parameter {n!r} moves the working window and the kinematics (the window's heights "
+                             "are fractions of the stroke): sweep it instead (po.sweep)")
+    stage = answer_stage(result)
+    problem, press = result.problem, result.problem.press
+    t0 = time.perf_counter()
+    if stage.name in RIGID_STAGES:
+        bearings = [n for n in names if "." in n]
+        if bearings:
+            raise ValueError(f"the answer is the ideal press's optimum (verified on the clearance model), which "
+                             f"does not depend on {', '.join(bearings)}: differentiate a clearance-model optimum "
+                             "(optimize_speed(..., strategy='all')) or sweep it")
+        if stage.name == "no_reversal":
+            problem = problem.replace(min_tension=stage.details["min_tension_N"])
+        transcription = Rigid()
+        model = build_model(press, "rigid", result.model.clearance, result.model.n_elements, problem.n_harmonics, names)
+    elif stage.transcription.startswith("Collocation"):
+        d = stage.details
+        transcription = Collocation(d["elements"], d["degree"], jit=d["jit"], min_eccentricity=d["min_eccentricity"])
+        spec = result.model if stage.name == "flexible" else ModelSpec("rigid", result.model.clearance)
+        model = build_model(press, spec.rod, spec.clearance, spec.n_elements, problem.n_harmonics, names)
+    else:
+        raise ValueError(f"the answer comes from {stage.transcription.split('(')[0]} (stage {stage.name!r}); optimum "
+                         "sensitivities need a Rigid or Collocation answer: optimise with the default transcription")
+    again = transcription.solve(problem, model, WarmStart(result.speed), "sensitivity", progress)
+    if not again.success or again.point is None:
+        raise SensitivityError(f"the re-solve at the answer did not converge ({again.status}); "
+                               "the optimum's derivatives need a converged NLP")
+    resolve_time = time.perf_counter() - t0
+    t1 = time.perf_counter()
+    k = kkt_sensitivity(again.point)
+    kkt_time = time.perf_counter() - t1
+
+    objective = get_objective(problem.objective)
+    f_opt = float(again.point.nlp(again.point.x, again.point.p)[0])
+    J = again.objective
+    to_J = J / f_opt if objective.kind == "peak" else J / (2.0 * f_opt)  # dJ = to_J df
+    n2 = 2 * problem.n_harmonics
+    weak = int(k.weak.sum())
+    rows = []
+    for j, n in enumerate(names):
+        p = float(again.point.p[j])
+        rows.append({
+            "parameter": n, "parameter_value": p, "objective": J, "derivative": to_J * float(k.df_dp[j]),
+            "derivative_check": to_J * float(k.df_dp_direct[j]),
+            "normalised": to_J * float(k.df_dp[j]) * p / J,
+            "step_up": k.step_up[j] / abs(p), "step_down": k.step_down[j] / abs(p),
+            "change_up": k.change_up[j], "change_down": k.change_down[j], "weakly_active": weak,
+            "one_sided": bool(min(k.step_up[j], -k.step_down[j]) / abs(p) < ONE_SIDED)})
+    labels = [f"a{i + 1}" for i in range(n2 // 2)] + [f"b{i + 1}" for i in range(n2 // 2)]
+    coeffs = pd.DataFrame(k.dx_dp[:n2, :], index=labels, columns=list(names))
+    return OptimumSensitivities(
+        table=pd.DataFrame(rows), coefficients=coeffs, stage=stage.name, objective=J,
+        result_objective=stage.objective, active=per_group(k.active, again.point.groups),
+        weakly_active=per_group(k.weak, again.point.groups),
+        resolve_time=resolve_time, kkt_time=kkt_time, kkt=k, speed=again.speed)
+
+
+__all__ = ["KINEMATIC", "ONE_SIDED", "OptimumSensitivities", "SensitivityError", "optimum_sensitivities"]
