@@ -12,6 +12,7 @@ from .ocp import (Collocation, MultipleShooting, OcpResult, OptimumSensitivities
                   StageResult, Strategy, WarmStart, optimize_speed, optimum_sensitivities)
 from .params import Bearing, PressParams, ProcessForce, hertz_internal_stiffness
 from .problem import SpeedProblem
+from .recommend import ModelRecommendation, recommend_model
 from .result import SimResult
 from .scenario import Scenario, ScenarioError
 from .rigid import crank_angle_at_height, rigid_inverse_dynamics, rigid_kinematics, rigid_response
@@ -22,9 +23,9 @@ from .sweeps import sweep
 
 __all__ = [
     "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "FourierSpeed", "ModelSpec", "MultipleShooting",
-    "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams", "ProcessForce", "Rigid", "Scenario", "ScenarioError",
+    "ModelRecommendation", "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams", "ProcessForce", "Rigid", "Scenario", "ScenarioError",
     "SensitivityError", "SimResult", "SimulationError",
     "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "WarmStart", "build_model", "crank_angle_at_height",
-    "design_speed", "hertz_internal_stiffness", "optimize_speed", "optimum_sensitivities", "rigid_inverse_dynamics", "rigid_kinematics",
+    "design_speed", "hertz_internal_stiffness", "optimize_speed", "optimum_sensitivities", "recommend_model", "rigid_inverse_dynamics", "rigid_kinematics",
     "rigid_response", "sensitivities", "Sensitivities", "simulate", "sweep",
 ]

@@ -132,11 +132,14 @@ def optimum_summary(scenario: Scenario, result: OcpResult, ideal: SimResult | No
 
 def simulation_summary(scenario: Scenario, sim: SimResult, ideal: SimResult, source: str) -> dict:
     """The keys of a simulation's ``summary.json``: the problem, periodicity, the peaks on the model and
-    on the ideal press (``ideal_joints_...``), the ram speed error and the objective's value."""
+    on the ideal press (``ideal_joints_...``), the smallest eccentricity ratio |e|/c of each clearance
+    joint (``min_<joint>_eccentricity``: below 1 the journal leaves its bearing wall, a free flight
+    that ends in an impact), the ram speed error and the objective's value."""
     problem = scenario.problem
+    ecc = {f"min_{j}_eccentricity": float(np.min(getattr(sim, f"{j}_eccentricity"))) for j in scenario.model.clearance}
     return {"job": "simulate", "scenario": scenario.name, "model": scenario.model.describe(), "speed": source,
             **_problem_summary(problem), "periodic": is_periodic(sim), **peak_summary(sim),
-            **peak_summary(ideal, "ideal_joints_"), "max_ram_speed_error": ram_speed_error(sim, problem),
+            **peak_summary(ideal, "ideal_joints_"), **ecc, "max_ram_speed_error": ram_speed_error(sim, problem),
             "objective_value": get_objective(problem.objective).value(sim), "rtol": scenario.solver.verify_rtol}
 
 

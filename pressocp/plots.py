@@ -234,15 +234,16 @@ def plot_sweep(table, keys: Sequence[str], title: str = "") -> "plt.Figure":
     return fig
 
 
-def plot_tornado(sensitivities, quantity: str = "peak_torque", title: str = "") -> "plt.Figure":
+def plot_tornado(sensitivities, quantity: str = "peak_torque", title: str = "", ax=None) -> "plt.Figure":
     """Normalised sensitivities p/J dJ/dp of one quantity (a `pressocp.Sensitivities`), largest on top:
     the % change of the peak per % change of each parameter. One-sided rows (rival peaks) show both
-    sides."""
+    sides. Drawn on `ax` when given (a panel of a larger figure)."""
     t = sensitivities.table[sensitivities.table["quantity"] == quantity].copy()
     scale = t["parameter_value"] / t["value"]
     t["up"], t["down"] = t["derivative_up"] * scale, t["derivative_down"] * scale
     t = t.reindex(t["normalised"].abs().sort_values().index)
-    fig, ax = plt.subplots(figsize=(7, 0.45 * len(t) + 1.2))
+    own = ax is None
+    fig, ax = plt.subplots(figsize=(7, 0.45 * len(t) + 1.2)) if own else (ax.figure, ax)
     y = np.arange(len(t))
     ax.barh(y, t["normalised"], color=["tab:red" if v > 0 else "tab:blue" for v in t["normalised"]])
     for k, (_, row) in enumerate(t.iterrows()):
@@ -254,5 +255,37 @@ def plot_tornado(sensitivities, quantity: str = "peak_torque", title: str = "") 
     ax.grid(alpha=0.3, axis="x")
     if title:
         ax.set_title(title, fontsize=9)
+    if own:
+        fig.tight_layout()
+    return fig
+
+
+def plot_wear(table, design_clearance: float | None = None, title: str = "") -> "plt.Figure":
+    """A `pressocp.studies.wear_study` table against the clearance (mm): peak torque on the model and on
+    the ideal press, peak pin forces, and each journal's smallest eccentricity ratio (below the dashed
+    line the journal leaves its wall: free flight and impact). `design_clearance` (m) is marked."""
+    from .studies import FREE_FLIGHT_ECCENTRICITY
+
+    c = table["clearance"] * 1e3
+    fig, axes = plt.subplots(3, 1, figsize=(7, 7.4), sharex=True)
+    axes[0].plot(c, table["peak_torque_N_m"], "o-", label="clearance model")
+    axes[0].plot(c, table["ideal_joints_peak_torque_N_m"], "--", color="0.4", label="ideal joints")
+    axes[0].set_ylabel("peak motor torque [N·m]")
+    for k, joint in enumerate(("crank_pin", "wrist_pin")):
+        if f"peak_{joint}_force_N" in table:
+            axes[1].plot(c, table[f"peak_{joint}_force_N"], "o-", color=f"C{k}", label=joint.replace("_", " "))
+        if f"min_{joint}_eccentricity" in table:
+            axes[2].plot(c, table[f"min_{joint}_eccentricity"], "o-", color=f"C{k}", label=joint.replace("_", " "))
+    axes[1].set_ylabel("peak pin force [N]")
+    axes[2].axhline(FREE_FLIGHT_ECCENTRICITY, ls="--", color="0.4", lw=0.8, label="leaves the wall")
+    axes[2].set_ylabel("smallest |e|/c [-]")
+    axes[2].set_xlabel("clearance of both joints [mm]")
+    for ax in axes:
+        if design_clearance is not None:
+            ax.axvline(design_clearance * 1e3, color="0.6", lw=0.8)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    if title:
+        fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     return fig

@@ -91,3 +91,36 @@ def simeon_crank(n_elements: int = 4, rtol: float = 1e-10, t_end: float = 0.1, n
     speed = FourierSpeed.constant(2 * np.pi / 150.0, theta0=np.pi)
     return simulate(m, speed, t_end=t_end, x0=x0, method="cvodes", rtol=rtol, n_out=n_out)
 
+
+
+#: Clearances of the wear study (every clearance joint at once), m.
+WEAR_CLEARANCES = (5e-5, 1e-4, 1.5e-4, 2e-4, 3e-4, 4e-4)
+#: A journal whose eccentricity ratio |e|/c falls below this has left its bearing wall: a free flight,
+#: which ends in an impact.
+FREE_FLIGHT_ECCENTRICITY = 0.95
+
+
+def wear_study(scenario, speed: FourierSpeed, clearances=WEAR_CLEARANCES, executor=None, progress: bool = False,
+               csv=None):
+    """One crank speed as the joints wear: its periodic response with every clearance joint of the
+    scenario's model at each of `clearances` (m), the other values as in `scenario`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The `pressocp.sweep` table (task "simulate"), with ``clearance`` (m), ``torque_ratio`` (peak torque
+        over the ideal press's) and ``free_flight`` (a journal's eccentricity ratio below
+        `FREE_FLIGHT_ECCENTRICITY` somewhere in the cycle, or no periodic response).
+    """
+    from .sweeps import sweep
+
+    joints = scenario.model.clearance
+    if not joints:
+        raise ValueError("the scenario's model has no clearance joint to wear")
+    path = [{f"{j}.clearance": float(c) for j in joints} for c in clearances]
+    table = sweep(scenario, path, "simulate", speed=speed, executor=executor, progress=progress, csv=csv)
+    table.insert(0, "clearance", [float(c) for c in clearances])
+    table["torque_ratio"] = table["peak_torque_N_m"] / table["ideal_joints_peak_torque_N_m"]
+    ecc = table[[f"min_{j}_eccentricity" for j in joints]].min(axis=1)
+    table["free_flight"] = (ecc < FREE_FLIGHT_ECCENTRICITY) | ~table["ok"].astype(bool)
+    return table

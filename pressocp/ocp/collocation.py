@@ -283,6 +283,7 @@ class Collocation(StateSettings):
         nxt = ca.horzcat(starts[:, 1:], starts[:, :1]) if self.periodic else starts[:, 1:]
         cons.add((Xf if self.periodic else Xf[:, :-1]) - nxt, 0.0, 0.0, "continuity")
         details = {"elements": K, "degree": d, "min_eccentricity": self.min_eccentricity, "jit": jit,
+                   "periodic": self.periodic, "backoff": self.backoff, "omega_samples": self.omega_samples,
                    "defect_start": collocation_defect(model, start.speed, states, grid), **warm}
         r = solve_states(
             problem, model, start.speed, c, X, X0, y, {k: y0[i : i + 1, :] for i, k in enumerate(names)}, grid.times,

@@ -145,4 +145,5 @@ class Rigid:
             speed=speed, last_speed=FourierSpeed.from_coefficients(T, out.last_w[: 2 * n]),
             t1=float(out.w[2 * n + 1]), history=out.history, barrier=out.barrier,
             violations_start=out.violations_start, violations=out.violations,
-            details={"window_extension_m": drop, "min_tension_N": P.min_tension}, point=out.point)
+            details={"window_extension_m": drop, "min_tension_N": P.min_tension, "samples": N,
+                     "window_samples": self.window_samples, "backoff": self.backoff}, point=out.point)

@@ -3,7 +3,7 @@ NLP's parametric sensitivity.
 
     s = po.optimum_sensitivities(result, ("slider_mass", "wrist_pin.clearance"))
     s.table                     # dJ*/dp, normalised, how far the active set holds
-    s.predict("slider_mass", 5.0)   # first-order optimum speed for 5 kg more
+    s.coefficients              # d(Fourier coefficients)/dp
 
 The stage that produced the answer (the rigid press, or collocation on the clearance or flexible
 model) is solved once more, from the answer, with the parameters as the NLP's p (the model built
@@ -34,7 +34,7 @@ from .stage import StageResult, WarmStart
 #: Parameters that move the working window (its heights are fractions of the stroke) or the ideal
 #: press's kinematics: a derivative of the optimum holding the problem fixed does not exist for them.
 KINEMATIC = ("crank_radius", "rod_length")
-#: A predicted active-set change within this relative step of p makes the derivative one-sided.
+#: A predicted active-set change within this relative step of p makes d(coefficients)/dp one-sided.
 ONE_SIDED = 1e-6
 #: Stages answered on the ideal press.
 RIGID_STAGES = ("rigid", "no_reversal")
@@ -57,11 +57,17 @@ class OptimumSensitivities:
         ``step_up`` and ``step_down`` (relative steps dp/p to the first predicted change of the active
         set, weakly active constraints aside) with ``change_up`` and ``change_down`` (the constraint
         group that changes), ``weakly_active`` (inequalities at their bound with a multiplier near
-        zero: they may enter or leave at once, so the derivative may be one-sided; a min-max optimum
-        has many in its epigraph) and ``one_sided`` (the active set changes within `ONE_SIDED`
-        relative in one direction: the derivative holds for the other only).
+        zero: they may enter or leave at once; a min-max optimum has many in its epigraph) and
+        ``coefficients_one_sided`` (weakly active constraints, or an active-set change within
+        `ONE_SIDED` relative: d(coefficients)/dp holds for one direction of p only). dJ*/dp is
+        two-sided all the same when the multipliers are unique (a nonsingular KKT matrix,
+        ``kkt.residual`` small): it is the Lagrangian's partial derivative, which does not depend on
+        which of the weakly active constraints hold.
     coefficients : pandas.DataFrame
         d(Fourier coefficient)/dp, rad/s per unit of p: rows ``a1..an, b1..bn``, a column per parameter.
+        A min-max optimum can be flat in some coefficient directions (many designs share the peak), and
+        then re-solves at p +- dp land anywhere on the flat set: trust this only where
+        ``coefficients_one_sided`` is False.
     stage : str
         The stage whose NLP was differentiated ("rigid", "no_reversal", "target" or "flexible").
     objective : float
@@ -96,14 +102,6 @@ class OptimumSensitivities:
         if row.empty:
             raise KeyError(f"no row for {parameter!r}; parameters: {', '.join(self.table['parameter'])}")
         return float(row["derivative"].iloc[0])
-
-    def predict(self, parameter: str, dp: float) -> FourierSpeed:
-        """First-order optimum speed for a step `dp` of `parameter` (its unit): a warm start for the
-        re-solve at p + dp."""
-        if parameter not in self.coefficients.columns:
-            raise KeyError(f"no column for {parameter!r}")
-        c = self.speed.coefficients + dp * self.coefficients[parameter].to_numpy()
-        return FourierSpeed.from_coefficients(self.speed.period, c)
 
 
 def answer_stage(result: OcpResult) -> StageResult:
@@ -171,11 +169,13 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
                              "(optimize_speed(..., strategy='all')) or sweep it")
         if stage.name == "no_reversal":
             problem = problem.replace(min_tension=stage.details["min_tension_N"])
-        transcription = Rigid()
+        d = stage.details
+        transcription = Rigid(d.get("samples", 1000), d.get("window_samples", 200), d.get("backoff", 0.9))
         model = build_model(press, "rigid", result.model.clearance, result.model.n_elements, problem.n_harmonics, names)
     elif stage.transcription.startswith("Collocation"):
         d = stage.details
-        transcription = Collocation(d["elements"], d["degree"], jit=d["jit"], min_eccentricity=d["min_eccentricity"])
+        transcription = Collocation(d["elements"], d["degree"], jit=d["jit"], min_eccentricity=d["min_eccentricity"],
+                                    **{k: d[k] for k in ("periodic", "backoff", "omega_samples") if k in d})
         spec = result.model if stage.name == "flexible" else ModelSpec("rigid", result.model.clearance)
         model = build_model(press, spec.rod, spec.clearance, spec.n_elements, problem.n_harmonics, names)
     else:
@@ -205,7 +205,7 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
             "normalised": to_J * float(k.df_dp[j]) * p / J,
             "step_up": k.step_up[j] / abs(p), "step_down": k.step_down[j] / abs(p),
             "change_up": k.change_up[j], "change_down": k.change_down[j], "weakly_active": weak,
-            "one_sided": bool(min(k.step_up[j], -k.step_down[j]) / abs(p) < ONE_SIDED)})
+            "coefficients_one_sided": bool(weak or min(k.step_up[j], -k.step_down[j]) / abs(p) < ONE_SIDED)})
     labels = [f"a{i + 1}" for i in range(n2 // 2)] + [f"b{i + 1}" for i in range(n2 // 2)]
     coeffs = pd.DataFrame(k.dx_dp[:n2, :], index=labels, columns=list(names))
     return OptimumSensitivities(

@@ -1,0 +1,115 @@
+"""Sensitivity studies of the 75 spm scenario (`press75`), with figures.
+
+Cases (each resumes from its CSV in results/, so an interrupted run continues):
+
+* ``stroke_rate``  optimal peaks against the stroke rate, 40-90 spm (cold starts, the default call)
+* ``clearance``    optimal peaks against the clearance of both joints, 0.02-0.3 mm
+* ``ram_speed``    optimal peaks against the working ram speed, -0.05 .. -0.2 m/s
+* ``slider_mass``  optimal peaks against the slider mass, 100-250 kg
+* ``wear``         the 75 spm optimum (designed at 0.1 mm) evaluated at 0.05-0.4 mm
+* ``tornado``      normalised sensitivities of the peak torque at the kinematic design and at the optimum
+
+Writes results/study_<case>.csv and .png (and, for tornado, study_tornado.json).
+
+    python benchmarks/bench_studies.py CASE [CASE ...] [--workers N]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import multiprocessing
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+import pressocp as po  # noqa: E402
+from pressocp.plots import plot_sweep, plot_tornado, plot_wear, save  # noqa: E402
+from pressocp.studies import wear_study  # noqa: E402
+
+OUT = Path(__file__).parent / "results"
+REFERENCE = Path(__file__).parent.parent / "tests" / "references" / "press75_optimum_speed.json"
+GRIDS = {
+    "stroke_rate": {"problem.stroke_rate_spm": [40, 50, 60, 65, 70, 75, 80, 85, 90]},
+    "ram_speed": {"problem.ram_speed": [-0.05, -0.1, -0.15, -0.2]},
+    "slider_mass": {"slider_mass": [100.0, 150.0, 200.0, 250.0]},
+}
+CLEARANCES = [2e-5, 5e-5, 1e-4, 2e-4, 3e-4]
+PARAMETERS = ("slider_mass", "rod_mass", "crank_inertia", "wrist_pin.clearance", "crank_pin.clearance",
+              "wrist_pin.stiffness", "crank_pin.stiffness")
+
+
+def pool(workers: int) -> ProcessPoolExecutor:
+    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+
+
+def optima(case: str, workers: int) -> None:
+    scenario = po.Scenario.load("press75")
+    if case == "clearance":
+        vary = [{"crank_pin.clearance": c, "wrist_pin.clearance": c} for c in CLEARANCES]
+        key = "wrist_pin.clearance"
+    else:
+        vary = GRIDS[case]
+        key = next(iter(vary))
+    with pool(workers) as ex:
+        table = po.sweep(scenario, vary, "optimize", executor=ex, progress=True, csv=OUT / f"study_{case}.csv")
+    fig = plot_sweep(table, [key], title=f"75 spm scenario: optima against {key} (both joints)" if case == "clearance"
+                     else f"75 spm scenario: optima against {key}")
+    save(fig, OUT / f"study_{case}.png")
+    cols = [c for c in (key, "ok", "peak_torque_N_m", "rigid_peak_torque_N_m", "initial_peak_torque_N_m",
+                        "peak_crank_pin_force_N", "peak_wrist_pin_force_N", "wall_time_s", "error") if c in table]
+    print(table[cols].to_string(index=False))
+
+
+def wear(workers: int) -> None:
+    scenario = po.Scenario.load("press75")
+    speed = po.FourierSpeed.from_dict(json.loads(REFERENCE.read_text()))
+    with pool(workers) as ex:
+        table = wear_study(scenario, speed, executor=ex, progress=True, csv=OUT / "study_wear.csv")
+    save(plot_wear(table, scenario.problem.press.wrist_pin.clearance,
+                   title="the 75 spm optimum (designed at 0.1 mm) as the joints wear"), OUT / "study_wear.png")
+    print(table[["clearance", "ok", "peak_torque_N_m", "ideal_joints_peak_torque_N_m", "torque_ratio",
+                 "min_crank_pin_eccentricity", "min_wrist_pin_eccentricity", "free_flight"]].to_string(index=False))
+
+
+def tornado() -> None:
+    scenario = po.Scenario.load("press75")
+    model = scenario.build_model()
+    speeds = {"kinematic design": po.design_speed(scenario.problem).speed,
+              "optimum": po.FourierSpeed.from_dict(json.loads(REFERENCE.read_text()))}
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4))
+    out = {}
+    for ax, (label, speed) in zip(axes, speeds.items()):
+        t0 = time.perf_counter()
+        s = po.sensitivities(model, speed, PARAMETERS, rtol=1e-9)
+        out[label] = {"wall_time_s": time.perf_counter() - t0, "table": s.table.to_dict("records")}
+        plot_tornado(s, title=f"peak motor torque, 75 spm, {label}", ax=ax)
+        print(label, s.table[["parameter", "value", "derivative", "normalised", "unique"]].to_string(index=False))
+    fig.tight_layout()
+    save(fig, OUT / "study_tornado.png")
+    (OUT / "study_tornado.json").write_text(json.dumps(out, indent=2, default=str) + "\n")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("cases", nargs="+", choices=("stroke_rate", "clearance", "ram_speed", "slider_mass", "wear",
+                                                 "tornado"))
+    ap.add_argument("--workers", type=int, default=2)
+    args = ap.parse_args()
+    OUT.mkdir(exist_ok=True)
+    for case in args.cases:
+        if case == "wear":
+            wear(args.workers)
+        elif case == "tornado":
+            tornado()
+        else:
+            optima(case, args.workers)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,132 @@
+"""Which model level a scene needs (`recommend_model`): no more model than the loads require.
+
+Two questions, both answered on the ideal press (closed form, milliseconds):
+
+* **Do the journals leave their walls?** Without a process force the slider hangs from the rod, so the
+  rod is in tension and the journals rest on their bearing walls; a clearance joint only shifts the
+  ram by its clearance. When the axial pin force changes sign (the ram's downward acceleration
+  exceeds g, or a process force pushes the rod), the journal crosses its clearance and hits the other
+  wall: the clearance model is needed.
+* **Does the rod bend dynamically?** The rod's first bending mode (pinned-pinned Euler-Bernoulli beam)
+  against the highest harmonic of its loads (the axial pin force and the rod's angular acceleration,
+  which drives its transverse inertia load): a load harmonic at a fraction r of the mode is amplified
+  by 1 / (1 - r^2), 1 % at r = 0.1. Within a factor `MODE_FACTOR` the flexible rod is needed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .params import PressParams
+from .rigid import rigid_inverse_dynamics, rigid_kinematics
+from .speed import FourierSpeed
+
+#: Samples of one period for the spectra.
+SAMPLES = 4096
+#: A harmonic counts when its amplitude is at least this share of the largest (the mean left out).
+HARMONIC_SHARE = 0.01
+#: The flexible rod is needed when its first bending mode is within this factor of the highest load
+#: harmonic (1 % dynamic amplification at the factor).
+MODE_FACTOR = 10.0
+#: The level names, plainest first.
+LEVELS = ("rigid", "clearance", "flexible")
+
+
+@dataclass
+class ModelRecommendation:
+    """The model level a scene needs and why.
+
+    Attributes
+    ----------
+    level : {"rigid", "clearance", "flexible"}
+        "rigid": the ideal press gives the loads; "clearance": the rigid rod with the press's clearance
+        joints; "flexible": the flexible rod (with the clearance joints).
+    reason : str
+        The measured numbers behind it.
+    min_rod_tension : float
+        Smaller axial pin force of the two pins over the cycle on the ideal press, N (negative: the
+        joint force reverses).
+    first_mode : float
+        First bending mode of the rod, pinned at both ends, Hz.
+    load_frequency : float
+        Highest harmonic of the rod's loads with at least `HARMONIC_SHARE` of the largest amplitude, Hz.
+    """
+
+    level: str
+    reason: str
+    min_rod_tension: float
+    first_mode: float
+    load_frequency: float
+
+    @property
+    def mode_ratio(self) -> float:
+        """first_mode / load_frequency."""
+        return self.first_mode / self.load_frequency
+
+
+def first_bending_mode(params: PressParams) -> float:
+    """First transverse mode of the rod as a pinned-pinned uniform beam, Hz:
+    (pi^2 / 2 pi) sqrt(E I / (m' L^4)), m' the mass per length."""
+    L = params.rod_length
+    return float(np.pi / 2 * np.sqrt(params.rod_youngs_modulus * params.rod_area_moment / (params.rod_mass / L * L**4)))
+
+
+def highest_harmonic(signal: np.ndarray, period: float) -> float:
+    """Frequency of the highest harmonic of a periodic signal (one period, uniform samples) with at least
+    `HARMONIC_SHARE` of the largest amplitude (the mean left out), Hz; 0 for a constant."""
+    amp = np.abs(np.fft.rfft(signal))[1:]
+    if amp.max(initial=0.0) <= 0.0:
+        return 0.0
+    k = np.flatnonzero(amp >= HARMONIC_SHARE * amp.max())
+    return float((k[-1] + 1) / period)
+
+
+def recommend_model(params: PressParams, speed: FourierSpeed) -> ModelRecommendation:
+    """The model level the loads of `params` driven at `speed` need (see the module's notes).
+
+    Parameters
+    ----------
+    params : PressParams
+    speed : FourierSpeed
+        The crank speed (a design, an optimum, or `FourierSpeed.constant(T)`).
+
+    Returns
+    -------
+    ModelRecommendation
+    """
+    if not isinstance(params, PressParams):
+        raise ValueError(f"params must be a PressParams, got {type(params).__name__}")
+    if not isinstance(speed, FourierSpeed):
+        raise ValueError(f"speed must be a FourierSpeed, got {type(speed).__name__}")
+    T = speed.period
+    t = np.linspace(0.0, T, SAMPLES, endpoint=False)
+    th, om, al = speed.evaluate(t)
+    dyn = rigid_inverse_dynamics(params, th, om, al)
+    tension = np.minimum(dyn["crank_pin_tension"], dyn["wrist_pin_tension"])
+    rod_alpha = rigid_kinematics(params, th, om, al)["rod_angular_acceleration"]
+    f_load = max(highest_harmonic(dyn["crank_pin_tension"], T), highest_harmonic(rod_alpha, T), 1.0 / T)
+    f_mode = first_bending_mode(params)
+    t_min = float(tension.min())
+    reverses = t_min <= 0.0
+    tension_note = (f"the rod force reverses (axial pin force down to {t_min:.4g} N on the ideal press): the "
+                    "journals cross their clearances and hit" if reverses else
+                    f"the rod stays in tension (axial pin force at least {t_min:.4g} N): the journals rest on "
+                    "their bearing walls")
+    mode_note = (f"the rod's first bending mode ({f_mode:.4g} Hz) is {f_mode / f_load:.3g} x the highest load "
+                 f"harmonic ({f_load:.4g} Hz)")
+    if f_mode < MODE_FACTOR * f_load:
+        level = "flexible"
+        reason = f"{mode_note}, within a factor {MODE_FACTOR:g} -> flexible; {tension_note}"
+    elif reverses:
+        level = "clearance"
+        reason = f"{tension_note} -> clearance; {mode_note}, more than {MODE_FACTOR:g} -> rigid rod"
+    else:
+        level = "rigid"
+        reason = f"{tension_note} -> rigid press; {mode_note}, more than {MODE_FACTOR:g} -> rigid rod"
+    return ModelRecommendation(level, reason, t_min, f_mode, f_load)
+
+
+__all__ = ["HARMONIC_SHARE", "LEVELS", "MODE_FACTOR", "ModelRecommendation", "first_bending_mode",
+           "highest_harmonic", "recommend_model"]

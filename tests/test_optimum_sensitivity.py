@@ -1,0 +1,160 @@
+"""Sensitivity of the optimum (`po.optimum_sensitivities`, `pressocp.ocp.kkt`).
+
+* The KKT sensitivity on small NLPs whose parametric solution is known in closed form (worked out by
+  hand below): derivative of the optimal value and of the solution, and where the active set changes.
+* dJ*/dp of optimal speeds against central differences of optima re-solved at p +- h by the
+  transcription itself (no sensitivity code involved): the rigid press (fast) and collocation on the
+  clearance model (slow).
+* Bad requests fail before any solve.
+"""
+
+from dataclasses import replace
+
+import casadi as ca
+import numpy as np
+import pytest
+
+import pressocp as po
+from pressocp.ocp.kkt import kkt_sensitivity
+from pressocp.ocp.nlp import ParametricPoint
+from pressocp.ocp.stage import WarmStart
+
+
+def solved_point(f, g, x, p, pv, lbg, ubg, lbx=None, ubx=None):
+    nx = x.numel()
+    lbx = np.full(nx, -np.inf) if lbx is None else np.asarray(lbx, float)
+    ubx = np.full(nx, np.inf) if ubx is None else np.asarray(ubx, float)
+    S = ca.nlpsol("s", "ipopt", {"x": x, "p": p, "f": f, "g": g},
+                  {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.tol": 1e-11})
+    sol = S(x0=0.1, p=pv, lbg=lbg, ubg=ubg, lbx=lbx, ubx=ubx)
+    assert S.stats()["success"]
+    point = ParametricPoint(ca.Function("nlp", [x, p], [f, g]), np.asarray(sol["x"]).ravel(), np.atleast_1d(pv),
+                            np.asarray(sol["lam_x"]).ravel(), np.asarray(sol["lam_g"]).ravel(), lbx, ubx,
+                            np.asarray(lbg, float), np.asarray(ubg, float), [("a", 0, 1), ("b", 1, 1)])
+    return point, sol
+
+
+# min (x0 - p)^2 + (x1 - 2p)^2  s.t.  x0 <= 2 ("a"),  -10 <= x0 + x1 <= 10 ("b")
+X, P = ca.MX.sym("x", 2), ca.MX.sym("p")
+F = (X[0] - P) ** 2 + (X[1] - 2 * P) ** 2
+G = ca.vertcat(X[0], X[0] + X[1])
+LBG, UBG = [-np.inf, -10.0], [2.0, 10.0]
+
+
+def test_kkt_with_an_active_bound():
+    # p = 3: x = (2, 6), f* = (p - 2)^2 -> df*/dp = 2 (p - 2) = 2; dx/dp = (0, 2). "a" stays active while
+    # its multiplier 2 (p - 2) > 0, i.e. down to p = 2 (step -1); "b" = 2 + 2p reaches 10 at p = 4 (step +1).
+    point, sol = solved_point(F, G, X, P, 3.0, LBG, UBG)
+    k = kkt_sensitivity(point)
+    assert k.df_dp[0] == pytest.approx(2.0, rel=1e-6)
+    assert k.df_dp_direct[0] == pytest.approx(2.0, rel=1e-6)
+    assert k.df_dp[0] == pytest.approx(-float(sol["lam_p"]), rel=1e-6)  # CasADi's lam_p is -dL/dp
+    np.testing.assert_allclose(k.dx_dp.ravel(), [0.0, 2.0], atol=1e-6)
+    assert k.step_up[0] == pytest.approx(1.0, rel=1e-5) and k.change_up == ["b"]
+    assert k.step_down[0] == pytest.approx(-1.0, rel=1e-5) and k.change_down == ["a"]
+    assert k.active.tolist() == [True, False] and not k.weak.any()
+
+
+def test_kkt_without_an_active_constraint():
+    # p = 1: x = (p, 2p), f* = 0; "a" (x0 = p <= 2) is reached at p = 2 (step +1), "b" (3p >= -10) at
+    # p = -10/3 (step -13/3).
+    point, _ = solved_point(F, G, X, P, 1.0, LBG, UBG)
+    k = kkt_sensitivity(point)
+    assert abs(k.df_dp[0]) < 1e-8
+    np.testing.assert_allclose(k.dx_dp.ravel(), [1.0, 2.0], atol=1e-6)
+    assert k.step_up[0] == pytest.approx(1.0, rel=1e-5) and k.change_up == ["a"]
+    assert k.step_down[0] == pytest.approx(-13.0 / 3.0, rel=1e-5) and k.change_down == ["b"]
+
+
+def test_kkt_with_an_equality_and_a_bound_on_a_variable():
+    # min x0^2 + x1^2 s.t. x0 + x1 = p ("a"), x0 >= 1 (a variable bound), with a dummy "b": at p = 4 the
+    # bound is inactive, x = (p/2, p/2), f* = p^2/2 -> df*/dp = p = 4; the bound is reached at p = 2.
+    g = ca.vertcat(X[0] + X[1] - P, X[0] - X[1])
+    point, _ = solved_point(X[0] ** 2 + X[1] ** 2, g, X, P, 4.0, [0.0, -100.0], [0.0, 100.0], lbx=[1.0, -np.inf])
+    k = kkt_sensitivity(point)
+    assert k.df_dp[0] == pytest.approx(4.0, rel=1e-6)
+    np.testing.assert_allclose(k.dx_dp.ravel(), [0.5, 0.5], atol=1e-6)
+    assert k.step_down[0] == pytest.approx(-2.0, rel=1e-5) and k.change_down == ["variable bound"]
+
+
+# Optimal speeds -----------------------------------------------------------------------------------
+SMALL = po.SpeedProblem(po.PressParams(), period=1.0, ram_speed=-0.15, n_harmonics=4)
+RIGID = po.Rigid(samples=300)
+
+
+@pytest.fixture(scope="module")
+def rigid_answer():
+    return po.optimize_speed(SMALL, strategy=po.Strategy(rigid=RIGID, verify_rtol=1e-8), progress=False)
+
+
+def resolved(problem, transcription, model, start):
+    st = transcription.solve(problem, model, WarmStart(start))
+    assert st.success, st.status
+    return st.objective
+
+
+def test_rigid_answer_derivative_matches_re_solved_optima(rigid_answer):
+    r = rigid_answer
+    assert r.stages[-1].was_skipped and r.stages[0].name == "rigid"  # the rigid optimum is the answer
+    # (the crank inertia hardly matters, p/J dJ/dp ~ 3e-4: a difference of re-solves drowns in IPOPT's
+    # tolerance, so it is only in the table)
+    names = ("slider_mass", "rod_mass", "crank_inertia")
+    s = po.optimum_sensitivities(r, names)
+    assert s.stage == "rigid"
+    assert s.objective == pytest.approx(r.stages[0].objective, rel=1e-6)
+    for n in names[:2]:
+        p = SMALL.press.value(n)
+        h = 0.02 * p
+        J = [resolved(SMALL.replace(press=SMALL.press.replace(**{n: p + sg * h})), RIGID,
+                      po.build_model(SMALL.press, clearance=(), n_harmonics=4), r.speed) for sg in (1, -1)]
+        fd = (J[0] - J[1]) / (2 * h)
+        assert s.derivative(n) == pytest.approx(fd, rel=0.01)
+        row = s.table[s.table["parameter"] == n].iloc[0]
+        assert row["derivative_check"] == pytest.approx(row["derivative"], rel=1e-4, abs=1e-6)
+    # the optimum is flat in the coefficients here (re-solves 0.25 % either side both move them by
+    # ~1e-2 rad/s the same way), and the result says their derivative is not two-sided
+    assert s.table["coefficients_one_sided"].all()
+
+
+@pytest.mark.parametrize("parameters, match", [
+    (("crank_radius",), "moves the working window"),
+    (("wrist_pin.clearance",), "ideal press's optimum"),
+    (("slider_mas",), "did you mean 'slider_mass'"),
+    ((), "at least one"),
+    (("slider_mass", "slider_mass"), "one twice"),
+])
+def test_bad_requests_fail_before_solving(rigid_answer, parameters, match):
+    with pytest.raises(ValueError, match=match):
+        po.optimum_sensitivities(rigid_answer, parameters)
+
+
+def test_unconverged_or_shooting_answers_are_refused(rigid_answer):
+    with pytest.raises(ValueError, match="did not converge"):
+        po.optimum_sensitivities(replace(rigid_answer, success=False, status="stage 'target': x"), ("slider_mass",))
+    stages = list(rigid_answer.stages)
+    stages[-1] = replace(stages[0], name="target", transcription="MultipleShooting(integrator='idas')")
+    with pytest.raises(ValueError, match="Rigid or Collocation"):
+        po.optimum_sensitivities(replace(rigid_answer, stages=stages), ("slider_mass",))
+    with pytest.raises(ValueError, match="OcpResult"):
+        po.optimum_sensitivities(rigid_answer.speed, ("slider_mass",))
+
+
+@pytest.mark.slow
+def test_collocation_answer_derivative_matches_re_solved_optima():
+    tr = po.Collocation(elements=200, jit=False)
+    r = po.optimize_speed(SMALL, transcription=tr, strategy=po.Strategy("all", rigid=RIGID, verify_rtol=1e-8),
+                          progress=False)
+    assert r.success and r.stages[-1].name == "target"
+    names = ("slider_mass", "wrist_pin.clearance")
+    s = po.optimum_sensitivities(r, names)
+    assert s.stage == "target"
+    for n in names:
+        p = SMALL.press.value(n)
+        h = 0.01 * p
+        J = []
+        for sg in (1, -1):
+            press = SMALL.press.replace(**{n: p + sg * h}) if "." not in n else SMALL.press.replace(
+                wrist_pin=replace(SMALL.press.wrist_pin, clearance=p + sg * h))
+            J.append(resolved(SMALL.replace(press=press), tr, po.build_model(press, n_harmonics=4), r.speed))
+        fd = (J[0] - J[1]) / (2 * h)
+        assert s.derivative(n) == pytest.approx(fd, rel=0.05)

@@ -1,0 +1,56 @@
+"""`po.recommend_model`: which model level a scene needs, and why."""
+
+import numpy as np
+import pytest
+
+import pressocp as po
+from pressocp.recommend import HARMONIC_SHARE, first_bending_mode, highest_harmonic
+
+
+def test_seed_press_with_its_rigid_design_at_75_spm_needs_clearance():
+    press = po.PressParams()
+    speed = po.design_speed(po.SpeedProblem(press, period=0.8)).speed
+    r = po.recommend_model(press, speed)
+    assert r.level == "clearance"
+    assert r.min_rod_tension < 0 and "reverses" in r.reason
+    assert r.mode_ratio > 10
+
+
+def test_default_press_at_constant_speed_is_rigid():
+    r = po.recommend_model(po.PressParams(), po.FourierSpeed.constant(1.0))
+    assert r.level == "rigid"
+    # hanging weight (150 kg slider + 3.14 kg rod) less the rod's own share at the crank pin: the rod stays
+    # in tension by about the slider's weight less its centripetal share; at least half the weight here
+    assert r.min_rod_tension > 0.5 * 150.0 * 9.81
+    assert "stays in tension" in r.reason
+
+
+def test_simeon_slider_crank_at_150_rad_s_is_flexible():
+    r = po.recommend_model(po.PressParams.simeon(), po.FourierSpeed.constant(2 * np.pi / 150.0))
+    assert r.level == "flexible"
+    assert r.mode_ratio < 10 and "first bending mode" in r.reason
+
+
+def test_first_bending_mode_of_a_pinned_steel_bar():
+    # Blevins, Formulas for natural frequency and mode shape, pinned-pinned beam: f1 = pi/(2 L^2) sqrt(EI/m');
+    # a steel bar 1 m long, 20 mm square: EI = 2.1e11 * 1.333e-8 = 2800 N m^2, m' = 7850 * 4e-4 = 3.14 kg/m,
+    # sqrt(2800 / 3.14) = 29.86 1/s -> f1 = 1.5708 * 29.86 = 46.9 Hz
+    press = po.PressParams().replace(rod_length=1.0, rod_mass=7850 * 0.02**2, rod_area_moment=0.02**4 / 12,
+                                     rod_youngs_modulus=2.1e11)
+    assert first_bending_mode(press) == pytest.approx(46.9, rel=2e-3)
+
+
+def test_highest_harmonic_of_a_known_signal():
+    T = 0.5
+    t = np.linspace(0, T, 1000, endpoint=False)
+    x = 3 + np.sin(2 * np.pi * t / T) + 0.2 * np.cos(2 * np.pi * 5 * t / T) + 0.5 * HARMONIC_SHARE * np.sin(
+        2 * np.pi * 9 * t / T)
+    assert highest_harmonic(x, T) == pytest.approx(10.0)  # the 5th harmonic of 2 Hz; the 9th is below the share
+    assert highest_harmonic(np.full(100, 2.0), T) == 0.0
+
+
+def test_bad_input():
+    with pytest.raises(ValueError, match="FourierSpeed"):
+        po.recommend_model(po.PressParams(), 0.8)
+    with pytest.raises(ValueError, match="PressParams"):
+        po.recommend_model({}, po.FourierSpeed.constant(1.0))
