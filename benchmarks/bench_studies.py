@@ -57,7 +57,8 @@ def optima(case: str, workers: int) -> None:
         vary = GRIDS[case]
         key = next(iter(vary))
     with pool(workers) as ex:
-        table = po.sweep(scenario, vary, "optimize", executor=ex, progress=True, csv=OUT / f"study_{case}.csv")
+        table = po.sweep(scenario, vary, "optimize", executor=ex, progress=True, csv=OUT / f"study_{case}.csv",
+                         continuation=False)
     fig = plot_sweep(table, [key], title=f"75 spm scenario: optima against {key} (both joints)" if case == "clearance"
                      else f"75 spm scenario: optima against {key}")
     save(fig, OUT / f"study_{case}.png")
@@ -70,7 +71,8 @@ def wear(workers: int) -> None:
     scenario = po.Scenario.load("press75")
     speed = po.FourierSpeed.from_dict(json.loads(REFERENCE.read_text()))
     with pool(workers) as ex:
-        table = wear_study(scenario, speed, executor=ex, progress=True, csv=OUT / "study_wear.csv")
+        table = wear_study(scenario, speed, executor=ex, progress=True, csv=OUT / "study_wear_points.csv")
+    table.to_csv(OUT / "study_wear.csv", index=False)
     save(plot_wear(table, scenario.problem.press.wrist_pin.clearance,
                    title="the 75 spm optimum (designed at 0.1 mm) as the joints wear"), OUT / "study_wear.png")
     print(table[["clearance", "ok", "peak_torque_N_m", "ideal_joints_peak_torque_N_m", "torque_ratio",

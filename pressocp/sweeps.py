@@ -157,7 +157,7 @@ def _plain(v: Any) -> Any:
 
 def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence[Mapping[str, Any]],
           task: str = "optimize", speed: FourierSpeed | None = None, executor: Executor | None = None,
-          progress: bool = True, *, csv: str | Path | None = None) -> pd.DataFrame:
+          progress: bool = True, *, csv: str | Path | None = None, continuation: bool = True) -> pd.DataFrame:
     """Run `task` at every point of `vary` and tabulate.
 
     Parameters
@@ -165,9 +165,8 @@ def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence
     base : Scenario or SpeedProblem
         The values not varied.
     vary : dict of lists, or list of dicts
-        A grid (every combination) or a path (in order; optima warm-started from their neighbour's,
-        run one after the other: measured slower than cold starts along the stroke rate, see
-        benchmarks/README.md, so a grid is the better choice unless the optima are close). Keys are dotted scenario keys: ``"wrist_pin.clearance"`` (m),
+        A grid (every combination) or a path (in order; with `continuation`, optima warm-started from
+        their neighbour's, one after the other). Keys are dotted scenario keys: ``"wrist_pin.clearance"`` (m),
         ``"slider_mass"`` (kg), ``"problem.stroke_rate_spm"``, ``"problem.ram_speed"`` (m/s), ...
     task : {"optimize", "simulate", "impacts"}
         What each point runs: `optimize_speed` (verified optimum), the periodic response of `speed`
@@ -183,6 +182,10 @@ def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence
     csv : path, optional
         Write the table there after every point (atomically) and skip the points that an earlier
         run wrote with ``ok`` True.
+    continuation : bool
+        Along a path of optima, start each from its neighbour's (True) or run the points as
+        independent cold starts in parallel, like a grid (False: a path is then just a list of points,
+        e.g. both clearances varied together).
 
     Returns
     -------
@@ -226,7 +229,7 @@ def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence
             atomic_write(csv, _table(rows, keys).to_csv(index=False))
 
     try:
-        if is_path and task == "optimize":  # continuation: one after the other, each from its neighbour
+        if is_path and task == "optimize" and continuation:  # one after the other, each from its neighbour
             previous = None
             for i in range(len(points)):
                 if i in rows:

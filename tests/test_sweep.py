@@ -138,3 +138,27 @@ def test_a_path_of_optima_starts_each_from_its_neighbour(monkeypatch):
     assert starts == [None, pytest.approx(60 / 66)] and warm["ok"].all()
     cold = po.sweep(base, {"problem.stroke_rate_spm": [66]}, task="optimize", executor=Serial(), progress=False)
     assert warm["peak_torque_N_m"].iloc[1] == pytest.approx(cold["peak_torque_N_m"].iloc[0], rel=1e-3)
+    starts.clear()  # without continuation, a path is a list of independent cold starts
+    po.sweep(base, path, task="optimize", executor=Serial(), progress=False, continuation=False)
+    assert starts == [None, None]
+
+
+def test_wear_study_of_a_design_that_keeps_contact(tmp_path):
+    """The 60 spm kinematic design keeps the rod in tension (no impact at 0.1 mm): on a rigid rod with a
+    worn wrist pin (0.1 and 0.3 mm) the journal stays on its wall, the peak torque stays within 2 % of
+    the ideal press's, and the table and its figure come out."""
+    from pressocp.plots import plot_wear
+    from pressocp.studies import wear_study
+
+    scenario = po.Scenario.load("press60").with_overrides({"model.clearance": ["wrist_pin"]})
+    speed = po.design_speed(scenario.problem).speed
+    table = wear_study(scenario, speed, clearances=(1e-4, 3e-4), executor=Serial())
+    assert table["clearance"].tolist() == [1e-4, 3e-4] and table["ok"].all()
+    assert table["wrist_pin.clearance"].tolist() == [1e-4, 3e-4]
+    assert (table["min_wrist_pin_eccentricity"] > 0.99).all() and not table["free_flight"].any()
+    assert (abs(table["torque_ratio"] - 1) < 0.02).all()
+    fig = plot_wear(table, 1e-4)
+    fig.savefig(tmp_path / "wear.png")
+    assert (tmp_path / "wear.png").stat().st_size > 10_000
+    with pytest.raises(ValueError, match="no clearance joint"):
+        wear_study(RIGID, speed)
