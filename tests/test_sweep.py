@@ -1,7 +1,7 @@
 """Sweeps: grids and paths, identical tables whatever the executor, failed points as rows, resume."""
 
 import json
-from concurrent.futures import Executor, Future, ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 import pandas as pd
@@ -13,18 +13,6 @@ from pressocp.scenario import ScenarioError
 
 RIGID = po.Scenario.load("press75").with_overrides({"model.clearance": []})
 SPEED = po.FourierSpeed.constant(0.8)
-
-
-class Serial(Executor):
-    """Runs each task when submitted, in this process."""
-
-    def submit(self, fn, *args, **kwargs):
-        f = Future()
-        try:
-            f.set_result(fn(*args, **kwargs))
-        except BaseException as err:  # noqa: BLE001 - handed to the caller through the future
-            f.set_exception(err)
-        return f
 
 
 def comparable(table: pd.DataFrame) -> pd.DataFrame:
@@ -42,36 +30,36 @@ def test_grid_and_path_points():
         sweep_module.points_of({"slider_mass": 100.0})
 
 
-def test_bad_points_fail_before_anything_runs():
+def test_bad_points_fail_before_anything_runs(serial):
     with pytest.raises(ScenarioError, match="wrist_pin.clearance"):
-        po.sweep(RIGID, {"wrist_pin.clearance": [1e-4, 0.2]}, task="simulate", speed=SPEED, executor=Serial())
+        po.sweep(RIGID, {"wrist_pin.clearance": [1e-4, 0.2]}, task="simulate", speed=SPEED, executor=serial)
     with pytest.raises(ScenarioError, match="slider_mas"):
-        po.sweep(RIGID, {"slider_mas": [100.0]}, task="simulate", speed=SPEED, executor=Serial())
+        po.sweep(RIGID, {"slider_mas": [100.0]}, task="simulate", speed=SPEED, executor=serial)
     with pytest.raises(ScenarioError, match="period"):
-        po.sweep(RIGID, {"problem.stroke_rate_spm": [60, 75]}, task="simulate", speed=SPEED, executor=Serial())
+        po.sweep(RIGID, {"problem.stroke_rate_spm": [60, 75]}, task="simulate", speed=SPEED, executor=serial)
     with pytest.raises(ValueError, match="task"):
         po.sweep(RIGID, {"slider_mass": [100.0]}, task="optimise")
 
 
-def test_simulate_sweep_matches_single_runs_and_is_the_same_on_every_executor():
+def test_simulate_sweep_matches_single_runs_and_is_the_same_on_every_executor(serial):
     """Slider mass on the ideal press at constant speed: the peak torque grows with the ram's mass, and
     each row equals the job run alone; one worker, two workers and in-process give the same table."""
     vary = {"slider_mass": [100.0, 150.0, 200.0], "wrist_pin.clearance": [1e-4, 2e-4]}
-    serial = po.sweep(RIGID, vary, task="simulate", speed=SPEED, executor=Serial(), progress=False)
-    assert list(serial.columns[:3]) == ["slider_mass", "wrist_pin.clearance", "task"]
-    assert serial["ok"].all() and (serial["error"] == "").all() and len(serial) == 6
-    torque = serial.groupby("slider_mass")["peak_torque_N_m"].first().to_numpy()
+    in_process = po.sweep(RIGID, vary, task="simulate", speed=SPEED, executor=serial, progress=False)
+    assert list(in_process.columns[:3]) == ["slider_mass", "wrist_pin.clearance", "task"]
+    assert in_process["ok"].all() and (in_process["error"] == "").all() and len(in_process) == 6
+    torque = in_process.groupby("slider_mass")["peak_torque_N_m"].first().to_numpy()
     assert np.all(np.diff(torque) > 0)
     alone = po.rigid_response(RIGID.with_overrides({"slider_mass": 200.0}).press, SPEED,
                               np.linspace(0, 0.8, 20001)).peak("torque")
-    assert serial["peak_torque_N_m"].iloc[-1] == pytest.approx(alone, rel=1e-12)
+    assert in_process["peak_torque_N_m"].iloc[-1] == pytest.approx(alone, rel=1e-12)
     for workers in (1, 2):
         with ProcessPoolExecutor(workers) as pool:
             parallel = po.sweep(RIGID, vary, task="simulate", speed=SPEED, executor=pool, progress=False)
-        pd.testing.assert_frame_equal(comparable(parallel), comparable(serial))
+        pd.testing.assert_frame_equal(comparable(parallel), comparable(in_process))
 
 
-def test_a_failed_point_is_a_row(monkeypatch):
+def test_a_failed_point_is_a_row(monkeypatch, serial):
     from pressocp import jobs
 
     original = jobs.simulate_speed
@@ -82,23 +70,23 @@ def test_a_failed_point_is_a_row(monkeypatch):
         return original(scenario, speed)
 
     monkeypatch.setattr(jobs, "simulate_speed", fails_for_heavy_rams)
-    table = po.sweep(RIGID, {"slider_mass": [150.0, 200.0]}, task="simulate", speed=SPEED, executor=Serial(),
+    table = po.sweep(RIGID, {"slider_mass": [150.0, 200.0]}, task="simulate", speed=SPEED, executor=serial,
                      progress=False)
     assert table["ok"].tolist() == [True, False]
     assert table["error"].iloc[1] == "RuntimeError: integrator failed at t = 0.3 s"
     assert np.isnan(table["peak_torque_N_m"].iloc[1]) and table["peak_torque_N_m"].iloc[0] > 0
 
 
-def test_resume_from_csv_skips_points_done(tmp_path, monkeypatch):
+def test_resume_from_csv_skips_points_done(tmp_path, monkeypatch, serial):
     csv = tmp_path / "sweep.csv"
-    first = po.sweep(RIGID, {"slider_mass": [100.0, 150.0]}, task="simulate", speed=SPEED, executor=Serial(),
+    first = po.sweep(RIGID, {"slider_mass": [100.0, 150.0]}, task="simulate", speed=SPEED, executor=serial,
                      progress=False, csv=csv)
     assert len(pd.read_csv(csv)) == 2
     calls = []
     original = sweep_module.run_point
     monkeypatch.setattr(sweep_module, "run_point", lambda *a, **k: calls.append(a[1].press.slider_mass) or original(*a, **k))
     again = po.sweep(RIGID, {"slider_mass": [100.0, 150.0, 200.0]}, task="simulate", speed=SPEED,
-                     executor=Serial(), progress=False, csv=csv)
+                     executor=serial, progress=False, csv=csv)
     assert calls == [200.0] and len(again) == 3 and len(pd.read_csv(csv)) == 3
     assert again["peak_torque_N_m"].iloc[:2].tolist() == pytest.approx(first["peak_torque_N_m"].tolist(), rel=1e-9)
 
@@ -110,18 +98,18 @@ def test_rescaled_speed_keeps_the_crank_motion_per_cycle():
     assert np.allclose(other.theta(s * 1.0), speed.theta(s * 0.8), atol=1e-12)
 
 
-def test_dask_local_cluster_gives_the_same_table():
+def test_dask_local_cluster_gives_the_same_table(serial):
     distributed = pytest.importorskip("distributed")
     vary = {"slider_mass": [100.0, 200.0]}
-    serial = po.sweep(RIGID, vary, task="simulate", speed=SPEED, executor=Serial(), progress=False)
+    in_process = po.sweep(RIGID, vary, task="simulate", speed=SPEED, executor=serial, progress=False)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
         table = po.sweep(RIGID, vary, task="simulate", speed=SPEED, executor=client.get_executor(), progress=False)
-    pd.testing.assert_frame_equal(comparable(table), comparable(serial))
+    pd.testing.assert_frame_equal(comparable(table), comparable(in_process))
     assert json.loads(table["speed"].iloc[0])["period"] == 0.8
 
 
-def test_a_path_of_optima_starts_each_from_its_neighbour(monkeypatch):
+def test_a_path_of_optima_starts_each_from_its_neighbour(monkeypatch, serial):
     """On the ideal press with 6 harmonics (seconds): the second optimum of a path starts from the
     first, rescaled to its period; its answer equals a cold solve of that point."""
     base = RIGID.with_overrides({"problem.n_harmonics": 6})
@@ -134,16 +122,16 @@ def test_a_path_of_optima_starts_each_from_its_neighbour(monkeypatch):
 
     monkeypatch.setattr(sweep_module, "run_point", spy)
     path = [{"problem.stroke_rate_spm": 60}, {"problem.stroke_rate_spm": 66}]
-    warm = po.sweep(base, path, task="optimize", executor=Serial(), progress=False)
+    warm = po.sweep(base, path, task="optimize", executor=serial, progress=False)
     assert starts == [None, pytest.approx(60 / 66)] and warm["ok"].all()
-    cold = po.sweep(base, {"problem.stroke_rate_spm": [66]}, task="optimize", executor=Serial(), progress=False)
+    cold = po.sweep(base, {"problem.stroke_rate_spm": [66]}, task="optimize", executor=serial, progress=False)
     assert warm["peak_torque_N_m"].iloc[1] == pytest.approx(cold["peak_torque_N_m"].iloc[0], rel=1e-3)
     starts.clear()  # without continuation, a path is a list of independent cold starts
-    po.sweep(base, path, task="optimize", executor=Serial(), progress=False, continuation=False)
+    po.sweep(base, path, task="optimize", executor=serial, progress=False, continuation=False)
     assert starts == [None, None]
 
 
-def test_wear_study_of_a_design_that_keeps_contact(tmp_path):
+def test_wear_study_of_a_design_that_keeps_contact(tmp_path, serial):
     """The 60 spm kinematic design keeps the rod in tension (no impact at 0.1 mm): on a rigid rod with a
     worn wrist pin (0.1 and 0.3 mm) the journal stays on its wall, the peak torque stays within 2 % of
     the ideal press's, and the table and its figure come out."""
@@ -152,7 +140,7 @@ def test_wear_study_of_a_design_that_keeps_contact(tmp_path):
 
     scenario = po.Scenario.load("press60").with_overrides({"model.clearance": ["wrist_pin"]})
     speed = po.design_speed(scenario.problem).speed
-    table = wear_study(scenario, speed, clearances=(1e-4, 3e-4), executor=Serial())
+    table = wear_study(scenario, speed, clearances=(1e-4, 3e-4), executor=serial)
     assert table["clearance"].tolist() == [1e-4, 3e-4] and table["ok"].all()
     assert table["wrist_pin.clearance"].tolist() == [1e-4, 3e-4]
     assert (table["min_wrist_pin_eccentricity"] > 0.99).all() and not table["free_flight"].any()
