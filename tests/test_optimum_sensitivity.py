@@ -28,7 +28,7 @@ def solved_point(f, g, x, p, pv, lbg, ubg, lbx=None, ubx=None):
                   {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.tol": 1e-11})
     sol = S(x0=0.1, p=pv, lbg=lbg, ubg=ubg, lbx=lbx, ubx=ubx)
     assert S.stats()["success"]
-    point = ParametricPoint(ca.Function("nlp", [x, p], [f, g]), np.asarray(sol["x"]).ravel(), np.atleast_1d(pv),
+    point = ParametricPoint(S, np.asarray(sol["x"]).ravel(), np.atleast_1d(pv),
                             np.asarray(sol["lam_x"]).ravel(), np.asarray(sol["lam_g"]).ravel(), lbx, ubx,
                             np.asarray(lbg, float), np.asarray(ubg, float), [("a", 0, 1), ("b", 1, 1)])
     return point, sol

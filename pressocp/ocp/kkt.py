@@ -95,19 +95,37 @@ def events(lam: np.ndarray, dlam: np.ndarray, value: np.ndarray, rate: np.ndarra
     return np.stack([leave, upper, lower], axis=1)
 
 
-def kkt_sensitivity(point: ParametricPoint) -> KktSensitivity:
-    """dx/dp, d(optimal f)/dp and the predicted range of the active set at `point`."""
-    nx, npar, ng = point.x.size, point.p.size, point.lbg.size
-    x, p, lg = ca.MX.sym("x", nx), ca.MX.sym("p", npar), ca.MX.sym("lam_g", ng)
-    f, g = point.nlp(x, p)
-    lag = f + ca.dot(lg, g)
-    grad = ca.gradient(lag, x)
-    H = ca.hessian(lag, x)[0]
-    fun = ca.Function("kkt", [x, p, lg], [H, ca.jacobian(grad, p), ca.jacobian(g, x), ca.jacobian(g, p),
-                                          ca.gradient(f, x), ca.jacobian(lag, p).T, ca.jacobian(f, p).T, g])
-    H, Hp, J, Gp, fx, Lp, fp, gv = fun(point.x, point.p, point.lam_g)
-    gv = np.asarray(gv).ravel()
+def derivatives(point: ParametricPoint) -> tuple:
+    """The NLP's derivatives at the solution, from the solver's own (compiled) functions: the Hessian
+    of the Lagrangian H (sparse), the constraint Jacobian J (sparse), d(grad_x L)/dp and dg/dp (dense,
+    n x np), grad_x f, df/dp and dL/dp, and g."""
+    S, x, p, lam = point.solver, point.x, point.p, point.lam_g
+    nx, npar, ng = x.size, p.size, lam.size
+    H = ca.triu2symm(S.get_function("nlp_hess_l")(x, p, 1.0, lam))
+    _, J = S.get_function("nlp_jac_g")(x, p)
+    grad = S.get_function("nlp_grad")
+    f, g, gx, gp = grad(x, p, 1.0, lam)
+    seeds = (np.zeros((nx, npar)), np.eye(npar), np.zeros((1, npar)), np.zeros((ng, npar)))
+    _, Gp, Hp, _ = grad.forward(npar)(x, p, 1.0, lam, f, g, gx, gp, *seeds)
+    nlp_f = S.get_function("nlp_f")
+    fp = nlp_f.forward(npar)(x, p, nlp_f(x, p), np.zeros((nx, npar)), np.eye(npar))
+    _, fx = S.get_function("nlp_grad_f")(x, p)
+    return (H.sparse(), J.sparse(), np.asarray(Hp), np.asarray(Gp), np.asarray(fx).ravel(), np.asarray(fp).ravel(),
+            np.asarray(gp).ravel(), np.asarray(g).ravel())
 
+
+def kkt_sensitivity(point: ParametricPoint) -> KktSensitivity:
+    """dx/dp, d(optimal f)/dp and the predicted range of the active set at `point`.
+
+    The KKT matrix is factorised by SuperLU (scipy), with partial pivoting: the matrix is symmetric
+    but indefinite, and a min-max optimum holds more active constraints than it has degrees of
+    freedom, which only the barrier weights keep nonsingular (CasADi's MUMPS interface returned a
+    wrong solution on the 75 spm collocation KKT matrix, residual 2e2)."""
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import splu
+
+    nx, npar, ng = point.x.size, point.p.size, point.lbg.size
+    H, J, Hp, Gp, fx, fp, Lp, gv = derivatives(point)
     slack_g, eq_g = side(point.lam_g, gv, point.lbg, point.ubg)
     slack_x, eq_x = side(point.lam_x, point.x, point.lbx, point.ubx)
     held_g = eq_g | (np.abs(point.lam_g) >= slack_g)
@@ -115,16 +133,13 @@ def kkt_sensitivity(point: ParametricPoint) -> KktSensitivity:
     ig, ix = np.flatnonzero(held_g), np.flatnonzero(held_x)
     dg = np.where(eq_g, 0.0, slack_g / np.where(point.lam_g == 0, 1.0, np.abs(point.lam_g)))[ig]
     dxb = np.where(eq_x, 0.0, slack_x / np.where(point.lam_x == 0, 1.0, np.abs(point.lam_x)))[ix]
-
-    Ja = J[ig.tolist(), :]
-    E = ca.DM.triplet(list(range(ix.size)), ix.tolist(), [1.0] * ix.size, ix.size, nx)
-    K = ca.blockcat([[H, Ja.T, E.T],
-                     [Ja, -ca.diag(ca.DM(dg)), ca.DM(ig.size, ix.size)],
-                     [E, ca.DM(ix.size, ig.size), -ca.diag(ca.DM(dxb))]])
-    rhs = -ca.vertcat(Hp, Gp[ig.tolist(), :], ca.DM(ix.size, npar))
-    sol = ca.solve(K, ca.densify(rhs), "mumps")
-    residual = float(ca.norm_fro(ca.mtimes(K, sol) - rhs) / max(float(ca.norm_fro(rhs)), 1e-300))
-    sol = np.asarray(sol)
+    J = sp.csr_matrix(J)
+    Ja = J[ig, :]
+    E = sp.csr_matrix((np.ones(ix.size), (np.arange(ix.size), ix)), shape=(ix.size, nx))
+    K = sp.bmat([[H, Ja.T, E.T], [Ja, -sp.diags(dg), None], [E, None, -sp.diags(dxb)]], format="csc")
+    rhs = -np.vstack([Hp, Gp[ig, :], np.zeros((ix.size, npar))])
+    sol = splu(K).solve(rhs)
+    residual = float(np.linalg.norm(K @ sol - rhs) / max(np.linalg.norm(rhs), 1e-300))
     dx = sol[:nx, :]
     dlam_g = np.zeros((ng, npar))
     dlam_g[ig, :] = sol[nx : nx + ig.size, :]
@@ -133,7 +148,7 @@ def kkt_sensitivity(point: ParametricPoint) -> KktSensitivity:
 
     # where the active set changes, per parameter
     weak = ~eq_g & np.isfinite(slack_g) & (slack_g < WEAK_TOL) & (np.abs(point.lam_g) < WEAK_TOL)
-    rate_g = np.asarray(ca.mtimes(J, ca.DM(dx)) + Gp)
+    rate_g = J @ dx + Gp
     names = np.empty(ng, dtype=object)
     for name, i0, k in point.groups:
         names[i0 : i0 + k] = name
@@ -144,9 +159,8 @@ def kkt_sensitivity(point: ParametricPoint) -> KktSensitivity:
         ev_g[weak, :] = np.nan
         ev_x = events(point.lam_x, dlam_x[:, j], point.x, dx[:, j], point.lbx, point.ubx, held_x, eq_x)
         changes.append(first_changes(np.concatenate([ev_g.ravel(), ev_x.ravel()]), who))
-    fx = np.asarray(fx).ravel()
     return KktSensitivity(
-        df_dp=np.asarray(Lp).ravel(), df_dp_direct=fx @ dx + np.asarray(fp).ravel(), dx_dp=dx,
+        df_dp=Lp, df_dp_direct=fx @ dx + fp, dx_dp=dx,
         active=held_g & ~eq_g, weak=weak, step_up=np.array([c[0] for c in changes]),
         step_down=np.array([c[1] for c in changes]), change_up=[c[2] for c in changes],
         change_down=[c[3] for c in changes], residual=residual)

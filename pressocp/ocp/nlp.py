@@ -294,8 +294,9 @@ class ParametricPoint:
 
     Attributes
     ----------
-    nlp : ca.Function
-        (x, p) -> (f, g).
+    solver : ca.Function
+        The nlpsol that solved it: its oracle's functions (``nlp_f``, ``nlp_grad``, ``nlp_jac_g``,
+        ``nlp_hess_l``, compiled with the NLP's own options) are reused.
     x, p, lam_x, lam_g : ndarray
         The solution, the parameter values and the multipliers (CasADi's sign convention: positive
         at an upper bound, negative at a lower one).
@@ -304,7 +305,7 @@ class ParametricPoint:
         The constraint groups (`Constraints.groups`).
     """
 
-    nlp: ca.Function
+    solver: ca.Function
     x: np.ndarray
     p: np.ndarray
     lam_x: np.ndarray
@@ -392,7 +393,7 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
                 barrier = [float(m) for m in st.get("iterations", {}).get("mu", [])]
                 if q0.size and success:
                     point = ParametricPoint(
-                        ca.Function("nlp", [w, q], [f, gall], ["x", "p"], ["f", "g"]), wo, q0,
+                        solver, wo, q0,
                         np.asarray(sol["lam_x"]).ravel(), np.asarray(sol["lam_g"]).ravel(), np.asarray(lbw, float),
                         np.asarray(ubw, float), cons.lbg, cons.ubg, list(cons.groups))
             except RuntimeError as err:  # IPOPT itself raised (e.g. an evaluation error at the start)

@@ -24,6 +24,7 @@ import pandas as pd
 from ..model import ModelSpec, build_model
 from ..objectives import get as get_objective
 from ..params import check_parameter
+from ..problem import SpeedProblem
 from ..speed import FourierSpeed
 from .collocation import Collocation
 from .kkt import KktSensitivity, kkt_sensitivity
@@ -82,6 +83,12 @@ class OptimumSensitivities:
     kkt : KktSensitivity
     speed : FourierSpeed
         The re-solved optimum.
+    problem : SpeedProblem
+        The problem of the differentiated stage (with the no-reversal bound when that stage answered).
+    transcription : Rigid or Collocation
+        The stage's transcription, with its settings.
+    model : ModelSpec
+        The stage's model level.
     """
 
     table: pd.DataFrame
@@ -95,6 +102,9 @@ class OptimumSensitivities:
     kkt_time: float
     kkt: KktSensitivity
     speed: FourierSpeed
+    problem: SpeedProblem
+    transcription: Rigid | Collocation
+    model: ModelSpec
 
     def derivative(self, parameter: str) -> float:
         """dJ*/dp of one parameter."""
@@ -171,16 +181,16 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
             problem = problem.replace(min_tension=stage.details["min_tension_N"])
         d = stage.details
         transcription = Rigid(d.get("samples", 1000), d.get("window_samples", 200), d.get("backoff", 0.9))
-        model = build_model(press, "rigid", result.model.clearance, result.model.n_elements, problem.n_harmonics, names)
+        spec = result.model
     elif stage.transcription.startswith("Collocation"):
         d = stage.details
         transcription = Collocation(d["elements"], d["degree"], jit=d["jit"], min_eccentricity=d["min_eccentricity"],
                                     **{k: d[k] for k in ("periodic", "backoff", "omega_samples") if k in d})
         spec = result.model if stage.name == "flexible" else ModelSpec("rigid", result.model.clearance)
-        model = build_model(press, spec.rod, spec.clearance, spec.n_elements, problem.n_harmonics, names)
     else:
         raise ValueError(f"the answer comes from {stage.transcription.split('(')[0]} (stage {stage.name!r}); optimum "
                          "sensitivities need a Rigid or Collocation answer: optimise with the default transcription")
+    model = build_model(press, spec.rod, spec.clearance, spec.n_elements, problem.n_harmonics, names)
     again = transcription.solve(problem, model, WarmStart(result.speed), "sensitivity", progress)
     if not again.success or again.point is None:
         raise SensitivityError(f"the re-solve at the answer did not converge ({again.status}); "
@@ -191,7 +201,7 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
     kkt_time = time.perf_counter() - t1
 
     objective = get_objective(problem.objective)
-    f_opt = float(again.point.nlp(again.point.x, again.point.p)[0])
+    f_opt = float(again.point.solver.get_function("nlp_f")(again.point.x, again.point.p))
     J = again.objective
     to_J = J / f_opt if objective.kind == "peak" else J / (2.0 * f_opt)  # dJ = to_J df
     n2 = 2 * problem.n_harmonics
@@ -212,7 +222,8 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
         table=pd.DataFrame(rows), coefficients=coeffs, stage=stage.name, objective=J,
         result_objective=stage.objective, active=per_group(k.active, again.point.groups),
         weakly_active=per_group(k.weak, again.point.groups),
-        resolve_time=resolve_time, kkt_time=kkt_time, kkt=k, speed=again.speed)
+        resolve_time=resolve_time, kkt_time=kkt_time, kkt=k, speed=again.speed, problem=problem,
+        transcription=transcription, model=spec)
 
 
 __all__ = ["KINEMATIC", "ONE_SIDED", "OptimumSensitivities", "SensitivityError", "optimum_sensitivities"]
