@@ -53,8 +53,8 @@ def _integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, a
         if method == "idas":
             opts.update(calc_ic=True, suppress_algebraic=True)
     else:
-        dt = float(np.max(np.diff(grid))) if grid.size > 1 else float(grid[0])
-        opts.update(number_of_finite_elements=max(1, int(np.ceil(dt / step))))
+        # CasADi takes the number of steps over the whole run [0, grid[-1]] (at least one per output)
+        opts.update(number_of_finite_elements=max(grid.size, int(np.ceil(float(grid[-1]) / step))))
         if method == "collocation":
             opts.update(interpolation_order=3, collocation_scheme="radau")
     return ca.integrator("press_" + method.replace("-", "_"), method, dae, 0.0, grid, opts)

@@ -190,3 +190,15 @@ def test_fixed_step_methods_agree_with_cvodes(method, step):
     r = simulate(m, s, t_end=0.02, x0=x0, method=method, step=step, n_out=21)
     assert np.max(np.abs(r.torque - ref.torque)) < 1e-4 * ref.peak("torque")
     assert np.max(np.abs(r.wrist_pin_force - ref.wrist_pin_force)) < 1e-4 * ref.peak("wrist_pin_force")
+
+
+def test_fixed_step_methods_take_the_step_asked_for():
+    """RK4 is stable on the clearance model up to about 0.1 ms (benchmarks/results/stability.json). With
+    outputs every 0.2 ms and a 50 us step it must take four steps per output and stay on the CVODES
+    response; stepping at the output interval instead diverges."""
+    m = build_model(PressParams())
+    s = FourierSpeed.constant(1.0)
+    x0 = simulate(m, s, t_end=2.0, method="cvodes", rtol=1e-9, n_out=3).states[:, -1] / m.x_scale
+    ref = simulate(m, s, t_end=0.1, x0=x0, method="cvodes", rtol=1e-10, n_out=501)
+    r = simulate(m, s, t_end=0.1, x0=x0, method="rk", step=5e-5, n_out=501)
+    assert np.max(np.abs(r.wrist_pin_force - ref.wrist_pin_force)) < 1e-4 * ref.peak("wrist_pin_force")

@@ -61,6 +61,8 @@ def test_stability_json_schema() -> None:
         if e["method"] == "rk":
             assert e["theoretical_bound"] > 0
         assert e["history"] and all(r["step"] > 0 for r in e["history"])
+        if e.get("h5_next_tried") is not None:  # the bracket: h* passes, the next larger step tried does not
+            assert e["h5_next_tried"] > e["max_stable_step"]
     for method in ("rk", "collocation"):
         seed_entry(data, method)
 
@@ -96,6 +98,11 @@ def test_seed_max_stable_step(method: str, seed_scene) -> None:
     h = entry["max_stable_step"]
     half = peak_torque_error(method, 0.5 * h, model, speed, x0, ref_peak)
     assert half <= 0.05, f"{method} at 0.5 h* = {0.5 * h:.4g} s: peak torque off by {half:.3g}"
+    at_h = peak_torque_error(method, h, model, speed, x0, ref_peak)
+    assert at_h <= 0.05, f"{method} at h* = {h:.4g} s: peak torque off by {at_h:.3g}"
+    if entry.get("h5_next_tried") is not None:
+        above = peak_torque_error(method, entry["h5_next_tried"], model, speed, x0, ref_peak)
+        assert above > 0.05, f"{method} at the next step tried above h*: off by only {above:.3g}"
     double = peak_torque_error(method, 2 * h, model, speed, x0, ref_peak)
     if entry["two_x_condition"]:
         assert double > 0.5, f"{method} at 2 h* = {2 * h:.4g} s: finite, peak torque off by only {double:.3g}"
