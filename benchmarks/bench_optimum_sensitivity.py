@@ -84,7 +84,7 @@ def case(name: str, step: float) -> dict:
         "relative_difference_verified": float(row["derivative"]) / fd_verified - 1,
         "resolves": solves, "sensitivity_resolve_s": sens.resolve_time, "sensitivity_kkt_s": sens.kkt_time,
         "two_resolves_s": resolve_pair, "two_stage_resolves_s": stage["up"]["wall_time_s"] + stage["down"]["wall_time_s"],
-        "kkt_residual": sens.kkt.residual,
+        "kkt_residual": sens.kkt.residual, "kkt_regularisation": sens.kkt.regularisation,
         "ratio_kkt_to_two_resolves": sens.kkt_time / resolve_pair,
         "ratio_total_to_two_resolves": (sens.resolve_time + sens.kkt_time) / resolve_pair,
     }

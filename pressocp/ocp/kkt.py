@@ -29,6 +29,9 @@ from .nlp import ParametricPoint
 
 #: A constraint at its bound with both slack and multiplier below this (scaled units) is weakly active.
 WEAK_TOL = 1e-4
+#: Regularisations of a singular KKT matrix's constraint block, tried in turn, and the refinement steps.
+DELTAS = (1e-10, 1e-8, 1e-6)
+REFINEMENTS = 3
 
 
 @dataclass
@@ -51,7 +54,10 @@ class KktSensitivity:
     change_up, change_down : list of str
         The constraint group that changes first, per parameter ("" when none).
     residual : float
-        Relative residual of the KKT solve.
+        Relative residual of the KKT solve (against the unregularised matrix).
+    regularisation : float
+        The -delta I added to the constraint block of a singular KKT matrix (0: none). A singular
+        matrix means dependent held constraints: their multipliers, and so dJ*/dp, are one of a set.
     """
 
     df_dp: np.ndarray
@@ -64,6 +70,7 @@ class KktSensitivity:
     change_up: list
     change_down: list
     residual: float
+    regularisation: float = 0.0
 
 
 def side(lam: np.ndarray, value: np.ndarray, lb: np.ndarray, ub: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -95,6 +102,38 @@ def events(lam: np.ndarray, dlam: np.ndarray, value: np.ndarray, rate: np.ndarra
     return np.stack([leave, upper, lower], axis=1)
 
 
+def solve_kkt(K, rhs: np.ndarray, nx: int) -> tuple[np.ndarray, float, float]:
+    """Solve the KKT system K sol = rhs (SuperLU). When K is singular (the held constraints are
+    dependent: a min-max optimum holds more samples than it has degrees of freedom, so their
+    multipliers are not unique), the constraint block is regularised by -delta I, as IPOPT does, and
+    the answer refined against K itself (`REFINEMENTS` steps); delta grows until the factorisation
+    succeeds. Returns (sol, relative residual against K, delta; 0 without regularisation)."""
+    import scipy.sparse as sp
+    from scipy.sparse.linalg import splu
+
+    norm = max(float(np.linalg.norm(rhs)), 1e-300)
+    try:
+        sol = splu(K).solve(rhs)
+        residual = float(np.linalg.norm(K @ sol - rhs)) / norm
+        if np.isfinite(residual) and residual < 1e-8:
+            return sol, residual, 0.0
+    except RuntimeError:  # exactly singular
+        pass
+    m = K.shape[0] - nx
+    for delta in DELTAS:
+        shift = sp.diags(np.concatenate([np.zeros(nx), np.full(m, -delta)]), format="csc")
+        try:
+            lu = splu((K + shift).tocsc())
+        except RuntimeError:
+            continue
+        sol = lu.solve(rhs)
+        for _ in range(REFINEMENTS):
+            sol = sol + lu.solve(rhs - K @ sol)
+        return sol, float(np.linalg.norm(K @ sol - rhs)) / norm, delta
+    raise np.linalg.LinAlgError("the KKT matrix stays singular with regularisation up to "
+                                f"{DELTAS[-1]:g}: the NLP's solution is not a regular point")
+
+
 def derivatives(point: ParametricPoint) -> tuple:
     """The NLP's derivatives at the solution, from the solver's own (compiled) functions: the Hessian
     of the Lagrangian H (sparse), the constraint Jacobian J (sparse), d(grad_x L)/dp and dg/dp (dense,
@@ -122,7 +161,6 @@ def kkt_sensitivity(point: ParametricPoint) -> KktSensitivity:
     freedom, which only the barrier weights keep nonsingular (CasADi's MUMPS interface returned a
     wrong solution on the 75 spm collocation KKT matrix, residual 2e2)."""
     import scipy.sparse as sp
-    from scipy.sparse.linalg import splu
 
     nx, npar, ng = point.x.size, point.p.size, point.lbg.size
     H, J, Hp, Gp, fx, fp, Lp, gv = derivatives(point)
@@ -138,8 +176,7 @@ def kkt_sensitivity(point: ParametricPoint) -> KktSensitivity:
     E = sp.csr_matrix((np.ones(ix.size), (np.arange(ix.size), ix)), shape=(ix.size, nx))
     K = sp.bmat([[H, Ja.T, E.T], [Ja, -sp.diags(dg), None], [E, None, -sp.diags(dxb)]], format="csc")
     rhs = -np.vstack([Hp, Gp[ig, :], np.zeros((ix.size, npar))])
-    sol = splu(K).solve(rhs)
-    residual = float(np.linalg.norm(K @ sol - rhs) / max(np.linalg.norm(rhs), 1e-300))
+    sol, residual, regularisation = solve_kkt(K, rhs, nx)
     dx = sol[:nx, :]
     dlam_g = np.zeros((ng, npar))
     dlam_g[ig, :] = sol[nx : nx + ig.size, :]
@@ -163,7 +200,7 @@ def kkt_sensitivity(point: ParametricPoint) -> KktSensitivity:
         df_dp=Lp, df_dp_direct=fx @ dx + fp, dx_dp=dx,
         active=held_g & ~eq_g, weak=weak, step_up=np.array([c[0] for c in changes]),
         step_down=np.array([c[1] for c in changes]), change_up=[c[2] for c in changes],
-        change_down=[c[3] for c in changes], residual=residual)
+        change_down=[c[3] for c in changes], residual=residual, regularisation=regularisation)
 
 
 __all__ = ["KktSensitivity", "WEAK_TOL", "kkt_sensitivity"]

@@ -58,7 +58,9 @@ class OptimumSensitivities:
         ``step_up`` and ``step_down`` (relative steps dp/p to the first predicted change of the active
         set, weakly active constraints aside) with ``change_up`` and ``change_down`` (the constraint
         group that changes), ``weakly_active`` (inequalities at their bound with a multiplier near
-        zero: they may enter or leave at once; a min-max optimum has many in its epigraph) and
+        zero: they may enter or leave at once; a min-max optimum has many in its epigraph),
+        ``kkt_residual`` and ``kkt_regularisation`` (`KktSensitivity`: a regularised, singular KKT
+        matrix means dependent active constraints, whose multipliers are one of a set) and
         ``coefficients_one_sided`` (weakly active constraints, or an active-set change within
         `ONE_SIDED` relative: d(coefficients)/dp holds for one direction of p only). dJ*/dp is
         two-sided all the same when the multipliers are unique (a nonsingular KKT matrix,
@@ -215,6 +217,7 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
             "normalised": to_J * float(k.df_dp[j]) * p / J,
             "step_up": k.step_up[j] / abs(p), "step_down": k.step_down[j] / abs(p),
             "change_up": k.change_up[j], "change_down": k.change_down[j], "weakly_active": weak,
+            "kkt_residual": k.residual, "kkt_regularisation": k.regularisation,
             "coefficients_one_sided": bool(weak or min(k.step_up[j], -k.step_down[j]) / abs(p) < ONE_SIDED)})
     labels = [f"a{i + 1}" for i in range(n2 // 2)] + [f"b{i + 1}" for i in range(n2 // 2)]
     coeffs = pd.DataFrame(k.dx_dp[:n2, :], index=labels, columns=list(names))
