@@ -226,6 +226,8 @@ def plot_sweep(table, keys: Sequence[str], title: str = "") -> "plt.Figure":
     for ax, (_, name) in zip(axes, rows):
         ax.set_ylabel(name, fontsize=8)
         ax.grid(alpha=0.3)
+    if "initial_peak_torque_N_m" in data and data["initial_peak_torque_N_m"].max() > 5 * data["peak_torque_N_m"].max():
+        axes[0].set_yscale("log")  # an impacting initial speed would flatten the optima against the floor
     axes[0].legend(fontsize=7)
     axes[-1].set_xlabel(x)
     if title:
