@@ -3,6 +3,8 @@ from concurrent.futures import Executor, Future
 import matplotlib
 import pytest
 
+from pressocp import PressParams, SpeedProblem, design_speed
+
 matplotlib.use("Agg")
 
 
@@ -22,3 +24,10 @@ class Serial(Executor):
 def serial():
     """An executor that runs every task in the test's process (sweeps without worker processes)."""
     return Serial()
+
+
+@pytest.fixture(scope="session")
+def impact_speed():
+    """The rigid-designed speed of the default press at T = 0.8 s, -0.1 m/s over h/H 0.7 -> 0.3: its
+    wrist-pin force reverses (the impact scenario)."""
+    return design_speed(SpeedProblem(PressParams(), period=0.8, ram_speed=-0.1)).speed

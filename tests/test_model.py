@@ -10,8 +10,7 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from pressocp import Bearing, FourierSpeed, PressParams, SpeedProblem, beam, rigid_response
-from pressocp.design import design_speed
+from pressocp import Bearing, FourierSpeed, PressParams, beam, rigid_response
 from pressocp.model import build_model
 from pressocp.simulate import SimulationError, simulate
 from pressocp.studies import simeon_crank
@@ -54,12 +53,6 @@ def test_flexible_rod_with_large_EI_is_rigid():
     ref = rigid_response(p, s, r.t)
     assert max(abs(e) for e in _rel_peak_errors(r, ref).values()) < 1e-3
     assert np.max(np.abs(r.rod_midspan_deflection)) < 1e-7
-
-
-@pytest.fixture(scope="module")
-def impact_speed():
-    """The rigid-designed speed at T = 0.8 s, -0.1 m/s: its wrist-pin force reverses (see README)."""
-    return design_speed(SpeedProblem(PressParams(), period=0.8, ram_speed=-0.1)).speed
 
 
 @pytest.mark.parametrize("rod", ["rigid", pytest.param("flexible", marks=pytest.mark.slow)])  # flexible: 13 s
@@ -181,7 +174,7 @@ def test_forced_integrator_failure_is_typed_and_readable(method):
     assert info.value.method == method
 
 
-@pytest.mark.parametrize("method, step", [("rk", 1e-6), ("collocation", 1e-5)])
+@pytest.mark.parametrize("method, step", [("rk", 1e-6), ("collocation", 2e-5)])
 def test_fixed_step_methods_agree_with_cvodes(method, step):
     m = build_model(PressParams())
     s = FourierSpeed.constant(1.0)

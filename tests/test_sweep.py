@@ -127,6 +127,12 @@ def test_a_path_of_optima_starts_each_from_its_neighbour(monkeypatch, serial):
     cold = po.sweep(base, {"problem.stroke_rate_spm": [66]}, task="optimize", executor=serial, progress=False)
     assert warm["peak_torque_N_m"].iloc[1] == pytest.approx(cold["peak_torque_N_m"].iloc[0], rel=1e-3)
     starts.clear()  # without continuation, a path is a list of independent cold starts
+
+    def stub(task, scenario, speed=None, initial=None):
+        starts.append(None if initial is None else initial.period)
+        return {"task": task, "ok": True, "error": "", "speed": warm["speed"].iloc[0]}
+
+    monkeypatch.setattr(sweep_module, "run_point", stub)
     po.sweep(base, path, task="optimize", executor=serial, progress=False, continuation=False)
     assert starts == [None, None]
 
