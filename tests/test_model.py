@@ -174,7 +174,7 @@ def test_forced_integrator_failure_is_typed_and_readable(method):
     assert info.value.method == method
 
 
-@pytest.mark.parametrize("method, step", [("rk", 1e-6), ("collocation", 2e-5)])
+@pytest.mark.parametrize("method, step", [("rk", 1e-5), ("collocation", 2e-5)])
 def test_fixed_step_methods_agree_with_cvodes(method, step):
     m = build_model(PressParams())
     s = FourierSpeed.constant(1.0)
