@@ -29,15 +29,11 @@ import numpy as np  # noqa: E402
 
 import pressocp as po  # noqa: E402
 from pressocp.ocp.result import versions  # noqa: E402
+from pressocp.ocp.sensitivity import answer_stage  # noqa: E402
 from pressocp.plots import save  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 PARAMETER = "slider_mass"
-
-
-def answer_objective(result: po.OcpResult) -> float:
-    """The objective of the stage that produced the answer (what its NLP minimised)."""
-    return next(s for s in reversed(result.stages) if not s.was_skipped).objective
 
 
 def case(name: str, step: float) -> dict:
@@ -55,8 +51,8 @@ def case(name: str, step: float) -> dict:
         t0 = time.perf_counter()
         r = po.optimize_speed(problem.replace(press=pressed), progress=False)
         solves["up" if sign > 0 else "down"] = {"wall_time_s": time.perf_counter() - t0, "success": r.success,
-                                                "stage": next(s for s in reversed(r.stages) if not s.was_skipped).name,
-                                                "objective": answer_objective(r), "verified": r.verified_objective}
+                                                "stage": answer_stage(r).name, "objective": r.objective_value,
+                                                "verified": r.verified_objective}
     stage = {}  # the differentiated stage's NLP re-solved at p +- h, from its optimum
     for sign in (+1, -1):
         pressed = press.replace(**{PARAMETER: p * (1 + sign * step)})
@@ -71,7 +67,7 @@ def case(name: str, step: float) -> dict:
     resolve_pair = solves["up"]["wall_time_s"] + solves["down"]["wall_time_s"]
     return {
         "scenario": name, "parameter": PARAMETER, "parameter_value": p, "step_relative": step,
-        "stage": sens.stage, "optimize_wall_time_s": t_opt, "result_objective": answer_objective(result),
+        "stage": sens.stage, "optimize_wall_time_s": t_opt, "result_objective": result.objective_value,
         "resolved_objective": sens.objective, "verified_objective": result.verified_objective,
         "derivative": float(row["derivative"]), "derivative_check": float(row["derivative_check"]),
         "normalised": float(row["normalised"]), "step_up": float(row["step_up"]),

@@ -22,10 +22,11 @@ from .speed import FourierSpeed
 from .sweeps import sweep
 
 __all__ = [
-    "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "FourierSpeed", "ModelSpec", "MultipleShooting",
-    "ModelRecommendation", "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams", "ProcessForce", "Rigid", "Scenario", "ScenarioError",
-    "SensitivityError", "SimResult", "SimulationError",
+    "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "FourierSpeed", "ModelRecommendation", "ModelSpec",
+    "MultipleShooting", "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams",
+    "ProcessForce", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",
     "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "WarmStart", "build_model", "crank_angle_at_height",
-    "design_speed", "hertz_internal_stiffness", "optimize_speed", "optimum_sensitivities", "recommend_model", "rigid_inverse_dynamics", "rigid_kinematics",
-    "rigid_response", "sensitivities", "Sensitivities", "simulate", "sweep",
+    "design_speed", "hertz_internal_stiffness", "optimize_speed", "optimum_sensitivities", "recommend_model",
+    "rigid_inverse_dynamics", "rigid_kinematics", "rigid_response", "sensitivities", "Sensitivities", "simulate",
+    "sweep",
 ]

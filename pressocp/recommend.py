@@ -66,13 +66,6 @@ class ModelRecommendation:
         return self.first_mode / self.load_frequency
 
 
-def first_bending_mode(params: PressParams) -> float:
-    """First transverse mode of the rod as a pinned-pinned uniform beam, Hz:
-    (pi^2 / 2 pi) sqrt(E I / (m' L^4)), m' the mass per length."""
-    L = params.rod_length
-    return float(np.pi / 2 * np.sqrt(params.rod_youngs_modulus * params.rod_area_moment / (params.rod_mass / L * L**4)))
-
-
 def highest_harmonic(signal: np.ndarray, period: float) -> float:
     """Frequency of the highest harmonic of a periodic signal (one period, uniform samples) with at least
     `HARMONIC_SHARE` of the largest amplitude (the mean left out), Hz; 0 for a constant."""
@@ -107,7 +100,7 @@ def recommend_model(params: PressParams, speed: FourierSpeed) -> ModelRecommenda
     tension = np.minimum(dyn["crank_pin_tension"], dyn["wrist_pin_tension"])
     rod_alpha = rigid_kinematics(params, th, om, al)["rod_angular_acceleration"]
     f_load = max(highest_harmonic(dyn["crank_pin_tension"], T), highest_harmonic(rod_alpha, T), 1.0 / T)
-    f_mode = first_bending_mode(params)
+    f_mode = params.rod_first_bending_frequency / (2 * np.pi)
     t_min = float(tension.min())
     reverses = t_min <= 0.0
     tension_note = (f"the rod force reverses (axial pin force down to {t_min:.4g} N on the ideal press): the "
@@ -128,5 +121,4 @@ def recommend_model(params: PressParams, speed: FourierSpeed) -> ModelRecommenda
     return ModelRecommendation(level, reason, t_min, f_mode, f_load)
 
 
-__all__ = ["HARMONIC_SHARE", "LEVELS", "MODE_FACTOR", "ModelRecommendation", "first_bending_mode",
-           "highest_harmonic", "recommend_model"]
+__all__ = ["HARMONIC_SHARE", "LEVELS", "MODE_FACTOR", "ModelRecommendation", "highest_harmonic", "recommend_model"]

@@ -3,7 +3,11 @@ flexible slider crank."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from concurrent.futures import Executor
 from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,6 +22,11 @@ from .result import SimResult
 from .rigid import rigid_response
 from .simulate import simulate
 from .speed import FourierSpeed
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from .scenario import Scenario
 
 #: The impact scenario of the source paper's Figs. 6 and 9: at 60 strokes/min the rigid design of
 #: -0.1 m/s keeps the wrist-pin force above ~490 N (no reversal, no impact); 75 strokes/min (T = 0.8 s)
@@ -92,7 +101,6 @@ def simeon_crank(n_elements: int = 4, rtol: float = 1e-10, t_end: float = 0.1, n
     return simulate(m, speed, t_end=t_end, x0=x0, method="cvodes", rtol=rtol, n_out=n_out)
 
 
-
 #: Clearances of the wear study (every clearance joint at once), m.
 WEAR_CLEARANCES = (5e-5, 1e-4, 1.5e-4, 2e-4, 3e-4, 4e-4)
 #: A journal whose eccentricity ratio |e|/c falls below this has left its bearing wall: a free flight,
@@ -100,10 +108,20 @@ WEAR_CLEARANCES = (5e-5, 1e-4, 1.5e-4, 2e-4, 3e-4, 4e-4)
 FREE_FLIGHT_ECCENTRICITY = 0.95
 
 
-def wear_study(scenario, speed: FourierSpeed, clearances=WEAR_CLEARANCES, executor=None, progress: bool = False,
-               csv=None):
+def wear_study(scenario: Scenario, speed: FourierSpeed, clearances: Sequence[float] = WEAR_CLEARANCES,
+               executor: Executor | None = None, progress: bool = False,
+               csv: str | Path | None = None) -> pd.DataFrame:
     """One crank speed as the joints wear: its periodic response with every clearance joint of the
     scenario's model at each of `clearances` (m), the other values as in `scenario`.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    speed : FourierSpeed
+    clearances : sequence of float
+        m.
+    executor, progress, csv
+        As in `pressocp.sweep`.
 
     Returns
     -------

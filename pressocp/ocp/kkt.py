@@ -81,6 +81,15 @@ def side(lam: np.ndarray, value: np.ndarray, lb: np.ndarray, ub: np.ndarray) -> 
     return np.where(eq, 0.0, np.maximum(slack, 0.0)), eq
 
 
+def held(lam: np.ndarray, value: np.ndarray, lb: np.ndarray, ub: np.ndarray) -> tuple:
+    """The bounds held in the KKT solve: equalities and those whose multiplier outweighs their slack.
+    Returns (slack, equality mask, held mask, barrier weights slack/|lam| of the held ones)."""
+    slack, eq = side(lam, value, lb, ub)
+    mask = eq | (np.abs(lam) >= slack)
+    weight = np.where(eq, 0.0, slack / np.where(lam == 0, 1.0, np.abs(lam)))[mask]
+    return slack, eq, mask, weight
+
+
 def first_changes(steps: np.ndarray, who: np.ndarray) -> tuple[float, float, str, str]:
     """The smallest positive and the largest negative of `steps` (NaN ignored) and their labels
     (inf/-inf and "" when there is none)."""
@@ -145,9 +154,7 @@ def derivatives(point: ParametricPoint) -> tuple:
     grad = S.get_function("nlp_grad")
     f, g, gx, gp = grad(x, p, 1.0, lam)
     seeds = (np.zeros((nx, npar)), np.eye(npar), np.zeros((1, npar)), np.zeros((ng, npar)))
-    _, Gp, Hp, _ = grad.forward(npar)(x, p, 1.0, lam, f, g, gx, gp, *seeds)
-    nlp_f = S.get_function("nlp_f")
-    fp = nlp_f.forward(npar)(x, p, nlp_f(x, p), np.zeros((nx, npar)), np.eye(npar))
+    fp, Gp, Hp, _ = grad.forward(npar)(x, p, 1.0, lam, f, g, gx, gp, *seeds)
     _, fx = S.get_function("nlp_grad_f")(x, p)
     return (H.sparse(), J.sparse(), np.asarray(Hp), np.asarray(Gp), np.asarray(fx).ravel(), np.asarray(fp).ravel(),
             np.asarray(gp).ravel(), np.asarray(g).ravel())
@@ -164,13 +171,9 @@ def kkt_sensitivity(point: ParametricPoint) -> KktSensitivity:
 
     nx, npar, ng = point.x.size, point.p.size, point.lbg.size
     H, J, Hp, Gp, fx, fp, Lp, gv = derivatives(point)
-    slack_g, eq_g = side(point.lam_g, gv, point.lbg, point.ubg)
-    slack_x, eq_x = side(point.lam_x, point.x, point.lbx, point.ubx)
-    held_g = eq_g | (np.abs(point.lam_g) >= slack_g)
-    held_x = eq_x | (np.abs(point.lam_x) >= slack_x)
+    slack_g, eq_g, held_g, dg = held(point.lam_g, gv, point.lbg, point.ubg)
+    _, eq_x, held_x, dxb = held(point.lam_x, point.x, point.lbx, point.ubx)
     ig, ix = np.flatnonzero(held_g), np.flatnonzero(held_x)
-    dg = np.where(eq_g, 0.0, slack_g / np.where(point.lam_g == 0, 1.0, np.abs(point.lam_g)))[ig]
-    dxb = np.where(eq_x, 0.0, slack_x / np.where(point.lam_x == 0, 1.0, np.abs(point.lam_x)))[ix]
     J = sp.csr_matrix(J)
     Ja = J[ig, :]
     E = sp.csr_matrix((np.ones(ix.size), (np.arange(ix.size), ix)), shape=(ix.size, nx))
