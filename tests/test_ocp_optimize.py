@@ -98,18 +98,17 @@ def test_bad_calls_rejected_before_solving(kwargs, match):
 @pytest.mark.slow
 def test_seed_default_call_reaches_the_clearance_optimum():
     """The 75 spm scene through the default call (a few minutes): the rigid optimum impacts, the chain
-    runs collocation on the clearance model, and the answer re-simulated (periodic, rtol 1e-9) keeps
-    contact, holds the ram speed over the simulated ram's window, and is at most 148 N m (measured
-    147.8; 147.5 was asked for when the window sat on the ideal press's ram, where the optimum was
-    146.6 N m but ran 2.2 % off the ram speed at the real window's entry: docs/optimisation.md)."""
+    runs collocation on the clearance model and polishes it once, and the answer re-simulated
+    (periodic, rtol 1e-9) keeps contact, holds the ram speed over the simulated ram's window, and is at
+    most 147.5 N m (measured 145.4; the first collocation pass alone stops at 147.8)."""
     problem = SpeedProblem(PressParams(), period=0.8)
     r = optimize_speed(problem, progress=False)
     assert r.success, r.status
-    assert [s.name for s in r.stages] == ["rigid", "no_reversal", "target"]
+    assert [s.name for s in r.stages] == ["rigid", "no_reversal", "target", "polish_1"]
     assert r.stages[0].check.ratio > 2.0  # the rigid optimum impacts on the clearance model
     sim = r.simulation
     assert sim.stats["periodic"].get("found", True) is True
-    assert r.peak_torque <= 148.0
+    assert r.peak_torque <= 147.5
     assert r.peak_torque < 0.3 * r.initial_peak_torque
     assert min(sim.crank_pin_eccentricity.min(), sim.wrist_pin_eccentricity.min()) > 0.999
     assert r.peak_torque == pytest.approx(r.objective_value, rel=0.01)

@@ -144,20 +144,33 @@ def test_unconverged_or_shooting_answers_are_refused(rigid_answer):
 
 @pytest.mark.slow
 def test_collocation_answer_derivative_matches_re_solved_optima():
+    """slider_mass: AD within 5 % of the central difference of re-solved optima (+-1 %).
+
+    wrist_pin.clearance: at this optimum the journals stay on their walls and J* hardly depends on the
+    clearance. Measured: normalised AD 2e-5; re-solved optima at +-1 % and +-10 % move J* by 1e-5 and
+    5e-4 N·m (of 75.9), not linearly (secants -1.4e-5 and -3.6e-5 normalised): the sign is below the
+    re-solves' resolution. What both must agree on is the size: |p/J dJ*/dp| < 1e-4, against 0.98 for
+    the slider mass."""
     tr = po.Collocation(elements=200, jit=False)
     r = po.optimize_speed(SMALL, transcription=tr, strategy=po.Strategy("all", rigid=RIGID, verify_rtol=1e-8),
                           progress=False)
-    assert r.success and r.stages[-1].name == "target"
-    names = ("slider_mass", "wrist_pin.clearance")
-    s = po.optimum_sensitivities(r, names)
-    assert s.stage == "target"
-    for n in names:
-        p = SMALL.press.value(n)
-        h = 0.01 * p
+    assert r.success and r.stages[-1].name == "polish_1" and not r.stages[-1].was_skipped
+    s = po.optimum_sensitivities(r, ("slider_mass", "wrist_pin.clearance"))
+    assert s.stage == "polish_1"
+
+    def central(name, rel):
+        p = SMALL.press.value(name)
         J = []
         for sg in (1, -1):
-            press = SMALL.press.replace(**{n: p + sg * h}) if "." not in n else SMALL.press.replace(
-                wrist_pin=replace(SMALL.press.wrist_pin, clearance=p + sg * h))
+            v = p * (1 + sg * rel)
+            press = SMALL.press.replace(slider_mass=v) if name == "slider_mass" else SMALL.press.replace(
+                wrist_pin=replace(SMALL.press.wrist_pin, clearance=v))
             J.append(resolved(SMALL.replace(press=press), tr, po.build_model(press, n_harmonics=4), r.speed))
-        fd = (J[0] - J[1]) / (2 * h)
-        assert s.derivative(n) == pytest.approx(fd, rel=0.05)
+        return (J[0] - J[1]) / (2 * rel * p), p / s.objective
+
+    fd, scale = central("slider_mass", 0.01)
+    assert s.derivative("slider_mass") == pytest.approx(fd, rel=0.05)
+    assert s.derivative("slider_mass") * scale > 0.5
+    fd, scale = central("wrist_pin.clearance", 0.1)
+    assert abs(s.derivative("wrist_pin.clearance") * scale) < 1e-4
+    assert abs(fd * scale) < 1e-4

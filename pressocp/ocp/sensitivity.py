@@ -72,7 +72,7 @@ class OptimumSensitivities:
         then re-solves at p +- dp land anywhere on the flat set: trust this only where
         ``coefficients_one_sided`` is False.
     stage : str
-        The stage whose NLP was differentiated ("rigid", "no_reversal", "target" or "flexible").
+        The stage whose NLP was differentiated ("rigid", "no_reversal", "target", "flexible" or "polish_k").
     objective : float
         J* of the re-solve (its unit).
     result_objective : float
@@ -188,7 +188,7 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
         d = stage.details
         transcription = Collocation(d["elements"], d["degree"], jit=d["jit"], min_eccentricity=d["min_eccentricity"],
                                     **{k: d[k] for k in ("periodic", "backoff", "omega_samples") if k in d})
-        spec = result.model if stage.name == "flexible" else ModelSpec("rigid", result.model.clearance)
+        spec = result.model if stage.model == result.model.describe() else ModelSpec("rigid", result.model.clearance)
     else:
         raise ValueError(f"the answer comes from {stage.transcription.split('(')[0]} (stage {stage.name!r}); optimum "
                          "sensitivities need a Rigid or Collocation answer: optimise with the default transcription")

@@ -78,7 +78,7 @@ class StageResult:
     Attributes
     ----------
     name : str
-        "rigid", "no_reversal", "soft", "target", "flexible", "refine_k".
+        "rigid", "no_reversal", "soft", "target", "flexible", "polish_k", "refine_k".
     transcription : str
         The transcription and its settings (its repr), or "skipped".
     model : str
