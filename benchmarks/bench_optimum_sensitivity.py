@@ -14,10 +14,7 @@ verified objective (periodic re-simulation) are differenced. Writes
 from __future__ import annotations
 
 import argparse
-import datetime
 import json
-import os
-import platform
 import time
 from pathlib import Path
 
@@ -29,6 +26,7 @@ import numpy as np  # noqa: E402
 
 import pressocp as po  # noqa: E402
 from pressocp.ocp.result import versions  # noqa: E402
+from pressocp.report import stamp  # noqa: E402
 from pressocp.ocp.sensitivity import answer_stage  # noqa: E402
 from pressocp.plots import save  # noqa: E402
 
@@ -119,8 +117,7 @@ def main() -> None:
         rows.append(case(name, args.step))
         print(json.dumps({k: v for k, v in rows[-1].items() if k not in ("resolves", "stage_resolves")}, indent=1, default=str), flush=True)
     OUT.mkdir(exist_ok=True)
-    meta = {"date": datetime.datetime.now().isoformat(timespec="seconds"), "machine": platform.node(),
-            "cpus": os.cpu_count(), "platform": platform.platform(), "versions": versions()}
+    meta = {**stamp(), "versions": versions()}
     (OUT / "optimum_sensitivity.json").write_text(json.dumps({**meta, "cases": rows}, indent=2, default=str) + "\n")
     figure(rows)
 

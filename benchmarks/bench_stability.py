@@ -71,11 +71,9 @@ from __future__ import annotations
 import argparse
 import contextlib
 import dataclasses
-import datetime
 import json
 import math
 import os
-import platform
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -91,6 +89,7 @@ from pressocp import PressParams  # noqa: E402
 from pressocp.beam import GAUSS_S, GAUSS_WS, hermite, pinned_pinned_matrices  # noqa: E402
 from pressocp.model import PressModel, build_model  # noqa: E402
 from pressocp.ocp.result import versions  # noqa: E402
+from pressocp.report import stamp  # noqa: E402
 from pressocp.ocp.strategy import soft_params  # noqa: E402
 from pressocp.plots import save  # noqa: E402
 from pressocp.simulate import SimulationError, periodic_state, simulate  # noqa: E402
@@ -588,8 +587,7 @@ def main() -> None:
             entries.append(entry)
             print(f"  -> {method}: h* = {entry['max_stable_step']:.4g} s ({entry['limit']}, 2x rule "
                   f"{'met' if entry['two_x_condition'] else 'NOT met'}) in {entry['wall_time_s']:.0f} s", flush=True)
-    meta = {"date": datetime.datetime.now().isoformat(timespec="seconds"), "machine": platform.node(),
-            "cpus": os.cpu_count(), "platform": platform.platform(), "versions": versions(),
+    meta = {**stamp(), "versions": versions(),
             "total_wall_time_s": time.perf_counter() - t_start}
     setup = {
         "period_s": PERIOD, "speed": "FourierSpeed.constant(0.8)", "horizon": "one period",

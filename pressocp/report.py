@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import datetime as _dt
+import os
 import platform
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -70,9 +71,9 @@ def format_table(rows: Sequence[Sequence[str]]) -> str:
 
 
 def stamp() -> dict[str, str]:
-    """When and where a job ran: ISO date-time, machine, Python."""
+    """When and where a job ran: ISO date-time, machine, its CPU count, platform, Python."""
     return {"date": _dt.datetime.now().isoformat(timespec="seconds"), "machine": platform.node(),
-            "platform": platform.platform(), "python": platform.python_version()}
+            "cpus": os.cpu_count(), "platform": platform.platform(), "python": platform.python_version()}
 
 
 def describe_problem(problem: SpeedProblem) -> str:

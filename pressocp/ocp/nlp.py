@@ -247,6 +247,8 @@ class IterationRecord(ca.Callback):
         self.nx, self.ng, self.np, self.lbg, self.ubg, self.bar = nx, cons.size, np_, cons.lbg, cons.ubg, bar
         self.objective, self.scale = objective, scale
         self.history: list[float] = []
+        self.times: list[float] = []
+        self.t0 = time.perf_counter()
         self.best: tuple[float, float, np.ndarray] | None = None
         self.construct("iterations", {})
 
@@ -279,6 +281,7 @@ class IterationRecord(ca.Callback):
         g = np.asarray(arg[2]).ravel()
         viol = float(np.max(violation(g, self.lbg, self.ubg), initial=0.0))
         self.history.append(f)
+        self.times.append(time.perf_counter() - self.t0)
         if self.best is None or (viol, f) < (self.best[0], self.best[1]) or (viol <= 1e-6 and f < self.best[1]):
             self.best = (viol, f, np.asarray(arg[0]).ravel().copy())
         if self.bar is not None:
@@ -336,6 +339,9 @@ class NlpOutcome:
         IPOPT's barrier parameter per iteration.
     violations_start, violations : dict
         Largest violation per constraint group at the start and at ``w``.
+    iteration_log : dict
+        Per iteration: ``time_s`` (since the solve started), and IPOPT's ``inf_pr`` and ``inf_du``
+        (its scaled primal and dual infeasibility; empty when IPOPT raised).
     wall_time : float
         s.
     point : ParametricPoint or None
@@ -351,6 +357,7 @@ class NlpOutcome:
     barrier: list
     violations_start: dict
     violations: dict
+    iteration_log: dict
     wall_time: float
     point: ParametricPoint | None = None
 
@@ -390,7 +397,9 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
                 st = solver.stats()
                 wo, success, status = np.asarray(sol["x"]).ravel(), bool(st["success"]), str(st["return_status"])
                 iters = int(st.get("iter_count", len(cb.history)))
-                barrier = [float(m) for m in st.get("iterations", {}).get("mu", [])]
+                its = st.get("iterations", {})
+                barrier = [float(m) for m in its.get("mu", [])]
+                log = {k: [float(v) for v in its.get(k, [])] for k in ("inf_pr", "inf_du")}
                 if q0.size and success:
                     point = ParametricPoint(
                         solver, wo, q0,
@@ -400,7 +409,7 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
                 if hit:
                     raise
                 wo, success, status, iters = (cb.best[2] if cb.best else w0), False, first_line(err), len(cb.history)
-                barrier = []
+                barrier, log = [], {"inf_pr": [], "inf_du": []}
     except KeyboardInterrupt as stop:
         stop.best = None if cb.best is None else cb.best[2]
         raise
@@ -416,4 +425,5 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
         viol_end = {}
     return NlpOutcome(w=wo, last_w=last, success=success, status=status, iterations=iters, history=list(cb.history),
                       barrier=barrier, violations_start=viol_start, violations=viol_end,
+                      iteration_log={"time_s": [t + cb.t0 - t0 for t in cb.times], **log},
                       wall_time=time.perf_counter() - t0, point=point)

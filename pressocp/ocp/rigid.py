@@ -143,7 +143,7 @@ class Rigid:
             name=name, transcription=repr(self), model=ModelSpec("rigid", ()).describe(), success=out.success,
             status=out.status, iterations=out.iterations, wall_time=out.wall_time, objective=objective.value(sampled),
             speed=speed, last_speed=FourierSpeed.from_coefficients(T, out.last_w[: 2 * n]),
-            t1=float(out.w[2 * n + 1]), history=out.history, barrier=out.barrier,
+            t1=float(out.w[2 * n + 1]), history=out.history, barrier=out.barrier, iteration_log=out.iteration_log,
             violations_start=out.violations_start, violations=out.violations,
             details={"window_extension_m": drop, "min_tension_N": P.min_tension, "samples": N,
                      "window_samples": self.window_samples, "backoff": self.backoff}, point=out.point)

@@ -102,6 +102,8 @@ class StageResult:
         Objective per iteration, in its unit.
     barrier : list of float
         IPOPT's barrier parameter per iteration.
+    iteration_log : dict
+        Per iteration: ``time_s`` since the stage started, IPOPT's scaled ``inf_pr`` and ``inf_du``.
     violations_start, violations : dict
         Largest violation per constraint group at the start and at ``speed``.
     details : dict
@@ -128,6 +130,7 @@ class StageResult:
     t1: float
     history: list = field(default_factory=list)
     barrier: list = field(default_factory=list)
+    iteration_log: dict = field(default_factory=dict)
     violations_start: dict = field(default_factory=dict)
     violations: dict = field(default_factory=dict)
     details: dict = field(default_factory=dict)

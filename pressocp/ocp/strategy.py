@@ -214,27 +214,27 @@ class Strategy:
         round that does not lower the periodic re-simulation's objective (or fails, or leaves the ram
         speed out of tolerance) is recorded as not kept, its answer being `last`'s, and ends the
         polishing."""
-        objective = get_objective(problem.objective)
-        best = objective.value(verify_speed(model, last.speed, CHECK_RTOL))
+        value = get_objective(problem.objective).value
+        best = value(self.screened(model, last.speed, problem)[0])  # both sides re-simulated alike
         rounds = []
         for k in range(self.polish_rounds):
             name = f"polish_{k + 1}"
             st = transcription.solve(problem, model, WarmStart(last.speed), name, progress)
-            cand, ratio = screen(model, st.speed, best, problem.objective, CHECK_RTOL)
+            cand = self.screened(model, st.speed, problem)[0]
             viol = max(ram_speed_violation(cand, problem), 0.0)
-            value = ratio * best
-            if st.success and is_periodic(cand) is True and ratio < 1.0 and viol <= 0.0:
-                st.details.update(verified_value=value, previous_verified_value=best)
+            new = value(cand)
+            if st.success and is_periodic(cand) is True and new < best and viol <= 0.0:
+                st.details.update(verified_value=new, previous_verified_value=best)
                 rounds.append(st)
-                last, best = st, value
+                last, best = st, new
                 continue
             why = (f"{st.status}" if not st.success else
-                   f"re-simulated {value:.6g} against {best:.6g}" if is_periodic(cand) is True and viol <= 0.0
+                   f"re-simulated {new:.6g} against {best:.6g}" if is_periodic(cand) is True and viol <= 0.0
                    else "its re-simulation is not periodic with the ram speed in tolerance")
             kept = replace(StageResult.skipped(name, "", model.spec.describe(), last),
                            status=f"not kept ({st.iterations} iterations: {why}); the previous answer stands",
                            iterations=st.iterations, wall_time=st.wall_time,
-                           details={"verified_value": value, "previous_verified_value": best})
+                           details={"verified_value": new, "previous_verified_value": best})
             rounds.append(kept)
             break
         return rounds
