@@ -31,6 +31,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from . import checks as chk
 from .model import ModelSpec, PressModel
 from .ocp import Collocation, MultipleShooting, OcpResult, Strategy, optimize_speed
 from .params import Bearing, PressParams, ProcessForce
@@ -42,7 +43,7 @@ TRANSCRIPTIONS = ("auto", "collocation", "shooting-idas", "shooting-cvodes")
 #: Keys of the [problem] table other than the cycle (`stroke_rate_spm` or `period_s`).
 PROBLEM_KEYS = tuple(f.name for f in fields(SpeedProblem) if f.name not in ("press", "period"))
 #: Keys of the [solver] table.
-SOLVER_KEYS = ("transcription", "elements", "jit", "verify_rtol")
+SOLVER_KEYS = ("transcription", "elements", "jit", "verify_rtol", "polish_rounds")
 
 
 class ScenarioError(ValueError):
@@ -63,12 +64,18 @@ class SolverChoice:
         Compile collocation's model functions.
     verify_rtol : float
         Tolerance of the final re-simulation.
+    polish_rounds : int
+        Re-solves of the last stage from its own answer (`Strategy.polish_rounds`), 0..10.
     """
 
     transcription: str = "auto"
     elements: int | None = None
     jit: bool | str = "auto"
     verify_rtol: float = 1e-9
+    polish_rounds: int = 1
+
+    def __post_init__(self) -> None:
+        chk.integer("polish_rounds", self.polish_rounds, 0, 10)
 
     def make_transcription(self) -> Collocation | MultipleShooting:
         """The transcription object this choice names (`optimize_speed`'s ``transcription``)."""
@@ -77,8 +84,8 @@ class SolverChoice:
         return Collocation(elements=self.elements, jit=self.jit)
 
     def make_strategy(self) -> Strategy:
-        """The default stage chain with this choice's verification tolerance."""
-        return Strategy(verify_rtol=self.verify_rtol)
+        """The default stage chain with this choice's verification tolerance and polish rounds."""
+        return Strategy(verify_rtol=self.verify_rtol, polish_rounds=self.polish_rounds)
 
 
 @dataclass(frozen=True)
