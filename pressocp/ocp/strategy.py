@@ -189,12 +189,11 @@ class Strategy:
         return self.screened(model, speed, problem)[1] <= IMPACT_RATIO
 
     @staticmethod
-    def screened(model: PressModel, speed: FourierSpeed, problem: SpeedProblem):
+    def screened(model: PressModel, speed: FourierSpeed, problem: SpeedProblem, rtol: float = CHECK_RTOL):
         """`screen` of `speed` on `model` against its rigid-press objective: (sim, ratio, dense rigid
         response)."""
         dense = rigid_reference(problem, speed)
-        sim, ratio = screen(model, speed, get_objective(problem.objective).value(dense), problem.objective,
-                            CHECK_RTOL)
+        sim, ratio = screen(model, speed, get_objective(problem.objective).value(dense), problem.objective, rtol)
         return sim, float(ratio), dense
 
     def check(self, model: PressModel, stage: StageResult, problem: SpeedProblem) -> Check:
@@ -211,16 +210,18 @@ class Strategy:
     def polish(self, problem: SpeedProblem, model: PressModel, last: StageResult, transcription: Transcription,
                progress: bool) -> list[StageResult]:
         """`polish_rounds` re-solves of `last`'s NLP (`transcription` on `model`) from its answer. A
-        round that does not lower the periodic re-simulation's objective (or fails, or leaves the ram
-        speed out of tolerance) is recorded as not kept, its answer being `last`'s, and ends the
-        polishing."""
+        round that does not lower the periodic re-simulation's objective (at `verify_rtol`), or fails,
+        or leaves the ram speed out of tolerance, is recorded as not kept, its answer being `last`'s,
+        and ends the polishing."""
         value = get_objective(problem.objective).value
-        best = value(self.screened(model, last.speed, problem)[0])  # both sides re-simulated alike
+        # both re-simulated alike, at the final verification's tolerance: an optimum holds the ram
+        # speed to within a few 1e-5 m/s of its tolerance, about the error of a check at rtol 1e-7
+        best = value(self.screened(model, last.speed, problem, self.verify_rtol)[0])
         rounds = []
         for k in range(self.polish_rounds):
             name = f"polish_{k + 1}"
             st = transcription.solve(problem, model, WarmStart(last.speed), name, progress)
-            cand = self.screened(model, st.speed, problem)[0]
+            cand = self.screened(model, st.speed, problem, self.verify_rtol)[0]
             viol = max(ram_speed_violation(cand, problem), 0.0)
             new = value(cand)
             if st.success and is_periodic(cand) is True and new < best and viol <= 0.0:
