@@ -1,0 +1,157 @@
+"""Regenerate the benchmarks with one command.
+
+    python -m benchmarks                  every benchmark, in order (many hours on 2 cores)
+    python -m benchmarks --list           the benchmarks, their commands and rough durations
+    python -m benchmarks --only figures stability_quick
+    python -m benchmarks --skip ocp_slsqp --dry-run
+
+Each benchmark runs as its own process (`sys.executable`), one after the other, so that no two
+share the cores and each timing is its own. Its output goes to ``results/logs/<name>.log``. After
+each run, ``results/runs.json`` records the command, date, machine, wall time, exit status and the
+result files it wrote, and the table between the ``runs`` markers in ``benchmarks/README.md`` is
+rewritten from it. The other tables of that README are measurements with their discussion, written
+by hand from the JSON files; the table says which files each run refreshed and when.
+
+A failing benchmark is recorded with its exit status and the next one runs; the command exits with
+status 1 if any failed. Ctrl-C stops the running benchmark and the command.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from pressocp.report import stamp
+
+HERE = Path(__file__).resolve().parent
+RESULTS = HERE / "results"
+README = HERE / "README.md"
+RUNS = RESULTS / "runs.json"
+BEGIN, END = "<!-- runs:begin (written by python -m benchmarks) -->", "<!-- runs:end -->"
+
+
+@dataclass(frozen=True)
+class Job:
+    """One benchmark run: a script of this folder and its arguments."""
+
+    name: str
+    script: str
+    args: tuple[str, ...]
+    minutes: float  # rough duration on the 2-core machine
+    what: str
+
+    def command(self) -> list[str]:
+        return [sys.executable, str(HERE / self.script), *self.args]
+
+
+JOBS = (
+    Job("figures", "figures.py", (), 2, "committed figures: rigid design, six-bar, impacts, Simeon"),
+    Job("simulation", "bench_simulation.py", (), 120, "work-precision of the integrators, two models"),
+    Job("stability", "bench_stability.py", (), 60, "stability maps of the fixed-step integrators"),
+    Job("ocp_default", "bench_ocp.py", ("default", "--repeat", "3"), 5, "default call, 60 spm scene"),
+    Job("ocp_seed", "bench_ocp.py", ("seed", "--repeat", "3"), 20, "default call, 75 spm scene"),
+    Job("ocp_pin_cap_7000", "bench_ocp.py", ("pin_cap", "--cap-N", "7000"), 8, "pin-force cap 7 kN"),
+    Job("ocp_pin_cap_6000", "bench_ocp.py", ("pin_cap", "--cap-N", "6000"), 8, "pin-force cap 6 kN"),
+    Job("ocp_flexible", "bench_ocp.py", ("flexible",), 10, "75 spm default call on the flexible rod"),
+    Job("ocp_slsqp", "bench_ocp.py", ("slsqp", "--ref", "seed"), 30, "SLSQP single-shooting baseline"),
+    Job("collocation", "bench_collocation.py", ("--jit",), 30, "collocation element sweep"),
+    Job("transcriptions_smooth", "bench_transcriptions.py", ("--case", "smooth", "--shooting-wall", "900"), 40,
+        "transcriptions from one start, smooth case"),
+    Job("transcriptions_seed", "bench_transcriptions.py", ("--case", "seed"), 45,
+        "transcriptions from one start, 75 spm (IDAS shooting capped at 30 min)"),
+    Job("reversal", "bench_reversal.py", (), 10, "rod-tension bound against impacts"),
+    Job("optimum_sensitivity", "bench_optimum_sensitivity.py", (), 40, "dJ*/dp against re-solved optima"),
+    Job("sweep_parallel", "bench_sweep.py", ("parallel",), 10, "sweep speed-up, 1/2 workers and dask"),
+    Job("sweep_continuation", "bench_sweep.py", ("continuation",), 60, "warm path against cold starts"),
+    Job("studies", "bench_studies.py", ("stroke_rate", "clearance", "slider_mass", "wear", "tornado"), 120,
+        "optima against stroke rate, clearance, mass; wear; tornado"),
+)
+
+
+def result_files(since: float) -> list[str]:
+    """Files under results/ (logs and runs.json left out) modified at or after `since`."""
+    return sorted(str(p.relative_to(RESULTS)) for p in RESULTS.rglob("*")
+                  if p.is_file() and p.stat().st_mtime >= since and p.parent.name != "logs" and p != RUNS)
+
+
+def load_runs() -> dict:
+    return json.loads(RUNS.read_text()) if RUNS.exists() else {}
+
+
+def table(runs: dict) -> str:
+    """The markdown table of the latest run of each benchmark, in `JOBS` order."""
+    lines = ["| benchmark | command | date | machine (CPUs) | wall time | status | files refreshed |",
+             "|---|---|---|---|---|---|---|"]
+    for job in JOBS:
+        r = runs.get(job.name)
+        if r is None:
+            lines.append(f"| {job.name} | `{' '.join([job.script, *job.args])}` | not run by this command yet | | | | |")
+            continue
+        status = "ok" if r["exit_status"] == 0 else f"**failed ({r['exit_status']})**"
+        files = ", ".join(f"`{f}`" for f in r["files"]) or "none"
+        lines.append(f"| {job.name} | `{' '.join([job.script, *job.args])}` | {r['date']} | {r['machine']} "
+                     f"({r['cpus']}) | {r['wall_time_s'] / 60:.1f} min | {status} | {files} |")
+    return "\n".join(lines)
+
+
+def write_readme(runs: dict) -> None:
+    """Replace the text between the markers of benchmarks/README.md (added at its end when missing)."""
+    text = README.read_text()
+    block = f"{BEGIN}\n{table(runs)}\n{END}"
+    if BEGIN in text and END in text:
+        head, rest = text.split(BEGIN, 1)
+        text = head + block + rest.split(END, 1)[1]
+    else:
+        text = text.rstrip("\n") + "\n\n## Latest runs of `python -m benchmarks`\n\n" + block + "\n"
+    README.write_text(text)
+
+
+def run(job: Job) -> dict:
+    """Run one job; its record for runs.json (`stamp` of its start: date, machine, CPUs, Python)."""
+    logs = RESULTS / "logs"
+    logs.mkdir(parents=True, exist_ok=True)
+    started, t0, wall0 = stamp(), time.time(), time.perf_counter()
+    with open(logs / f"{job.name}.log", "w") as log:
+        status = subprocess.run(job.command(), stdout=log, stderr=subprocess.STDOUT, cwd=HERE.parent).returncode
+    return {"command": " ".join([job.script, *job.args]), **started,
+            "wall_time_s": time.perf_counter() - wall0, "exit_status": status, "files": result_files(t0)}
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.splitlines()[0])
+    names = [j.name for j in JOBS]
+    ap.add_argument("--only", nargs="+", choices=names, metavar="NAME", help="run these (in the usual order)")
+    ap.add_argument("--skip", nargs="+", choices=names, metavar="NAME", default=[], help="run all but these")
+    ap.add_argument("--list", action="store_true", help="list the benchmarks and stop")
+    ap.add_argument("--dry-run", action="store_true", help="print the commands, run nothing")
+    args = ap.parse_args(argv)
+    jobs = [j for j in JOBS if (args.only is None or j.name in args.only) and j.name not in args.skip]
+    if args.list or args.dry_run:
+        for j in jobs:
+            print(f"{j.name:24s} ~{j.minutes:>4g} min  {' '.join([j.script, *j.args])}  ({j.what})")
+        print(f"{len(jobs)} benchmarks, about {sum(j.minutes for j in jobs) / 60:.1f} h on 2 cores")
+        return 0
+    failed = []
+    for j in jobs:
+        print(f"{j.name}: {' '.join([j.script, *j.args])} (about {j.minutes:g} min) ...", flush=True)
+        record = run(j)
+        runs = load_runs()
+        runs[j.name] = record
+        RUNS.write_text(json.dumps(runs, indent=1) + "\n")
+        write_readme(runs)
+        print(f"  exit {record['exit_status']}, {record['wall_time_s'] / 60:.1f} min, "
+              f"{len(record['files'])} files; log results/logs/{j.name}.log", flush=True)
+        if record["exit_status"] != 0:
+            failed.append(j.name)
+    if failed:
+        print(f"failed: {', '.join(failed)}", file=sys.stderr)
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

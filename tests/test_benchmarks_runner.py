@@ -1,0 +1,44 @@
+"""`python -m benchmarks`: runs each benchmark as its own process, records every run, rewrites its own
+table in benchmarks/README.md (and nothing else there), and reports failures without stopping."""
+
+import importlib.util
+import json
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+_spec = importlib.util.spec_from_file_location("benchmarks_runner", ROOT / "benchmarks" / "__main__.py")
+runner = importlib.util.module_from_spec(_spec)
+sys.modules[_spec.name] = runner  # dataclasses look their module up
+_spec.loader.exec_module(runner)
+
+
+def test_every_benchmark_script_exists():
+    for job in runner.JOBS:
+        assert (ROOT / "benchmarks" / job.script).is_file(), job.script
+
+
+def test_runs_are_recorded_and_the_table_rewritten(tmp_path, monkeypatch):
+    results = tmp_path / "results"
+    results.mkdir()
+    readme = tmp_path / "README.md"
+    readme.write_text("# Benchmarks\n\nA hand-written table.\n")
+    (tmp_path / "ok.py").write_text("from pathlib import Path\n"
+                                    "(Path(__file__).parent / 'results' / 'x.json').write_text('{}')\n")
+    (tmp_path / "bad.py").write_text("raise SystemExit(3)\n")
+    for name, value in (("HERE", tmp_path), ("RESULTS", results), ("README", readme), ("RUNS", results / "runs.json"),
+                        ("JOBS", (runner.Job("ok", "ok.py", (), 0.1, "writes x.json"),
+                                  runner.Job("bad", "bad.py", ("--flag",), 0.1, "fails")))):
+        monkeypatch.setattr(runner, name, value)
+    assert runner.main([]) == 1  # a failure is reported, after every job ran
+    runs = json.loads((results / "runs.json").read_text())
+    assert runs["ok"]["exit_status"] == 0 and runs["ok"]["files"] == ["x.json"]
+    assert runs["bad"]["exit_status"] == 3 and runs["bad"]["command"] == "bad.py --flag"
+    assert {"date", "machine", "cpus", "wall_time_s"} <= set(runs["ok"])
+    text = readme.read_text()
+    assert text.startswith("# Benchmarks\n\nA hand-written table.\n")
+    assert text.count(runner.BEGIN) == 1 and "**failed (3)**" in text and "`x.json`" in text
+    assert (results / "logs" / "ok.log").exists()
+    assert runner.main(["--only", "ok"]) == 0  # rewritten in place, the failed run still listed
+    again = readme.read_text()
+    assert again.count(runner.BEGIN) == 1 and "**failed (3)**" in again
