@@ -13,7 +13,7 @@ Cases (one per call; each writes benchmarks/results/sweep_<case>.json and .png):
                     15-harmonic speed keeps the rod in tension over this window and the default call
                     gives no answer (benchmarks/README.md).
 
-    python benchmarks/bench_sweep.py CASE [--repeat R]
+    python benchmarks/bench_sweep.py CASE [--repeat R] [--rates 60 65 70 75]
 """
 
 from __future__ import annotations
@@ -93,9 +93,8 @@ def parallel(repeat: int) -> dict:
     return row
 
 
-def continuation() -> dict:
+def continuation(rates: list[float]) -> dict:
     scenario = po.Scenario.load("press75")
-    rates = [60.0, 62.5, 65.0, 67.5, 70.0, 72.5, 75.0]
     path = [{"problem.stroke_rate_spm": r} for r in rates]
     with spawn_pool(1) as pool:
         dt_warm, warm = timed(lambda: po.sweep(scenario, path, "optimize", executor=pool, progress=True,
@@ -127,8 +126,10 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("case", choices=("parallel", "continuation"))
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--rates", type=float, nargs="+", default=[60.0, 62.5, 65.0, 67.5, 70.0, 72.5, 75.0],
+                    help="stroke rates of the continuation path, spm")
     args = ap.parse_args()
-    row = parallel(args.repeat) if args.case == "parallel" else continuation()
+    row = parallel(args.repeat) if args.case == "parallel" else continuation(args.rates)
     OUT.mkdir(exist_ok=True)
     (OUT / f"sweep_{args.case}.json").write_text(json.dumps(row, indent=2, default=str) + "\n")
     print(json.dumps({k: v for k, v in row.items() if k not in ("table", "warm", "cold")}, indent=2, default=str))
