@@ -106,10 +106,19 @@ def continuation(rates: list[float]) -> dict:
     row = {"case": "continuation", **machine(), "total_s": {"path (warm)": dt_warm, "cold": dt_cold},
            "warm": warm[cols].to_dict("records"), "cold": cold[cols].to_dict("records"),
            "relative_difference": (warm["peak_torque_N_m"] / cold["peak_torque_N_m"] - 1).tolist()}
+    continuation_figure(warm, cold)
+    return row
+
+
+def continuation_figure(warm: pd.DataFrame, cold: pd.DataFrame) -> None:
+    """Optimal peak torque and time per point along the path, warm against cold."""
     fig, axes = plt.subplots(2, 1, figsize=(6, 5), sharex=True)
     for table, label, style in ((cold, "cold start", "o-"), (warm, "continuation", "x--")):
         axes[0].plot(table["problem.stroke_rate_spm"], table["peak_torque_N_m"], style, label=label)
         axes[1].plot(table["problem.stroke_rate_spm"], table["wall_time_s"], style, label=label)
+        bad = table[~table["ok"].astype(bool)]
+        axes[0].plot(bad["problem.stroke_rate_spm"], bad["peak_torque_N_m"], "s", mfc="none", ms=11, color="C3",
+                     label=f"{label}: not converged" if len(bad) else None)
     axes[0].plot(cold["problem.stroke_rate_spm"], cold["rigid_peak_torque_N_m"], ":", color="0.5", label="rigid floor")
     axes[0].set_ylabel("optimal peak torque [N·m]")
     axes[1].set_ylabel("time per point [s]")
@@ -119,16 +128,20 @@ def continuation(rates: list[float]) -> dict:
         ax.legend(fontsize=8)
     fig.tight_layout()
     save(fig, OUT / "sweep_continuation.png")
-    return row
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("case", choices=("parallel", "continuation"))
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--replot", action="store_true", help="only redraw the continuation figure from its CSVs")
     ap.add_argument("--rates", type=float, nargs="+", default=[60.0, 62.5, 65.0, 67.5, 70.0, 72.5, 75.0],
                     help="stroke rates of the continuation path, spm")
     args = ap.parse_args()
+    if args.replot:
+        continuation_figure(pd.read_csv(OUT / "sweep_continuation_warm.csv"),
+                            pd.read_csv(OUT / "sweep_continuation_cold.csv"))
+        return
     row = parallel(args.repeat) if args.case == "parallel" else continuation(args.rates)
     OUT.mkdir(exist_ok=True)
     (OUT / f"sweep_{args.case}.json").write_text(json.dumps(row, indent=2, default=str) + "\n")
