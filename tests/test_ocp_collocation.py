@@ -70,7 +70,7 @@ def test_collocation_converges_on_the_clearance_model_and_the_optimum_resimulate
     Radau points), has the reported peak and the ram speed in tolerance over the model's window."""
     model = build_model(SMOOTH.press, n_harmonics=4)
     rig = Rigid(samples=200).solve(SMOOTH, model)
-    sol = Collocation(elements=200, jit=False).solve(SMOOTH, model, WarmStart(rig.speed))
+    sol = Collocation(elements=100, jit=False).solve(SMOOTH, model, WarmStart(rig.speed))
     assert sol.success, sol.status
     assert max(sol.violations.values()) < 1e-6, sol.violations
     sim = verify_speed(model, sol.speed, 1e-9)
