@@ -26,9 +26,9 @@ import numpy as np  # noqa: E402
 
 import pressocp as po  # noqa: E402
 from pressocp.ocp.result import versions  # noqa: E402
-from pressocp.report import stamp  # noqa: E402
 from pressocp.ocp.sensitivity import answer_stage  # noqa: E402
 from pressocp.plots import save  # noqa: E402
+from pressocp.report import stamp  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 PARAMETER = "slider_mass"

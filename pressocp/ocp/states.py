@@ -209,5 +209,6 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
         name=name, transcription=transcription, model=model.spec.describe(), success=out.success, status=out.status,
         iterations=out.iterations, wall_time=out.wall_time, objective=value, speed=speed,
         last_speed=FourierSpeed.from_coefficients(T, out.last_w[: 2 * n]), t1=float(times[inside[0]]),
-        history=out.history, barrier=out.barrier, iteration_log=out.iteration_log, violations_start=out.violations_start, violations=out.violations,
-        details=details, states=out.w[2 * n + 1 :], point=out.point)
+        history=out.history, barrier=out.barrier, iteration_log=out.iteration_log,
+        violations_start=out.violations_start, violations=out.violations, details=details,
+        states=out.w[2 * n + 1 :], point=out.point)
