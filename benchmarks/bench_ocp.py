@@ -26,6 +26,10 @@ ocp_<case>.png):
                    rigid-designed speed, to the objective that case reached, capped at ``--cap`` s.
 * ``flexible``     the seed default call on the flexible rod (4 elements): the same chain, then the
                    clearance stage on the flexible rod unless the rigid-rod answer is verified on it.
+* ``slender``      the bundled ``slender_rod`` scenario (Simeon's slider crank, 100 rad/s, ideal
+                   joints, flexible rod of 4 elements) through its default call; the rigid-press optimum
+                   and the answer are then both re-simulated (periodic, rtol 1e-9) on the flexible rod
+                   with 2, 4 and 8 elements (``element_check``).
 
     python benchmarks/bench_ocp.py CASE [--max-iter K] [--cap SECONDS] [--cap-N NEWTONS] [--ref CASE] [--repeat R]
 
@@ -43,15 +47,17 @@ import argparse
 import json
 import statistics
 import sys
+import time
 from pathlib import Path
 
-from pressocp import Collocation, MultipleShooting, PressParams, SpeedProblem, build_model, design_speed, optimize_speed
+from pressocp import (Collocation, MultipleShooting, PressParams, Scenario, SpeedProblem, build_model, design_speed,
+                      optimize_speed, simulate)
 from pressocp.ocp.strategy import max_relative_change
 from pressocp.plots import plot_speed_design, save
 
 OUT = Path(__file__).parent / "results"
 OPTIMISATION_CASES = ["default", "default_all", "default_idas", "seed", "seed_idas", "seed_collocation",
-                      "seed_collocation_jit", "pin_cap", "flexible"]
+                      "seed_collocation_jit", "pin_cap", "flexible", "slender"]
 #: Cases the SLSQP baseline can be pointed at (peak torque, no pin cap).
 REF_CASES = ["default", "default_all", "default_idas", "seed", "seed_idas", "seed_collocation", "seed_collocation_jit"]
 
@@ -80,9 +86,32 @@ def summary(r, case: str, call: dict) -> dict:
     }
 
 
+def element_check(r, elements=(2, 4, 8)) -> list[dict]:
+    """The rigid-press optimum and the answer re-simulated (periodic, CVODES rtol 1e-9) on the flexible
+    rod of `r`'s press with each element count: the model's own discretisation error."""
+    rows = []
+    for n in elements:
+        model = build_model(r.problem.press, rod="flexible", clearance=r.model.clearance, n_elements=n,
+                            n_harmonics=r.problem.n_harmonics)
+        for label, speed in (("rigid_optimum", r.stages[0].speed), ("answer", r.speed)):
+            t0 = time.perf_counter()
+            sim = simulate(model, speed, periodic=True, method="cvodes", rtol=1e-9, n_out=20001)
+            rows.append({"n_elements": n, "speed": label, "peak_torque": sim.peak("torque"),
+                         "periodic": sim.stats.get("periodic", {}).get("found", True),
+                         "max_midspan_deflection": float(abs(sim.rod_midspan_deflection).max()),
+                         "wall_time_s": time.perf_counter() - t0})
+            print(f"  {n} elements, {label}: {rows[-1]['peak_torque']:.4f} N m", flush=True)
+    return rows
+
+
 def optimisation_call(case: str, max_iter: int | None, cap_N: float | None) -> tuple[dict, dict]:
     """The `optimize_speed` arguments of an optimisation case, and their description for the row."""
     ipopt = {} if max_iter is None else {"ipopt.max_iter": max_iter}
+    if case == "slender":
+        sc = Scenario.load("slender_rod")
+        kwargs = {"problem": sc.problem, "model": sc.build_model(), "transcription": sc.solver.make_transcription(),
+                  "strategy": sc.solver.make_strategy()}
+        return kwargs, {"scenario": "slender_rod", "model": sc.model.describe(), "max_iter": max_iter}
     period = 1.0 if case.startswith("default") else 0.8
     press = PressParams()
     problem = SpeedProblem(press, period=period, max_pin_force=cap_N if case == "pin_cap" else None)
@@ -158,6 +187,8 @@ def main() -> None:
         row = summary(r, a.case, call)
         row.update(wall_time_s=statistics.median(times), wall_times_s=times,
                    answers_agree=max(peaks) - min(peaks) <= 1e-6 * max(peaks))
+        if a.case == "slender":
+            row["element_check"] = element_check(r)
         name = f"pin_cap_{a.cap_N:.0f}N" if a.case == "pin_cap" else a.case
         cap = f", pin forces ≤ {a.cap_N:.0f} N" if a.case == "pin_cap" else ""
         title = (f"{a.case}{cap}: peak torque {r.initial_peak_torque:.0f} → {r.peak_torque:.0f} N·m "

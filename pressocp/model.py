@@ -91,7 +91,8 @@ class ModelSpec:
 
     def describe(self) -> str:
         """E.g. "rigid rod, clearance in crank_pin and wrist_pin" or "rigid press (ideal joints)"."""
-        rod = f"flexible rod ({self.n_elements} elements)" if self.rod == "flexible" else "rigid rod"
+        n = self.n_elements
+        rod = f"flexible rod ({n} element{'s' * (n != 1)})" if self.rod == "flexible" else "rigid rod"
         if not self.clearance:
             return "rigid press (ideal joints)" if self.rod == "rigid" else f"{rod}, ideal joints"
         return f"{rod}, clearance in {' and '.join(self.clearance)}"

@@ -52,3 +52,16 @@ def test_bad_input():
         po.recommend_model(po.PressParams(), 0.8)
     with pytest.raises(ValueError, match="PressParams"):
         po.recommend_model({}, po.FourierSpeed.constant(1.0))
+
+
+def test_slender_rod_scene_is_flexible():
+    """The bundled slender-rod scene (Simeon's rod at 100 rad/s), even at constant speed: the loads of the
+    plain slider crank (r/l = 0.5: strong 2nd-4th harmonics of 15.9 Hz) reach within a factor 10 of the
+    rod's first mode. That mode, pinned-pinned (Blevins):
+    f1 = pi/(2 L^2) sqrt(EI/m') with EI = 2e11 * 0.008^4/12 = 68.27 N m^2, m' = 0.151104/0.3 = 0.5037 kg/m:
+    17.453 * 11.642 = 203.2 Hz."""
+    sc = po.Scenario.load("slender_rod")
+    r = po.recommend_model(sc.press, po.FourierSpeed.constant(sc.problem.period))
+    assert r.level == "flexible" and "first bending mode" in r.reason
+    assert r.first_mode == pytest.approx(203.2, rel=1e-3)
+    assert r.mode_ratio < 10

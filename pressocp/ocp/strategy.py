@@ -136,6 +136,8 @@ class Strategy:
         stages = [rigid]
         if model.is_rigid:
             return stages
+        if not model.clearance:  # a flexible rod between ideal joints: no clearance stages
+            return stages + self.flexible_only(problem, model, rigid, transcription, progress)
         base = model if model.rod == "rigid" else build_model(model.params, "rigid", model.clearance, 4,
                                                                model.n_harmonics)
         rigid.check = self.check(base, rigid, problem)
@@ -153,8 +155,7 @@ class Strategy:
                     start = nr
         chain: list[tuple[str, PressModel]] = []
         if self.mode in ("auto", "continue") and rigid.check.verified:
-            reason = (f"the rigid optimum meets the constraints on this model and its objective is within "
-                      f"{self.verified_ratio:g} x its rigid-press value")
+            reason = self.verified_reason
             stages.append(StageResult.skipped("target", reason, base.spec.describe(), start))
             if model.rod == "flexible":
                 flex = self.check(model, start, problem)
@@ -182,6 +183,29 @@ class Strategy:
         if self.refine_rounds:
             stages.extend(self.refine(problem, base, stages[-1], transcription, progress))
         return stages
+
+    def flexible_only(self, problem: SpeedProblem, model: PressModel, rigid: StageResult,
+                      transcription: Transcription, progress: bool) -> list[StageResult]:
+        """The stages after ``rigid`` on a flexible rod between ideal joints: the rigid optimum is checked
+        on the flexible model itself, and when it is not verified there ("auto") or always ("all"), the
+        flexible stage starts from it, then the polish rounds."""
+        rigid.check = self.check(model, rigid, problem)
+        if self.mode in ("auto", "continue") and rigid.check.verified:
+            reason = self.verified_reason
+            return [StageResult.skipped("flexible", reason, model.spec.describe(), rigid)]
+        st = transcription.solve(problem, model, WarmStart(rigid.speed), "flexible", progress)
+        stages = [st]
+        if st.success and self.polish_rounds:
+            stages.extend(self.polish(problem, model, st, transcription, progress))
+        if st.success and self.refine_rounds:
+            stages.extend(self.refine(problem, model, stages[-1], transcription, progress))
+        return stages
+
+    @property
+    def verified_reason(self) -> str:
+        """Why a stage is skipped when the rigid optimum is verified on its model."""
+        return (f"the rigid optimum meets the constraints on this model and its objective is within "
+                f"{self.verified_ratio:g} x its rigid-press value")
 
     def fits(self, model: PressModel, speed: FourierSpeed, problem: SpeedProblem) -> bool:
         """Whether `speed` does not impact on `model` (its objective there within `IMPACT_RATIO` of its

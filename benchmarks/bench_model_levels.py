@@ -1,0 +1,159 @@
+"""Model levels across scenes (issue #17, item 4): how far the peak loads of each level are from the
+richest one, what each costs, and what `recommend_model` says about the scene.
+
+Levels: ``rigid`` (the ideal press, closed form), ``clearance`` (rigid rod, clearance in both pins)
+and ``flexible`` (the flexible rod, 4 elements, with the scene's joints): the richest. A slender-rod
+scene has ideal joints (its rod's bending is the scene), so it has no clearance level.
+
+Scenes: the default press at 50 / 60 / 75 strokes/min; at 75 spm with 0.02 and 0.3 mm clearances;
+Simeon's slender rod (the bundled ``slender_rod`` press) at 50 / 100 / 150 rad/s. Each with two crank
+speeds: constant, and the kinematic design of the scene's problem (`design_speed`, the ram at
+constant speed in the window, on the ideal press).
+
+Each response is one cycle (`screen`, CVODES rtol 1e-8): the periodic steady state when the
+objective is within 10 % of the ideal press's, else the 4th cycle from rest (an impacting response
+has no periodic state). The error of a level is |peak - peak_richest| / peak_richest for the peak
+motor torque, the peak crank-pin force and the peak slider normal force; the cost is the wall time of
+that level's cycle (one run each, the machine otherwise idle).
+
+    python benchmarks/bench_model_levels.py [--replot]
+
+Writes results/model_levels.json and model_levels.png.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from pressocp import (FourierSpeed, PressParams, Scenario, SpeedProblem, build_model, design_speed,
+                      recommend_model)
+from pressocp.ocp.verify import is_periodic, rigid_reference, screen
+from pressocp.plots import save
+from pressocp.ocp.result import versions
+from pressocp.report import stamp
+
+OUT = Path(__file__).parent / "results"
+LOADS = ("torque", "crank_pin_force", "slider_normal_force")
+RTOL = 1e-8
+
+
+def scenes() -> list[dict]:
+    """(name, problem, joints with clearance) of every scene."""
+    out = []
+    for spm in (50, 60, 75):
+        out.append({"scene": f"default press, {spm} spm, 0.1 mm", "axis": "stroke rate",
+                    "problem": SpeedProblem(PressParams(), period=60.0 / spm), "clearance": ("crank_pin", "wrist_pin")})
+    for c in (2e-5, 3e-4):
+        p = PressParams()
+        p = p.replace(crank_pin=replace(p.crank_pin, clearance=c), wrist_pin=replace(p.wrist_pin, clearance=c))
+        out.append({"scene": f"default press, 75 spm, {c * 1e3:g} mm", "axis": "clearance",
+                    "problem": SpeedProblem(p, period=0.8), "clearance": ("crank_pin", "wrist_pin")})
+    slender = Scenario.load("slender_rod").problem
+    for w in (50.0, 100.0, 150.0):
+        period = 2 * np.pi / w
+        out.append({"scene": f"slender rod, {w:g} rad/s", "axis": "rod slenderness",
+                    "problem": slender.replace(period=period, ram_speed=slender.ram_speed * w / 100.0),
+                    "clearance": ()})
+    return out
+
+
+def response(model, speed: FourierSpeed, problem: SpeedProblem) -> tuple[dict, float, object]:
+    """Peak loads of one cycle of `speed` on `model`, its wall time, and whether it is periodic."""
+    t0 = time.perf_counter()
+    if model is None:
+        sim = rigid_reference(problem, speed)
+        periodic: object = True
+    else:
+        ref = rigid_reference(problem, speed).peak("torque")
+        sim, _ = screen(model, speed, ref, "peak_torque", RTOL)
+        periodic = is_periodic(sim)
+    return {k: sim.peak(k) for k in LOADS}, time.perf_counter() - t0, periodic
+
+
+def measure() -> dict:
+    rows = []
+    for sc in scenes():
+        problem = sc["problem"]
+        press = problem.press
+        levels = {"rigid": None}
+        if sc["clearance"]:
+            levels["clearance"] = build_model(press, "rigid", sc["clearance"])
+        levels["flexible"] = build_model(press, "flexible", sc["clearance"], 4)
+        speeds = {"constant": FourierSpeed.constant(problem.period), "kinematic design": design_speed(problem).speed}
+        for sname, speed in speeds.items():
+            rec = recommend_model(press, speed)
+            row = {"scene": sc["scene"], "axis": sc["axis"], "speed": sname, "problem": problem.to_dict(),
+                   "recommended": rec.level, "reason": rec.reason, "mode_ratio": rec.mode_ratio,
+                   "min_rod_tension_N": rec.min_rod_tension, "levels": {}}
+            for lname, model in levels.items():
+                peaks, wall, periodic = response(model, speed, problem)
+                row["levels"][lname] = {"peaks": peaks, "wall_time_s": wall, "periodic": periodic}
+            richest = row["levels"]["flexible"]["peaks"]
+            for lv in row["levels"].values():
+                lv["error"] = {k: abs(lv["peaks"][k] - richest[k]) / richest[k] for k in LOADS}
+            # the plainest level whose three peaks are within 5 % of the richest's
+            row["needed_5pct"] = next(n for n, lv in row["levels"].items() if max(lv["error"].values()) <= 0.05)
+            rows.append(row)
+            errs = {n: f"{lv['error']['torque']:.1e}" for n, lv in row["levels"].items()}
+            print(f"{sc['scene']:32s} {sname:16s} torque errors {errs}  needed {row['needed_5pct']:9s} "
+                  f"recommended {rec.level}", flush=True)
+    return {**stamp(), "versions": versions(), "rtol": RTOL, "rows": rows}
+
+
+def plot(data: dict) -> plt.Figure:
+    rows = data["rows"]
+    fig, ax = plt.subplots(1, 2, figsize=(13, 5.5))
+    labels = [f"{r['scene']}\n{r['speed']}" for r in rows]
+    y = np.arange(len(rows))
+    marks = {"rigid": ("o", "C0"), "clearance": ("s", "C1")}
+    for lname, (m, c) in marks.items():
+        pts = [(i, r["levels"][lname]["error"]["torque"]) for i, r in enumerate(rows) if lname in r["levels"]]
+        ax[0].scatter([max(e, 1e-7) for _, e in pts], [i for i, _ in pts], marker=m, color=c,
+                      label=f"{lname} level")
+        cost = [(i, r["levels"][lname]["wall_time_s"]) for i, r in enumerate(rows) if lname in r["levels"]]
+        ax[1].scatter([w for _, w in cost], [i for i, _ in cost], marker=m, color=c, label=f"{lname} level")
+    ax[1].scatter([r["levels"]["flexible"]["wall_time_s"] for r in rows], y, marker="^", color="C2",
+                  label="flexible level (4 elements)")
+    for i, r in enumerate(rows):
+        ax[0].annotate(f"needs {r['needed_5pct']}; recommended {r['recommended']}", (2e-7, i), fontsize=7,
+                       va="bottom")
+    ax[0].axvline(0.05, color="k", ls="--", lw=1, label="5 % (the level is enough)")
+    ax[0].set_xscale("log")
+    ax[0].set_xlabel("peak-torque error against the flexible level (relative; 1e-7 = below)")
+    ax[0].set_yticks(y, labels, fontsize=7)
+    ax[0].invert_yaxis()
+    ax[0].legend(fontsize=8, loc="lower right")
+    ax[1].set_xscale("log")
+    ax[1].set_xlabel("wall time of one cycle, s")
+    ax[1].set_yticks(y, [""] * len(y))
+    ax[1].invert_yaxis()
+    ax[1].legend(fontsize=8, loc="lower right")
+    fig.suptitle(f"Model levels across scenes: error against the richest, and cost ({data['date'][:10]}, "
+                 f"{data['cpus']} CPUs)")
+    fig.tight_layout()
+    return fig
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--replot", action="store_true", help="redraw the figure from the JSON")
+    a = ap.parse_args()
+    OUT.mkdir(exist_ok=True)
+    path = OUT / "model_levels.json"
+    if a.replot:
+        data = json.loads(path.read_text())
+    else:
+        data = measure()
+        path.write_text(json.dumps(data, indent=1, default=float))
+    save(plot(data), OUT / "model_levels.png")
+
+
+if __name__ == "__main__":
+    main()
