@@ -147,6 +147,9 @@ class PressModel:
         Consistent scaled initial state: journals centred, no elastic deformation, no rates.
     symbols : tuple of str
         Press parameters carried at the end of p (``build_model(..., parameters=...)``).
+    functions : dict
+        Functions built from this model by a transcription, kept for its later solves (a compiled
+        collocation point and its derivatives are then compiled once per model, not once per stage).
     """
 
     params: PressParams
@@ -170,6 +173,7 @@ class PressModel:
     at_crank: ca.Function
     x0: np.ndarray = field(repr=False)
     symbols: tuple[str, ...] = ()
+    functions: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def nx(self) -> int:

@@ -9,7 +9,7 @@ import pytest
 
 from pressocp import Collocation, PressParams, Rigid, SpeedProblem, WarmStart, build_model, design_speed
 from pressocp.ocp.collocation import (CollocationGrid, collocation_defect, collocation_residuals, nlp_options,
-                                      radau_matrices)
+                                      point_function, radau_matrices)
 from pressocp.ocp.nlp import crank_motion
 from pressocp.ocp.states import states_at
 from pressocp.ocp.strategy import soft_params
@@ -94,6 +94,16 @@ def test_compiled_point_function_agrees_with_the_virtual_machine():
     jit = collocation_residuals(model, g, ("torque", "ram_velocity"), X, crank, jit=True)
     for a, b in zip(vm, jit):
         np.testing.assert_allclose(np.asarray(b), np.asarray(a), rtol=1e-10, atol=1e-9)
+
+
+def test_point_function_is_built_once_per_model_and_outputs():
+    """A later solve on the same model (a polish round) reuses the point function, so CasADi's
+    derivatives of it (compiled, with jit) are reused too; another model or other outputs get their own."""
+    model = build_model(PressParams(), n_harmonics=4)
+    f = point_function(model, ("torque",))
+    assert point_function(model, ("torque",)) is f
+    assert point_function(model, ("torque", "ram_velocity")) is not f
+    assert point_function(build_model(PressParams(), n_harmonics=4), ("torque",)) is not f
 
 
 @pytest.mark.slow  # 15 s; the default path's JIT is also exercised end to end by the slow 75 spm tests

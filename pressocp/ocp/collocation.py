@@ -144,12 +144,18 @@ class CollocationGrid(UniformPartition):
 def point_function(model: PressModel, names: tuple[str, ...], jit: bool = False) -> ca.Function:
     """The model at one collocation point: ``(x [nx], crank [3], q) -> (dx/dt [nx], y [len(names)])``,
     the outputs `names` and ``q`` the carried press parameters (`PressModel.at_crank`). With `jit`, it
-    and its derivatives are compiled by the system C compiler (`JIT_OPTIONS`)."""
-    x, crank, q = ca.SX.sym("x", model.nx), ca.SX.sym("crank", 3), ca.SX.sym("q", len(model.symbols))
-    out = model.at_crank(x, crank, q)
-    y = ca.vertcat(*[out[1 + OUTPUT_NAMES.index(n)] for n in names])
-    opts = {**JIT_OPTIONS, "der_options": JIT_OPTIONS} if jit else {}
-    return ca.Function("point", [x, crank, q], [out[0], y], ["x", "crank", "q"], ["ode", "y"], opts)
+    and its derivatives are compiled by the system C compiler (`JIT_OPTIONS`). Kept in
+    ``model.functions``: the next solve on the same model (a polish round) reuses the function and the
+    derivatives CasADi built from it, compiled once."""
+    key = ("collocation_point", tuple(names), bool(jit))
+    if key not in model.functions:
+        x, crank, q = ca.SX.sym("x", model.nx), ca.SX.sym("crank", 3), ca.SX.sym("q", len(model.symbols))
+        out = model.at_crank(x, crank, q)
+        y = ca.vertcat(*[out[1 + OUTPUT_NAMES.index(n)] for n in names])
+        opts = {**JIT_OPTIONS, "der_options": JIT_OPTIONS} if jit else {}
+        model.functions[key] = ca.Function("point", [x, crank, q], [out[0], y], ["x", "crank", "q"], ["ode", "y"],
+                                           opts)
+    return model.functions[key]
 
 
 def collocation_residuals(model: PressModel, grid: CollocationGrid, names: tuple[str, ...], X, crank,
