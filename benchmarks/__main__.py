@@ -59,6 +59,7 @@ JOBS = (
     Job("ocp_pin_cap_6000", "bench_ocp.py", ("pin_cap", "--cap-N", "6000"), 8, "pin-force cap 6 kN"),
     Job("ocp_flexible", "bench_ocp.py", ("flexible",), 10, "75 spm default call on the flexible rod"),
     Job("ocp_slender", "bench_ocp.py", ("slender",), 12, "slender rod: the flexible stage runs"),
+    Job("model_levels", "bench_model_levels.py", (), 25, "error and cost of each model level across scenes"),
     Job("ocp_slsqp", "bench_ocp.py", ("slsqp", "--ref", "seed"), 30, "SLSQP single-shooting baseline"),
     Job("collocation", "bench_collocation.py", ("--jit",), 30, "collocation element sweep"),
     Job("transcriptions_smooth", "bench_transcriptions.py", ("--case", "smooth", "--shooting-wall", "900"), 40,

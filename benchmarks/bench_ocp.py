@@ -50,8 +50,8 @@ import sys
 import time
 from pathlib import Path
 
-from pressocp import (Collocation, MultipleShooting, PressParams, Scenario, SpeedProblem, build_model, design_speed,
-                      optimize_speed, simulate)
+from pressocp import (Collocation, FourierSpeed, MultipleShooting, PressParams, Scenario, SpeedProblem, build_model,
+                      design_speed, optimize_speed, simulate)
 from pressocp.ocp.strategy import max_relative_change
 from pressocp.plots import plot_speed_design, save
 
@@ -104,6 +104,34 @@ def element_check(r, elements=(2, 4, 8)) -> list[dict]:
     return rows
 
 
+def slender_figure(row: dict) -> "plt.Figure":
+    """The slender-rod row's two speeds re-simulated on the flexible rod with 8 elements: motor torque and
+    midspan deflection over a cycle (the rigid-press optimum against the answer)."""
+    import matplotlib.pyplot as plt
+
+    problem = SpeedProblem.from_dict(row["problem"])
+    model = build_model(problem.press, rod="flexible", clearance=(), n_elements=8, n_harmonics=problem.n_harmonics)
+    speeds = {"rigid-press optimum": FourierSpeed.from_dict(row["stages"][0]["speed"]),
+              "flexible-rod optimum (the answer)": FourierSpeed.from_dict(row["stages"][-1]["speed"])}
+    fig, ax = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
+    for (label, speed), color in zip(speeds.items(), ("C3", "C0")):
+        sim = simulate(model, speed, periodic=True, method="cvodes", rtol=1e-9, n_out=8001)
+        ax[0].plot(sim.t * 1e3, sim.torque, color=color, label=f"{label}: peak {sim.peak('torque'):.1f} N·m")
+        ax[1].plot(sim.t * 1e3, sim.rod_midspan_deflection * 1e3, color=color, label=label)
+    floor = row["rigid_peak_torque"]
+    for sign in (1, -1):
+        ax[0].axhline(sign * floor, color="k", ls="--", lw=0.8,
+                      label=f"rigid-press floor ±{floor:.1f} N·m" if sign > 0 else None)
+    ax[0].set_ylabel("motor torque, N·m")
+    ax[1].set_ylabel("rod midspan deflection, mm")
+    ax[1].set_xlabel("time, ms")
+    ax[0].legend(fontsize=8)
+    ax[0].set_title("slender rod at 100 rad/s, both speeds on the flexible rod (8 elements, periodic, rtol 1e-9)",
+                    fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
 def optimisation_call(case: str, max_iter: int | None, cap_N: float | None) -> tuple[dict, dict]:
     """The `optimize_speed` arguments of an optimisation case, and their description for the row."""
     ipopt = {} if max_iter is None else {"ipopt.max_iter": max_iter}
@@ -147,6 +175,8 @@ def main() -> None:
     ap.add_argument("--ref", default="seed", choices=REF_CASES,
                     help="case whose optimum the SLSQP baseline must reach within 1 %%")
     ap.add_argument("--repeat", type=int, default=1, help="runs of an optimisation case (median time)")
+    ap.add_argument("--figure-only", action="store_true",
+                    help="slender: redraw ocp_slender_flexible.png from the last slender row of ocp.jsonl")
     a = ap.parse_args()
     if a.repeat < 1:
         ap.error(f"--repeat must be >= 1, got {a.repeat}")
@@ -157,6 +187,12 @@ def main() -> None:
     if a.case != "pin_cap" and a.cap_N is not None:
         ap.error("--cap-N is for the pin_cap case only")
     OUT.mkdir(exist_ok=True)
+    if a.figure_only:
+        if a.case != "slender":
+            ap.error("--figure-only is for the slender case")
+        rows = [json.loads(x) for x in (OUT / "ocp.jsonl").read_text().splitlines()]
+        save(slender_figure([x for x in rows if x.get("case") == "slender"][-1]), OUT / "ocp_slender_flexible.png")
+        return
     if a.case == "slsqp":
         sys.path.insert(0, str(Path(__file__).parent))
         from slsqp_baseline import slsqp_baseline
@@ -189,6 +225,7 @@ def main() -> None:
                    answers_agree=max(peaks) - min(peaks) <= 1e-6 * max(peaks))
         if a.case == "slender":
             row["element_check"] = element_check(r)
+            save(slender_figure(row), OUT / "ocp_slender_flexible.png")
         name = f"pin_cap_{a.cap_N:.0f}N" if a.case == "pin_cap" else a.case
         cap = f", pin forces ≤ {a.cap_N:.0f} N" if a.case == "pin_cap" else ""
         title = (f"{a.case}{cap}: peak torque {r.initial_peak_torque:.0f} → {r.peak_torque:.0f} N·m "
