@@ -113,32 +113,37 @@ def measure() -> dict:
 
 def plot(data: dict) -> plt.Figure:
     rows = data["rows"]
-    fig, ax = plt.subplots(1, 2, figsize=(13, 5.5))
+    fig, ax = plt.subplots(1, 2, figsize=(13, 6.5))
     labels = [f"{r['scene']}\n{r['speed']}" for r in rows]
     y = np.arange(len(rows))
     marks = {"rigid": ("o", "C0"), "clearance": ("s", "C1")}
     for lname, (m, c) in marks.items():
-        pts = [(i, r["levels"][lname]["error"]["torque"]) for i, r in enumerate(rows) if lname in r["levels"]]
-        ax[0].scatter([max(e, 1e-7) for _, e in pts], [i for i, _ in pts], marker=m, color=c,
-                      label=f"{lname} level")
+        pts = [(i, r["levels"][lname]["error"]) for i, r in enumerate(rows) if lname in r["levels"]]
+        ax[0].scatter([e["torque"] for _, e in pts], [i for i, _ in pts], marker=m, color=c,
+                      label=f"{lname} level: peak torque")
+        ax[0].scatter([max(e.values()) for _, e in pts], [i for i, _ in pts], marker=m, facecolor="none",
+                      edgecolor=c, s=80, label=f"{lname} level: worst of the three peaks")
         cost = [(i, r["levels"][lname]["wall_time_s"]) for i, r in enumerate(rows) if lname in r["levels"]]
         ax[1].scatter([w for _, w in cost], [i for i, _ in cost], marker=m, color=c, label=f"{lname} level")
     ax[1].scatter([r["levels"]["flexible"]["wall_time_s"] for r in rows], y, marker="^", color="C2",
                   label="flexible level (4 elements)")
     for i, r in enumerate(rows):
-        ax[0].annotate(f"needs {r['needed_5pct']}; recommended {r['recommended']}", (2e-7, i), fontsize=7,
-                       va="bottom")
+        ax[0].annotate(f"needs {r['needed_5pct']}, recommended {r['recommended']}", (0.01, i), fontsize=7,
+                       va="bottom", xycoords=("axes fraction", "data"),
+                       color="C3" if r["needed_5pct"] != r["recommended"] else "k")
     ax[0].axvline(0.05, color="k", ls="--", lw=1, label="5 % (the level is enough)")
     ax[0].set_xscale("log")
-    ax[0].set_xlabel("peak-torque error against the flexible level (relative; 1e-7 = below)")
+    ax[0].set_xlim(1e-5, 2.0)
+    ax[0].set_xlabel("peak-load error against the flexible level (relative): torque, and the worst of torque,\n"
+                     "crank-pin force and slider normal force (red label: the recommendation differs)")
     ax[0].set_yticks(y, labels, fontsize=7)
     ax[0].invert_yaxis()
-    ax[0].legend(fontsize=8, loc="lower right")
+    ax[0].legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=3)
     ax[1].set_xscale("log")
     ax[1].set_xlabel(f"wall time of {CYCLE} cycles from rest, s")
     ax[1].set_yticks(y, [""] * len(y))
     ax[1].invert_yaxis()
-    ax[1].legend(fontsize=8, loc="lower right")
+    ax[1].legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=3)
     fig.suptitle(f"Model levels across scenes: error against the richest, and cost ({data['date'][:10]}, "
                  f"{data['cpus']} CPUs)")
     fig.tight_layout()
