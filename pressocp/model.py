@@ -148,8 +148,9 @@ class PressModel:
     symbols : tuple of str
         Press parameters carried at the end of p (``build_model(..., parameters=...)``).
     functions : dict
-        Functions built from this model by a transcription, kept for its later solves (a compiled
-        collocation point and its derivatives are then compiled once per model, not once per stage).
+        Functions built from this model by a transcription, kept for its later solves: collocation's
+        point function and the solver of its last compiled solve, so that the point function and its
+        derivatives are compiled once per model, not once per stage.
     """
 
     params: PressParams

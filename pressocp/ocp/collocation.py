@@ -145,8 +145,8 @@ def point_function(model: PressModel, names: tuple[str, ...], jit: bool = False)
     """The model at one collocation point: ``(x [nx], crank [3], q) -> (dx/dt [nx], y [len(names)])``,
     the outputs `names` and ``q`` the carried press parameters (`PressModel.at_crank`). With `jit`, it
     and its derivatives are compiled by the system C compiler (`JIT_OPTIONS`). Kept in
-    ``model.functions``: the next solve on the same model (a polish round) reuses the function and the
-    derivatives CasADi built from it, compiled once."""
+    ``model.functions``, with the last compiled solve's solver (which holds the compiled derivatives
+    alive): the next solve on the same model (a polish round) compiles nothing again."""
     key = ("collocation_point", tuple(names), bool(jit))
     if key not in model.functions:
         x, crank, q = ca.SX.sym("x", model.nx), ca.SX.sym("crank", 3), ca.SX.sym("q", len(model.symbols))
@@ -297,6 +297,6 @@ class Collocation(StateSettings):
             options={**nlp_options(jit), **self.ipopt}, progress=progress, backoff=self.backoff,
             omega_samples=self.omega_samples, coefficient_step=None,
             fixed=None if self.periodic else zi[:, 0], details=details,
-            parameters=None if q is None else (q, model.nominal))
+            parameters=None if q is None else (q, model.nominal), keep=model.functions if jit else None)
         r.states = r.states[zi]
         return r

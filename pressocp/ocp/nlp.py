@@ -369,12 +369,16 @@ def parameter_symbols(q) -> tuple:
 
 def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarray, ubw: np.ndarray,
               options: dict, objective: Objective, scale: float, desc: str = "", progress: bool = False,
-              parameters: tuple | None = None) -> NlpOutcome:
+              parameters: tuple | None = None, keep: dict | None = None) -> NlpOutcome:
     """IPOPT on ``min f(w, q) s.t. cons, lbw <= w <= ubw`` from ``w0``.
 
     ``options`` are complete nlpsol options (e.g. `IPOPT_RIGID` or `IPOPT_WARM` plus overrides).
     ``parameters``: ``(q, values)``, a symbol the expressions depend on and its values (the NLP's p);
     the outcome then holds the `ParametricPoint`.
+    ``keep``: a dict that holds the solver afterwards (``keep["solver"]``). CasADi caches the derivatives
+    it builds of a function weakly, so a compiled model function's derivatives (built and compiled
+    with the solver, 70 s for the 2-element flexible rod) live only as long as a solver using them:
+    kept, the next NLP on the same function (a polish round) reuses them.
     Ctrl-C raises `KeyboardInterrupt` (with ``best`` holding the least-infeasible iterate)."""
     t0 = time.perf_counter()
     bar = None
@@ -386,6 +390,8 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
     cb = IterationRecord(w.numel(), cons, objective, scale, bar, q0.size)
     gall = cons.g
     solver = ca.nlpsol(name, "ipopt", {"x": w, "p": q, "f": f, "g": gall}, {**options, "iteration_callback": cb})
+    if keep is not None:
+        keep["solver"] = solver
     g_fun = ca.Function("constraints", [w, q], [gall])
     viol_start = cons.by_group(g_fun(w0, q0))
     point = None

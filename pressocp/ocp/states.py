@@ -155,7 +155,7 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
                  y0: dict, times: np.ndarray, cons: Constraints, *, name: str, transcription: str, desc: str,
                  options: dict, progress: bool, backoff: float, omega_samples: int,
                  coefficient_step: float | None, fixed: np.ndarray | None, details: dict,
-                 parameters: tuple | None = None) -> StageResult:
+                 parameters: tuple | None = None, keep: dict | None = None) -> StageResult:
     """The NLP of a state transcription from its pieces, solved.
 
     Parameters
@@ -175,6 +175,8 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
     parameters : (ca.MX, ndarray), optional
         The model's carried press parameters as the NLP's p, and their values; the stage then holds
         the NLP at its solution (``StageResult.point``).
+    keep : dict, optional
+        Holds the solver afterwards (`solve_nlp`).
     """
     P, T, n = problem, problem.period, problem.n_harmonics
     objective = get_objective(P.objective)
@@ -196,7 +198,7 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
         k = 2 * n + 1 + np.asarray(fixed)
         lbw[k] = ubw[k] = w0[k]
     out = solve_nlp(name, w, f, cons, w0, lbw, ubw, {**IPOPT_WARM, **options}, objective, scale, desc, progress,
-                    parameters)
+                    parameters, keep)
     speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
     q, q0 = parameter_symbols(parameters)
     try:
