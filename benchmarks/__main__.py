@@ -52,6 +52,7 @@ class Job:
 JOBS = (
     Job("figures", "figures.py", (), 2, "committed figures: rigid design, six-bar, impacts, Simeon"),
     Job("simulation", "bench_simulation.py", (), 120, "work-precision of the integrators, two models"),
+    Job("work_precision", "bench_work_precision.py", (), 60, "every integrator, clearance and flexible rod"),
     Job("stability", "bench_stability.py", (), 60, "stability maps of the fixed-step integrators"),
     Job("ocp_default", "bench_ocp.py", ("default", "--repeat", "3"), 5, "default call, 60 spm scene"),
     Job("ocp_seed", "bench_ocp.py", ("seed", "--repeat", "3"), 20, "default call, 75 spm scene"),

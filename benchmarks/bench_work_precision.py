@@ -1,0 +1,214 @@
+"""Work against precision of every integrator `simulate` offers, on the clearance model and the
+flexible rod (2 / 4 / 8 elements), in a smooth and an impacting scene (issue #17, item 1).
+
+Scenes (the default press, both clearances, T = 0.8 s):
+
+* ``smooth``: constant crank speed; the journals rest on their walls (no impact).
+* ``impacting``: the kinematic design of the 75 spm problem (the rod goes into compression and the
+  journals hit).
+
+One cycle from the same start per model and scene: the periodic state of the rigid-rod clearance
+model (`periodic_state`, CVODES rtol 1e-9); for the flexible rod, those journal states with no
+elastic deformation, then one warm-up cycle (as `bench_simulation.py`). The reference is CVODES at
+rtol 1e-11 from the same start.
+
+Methods: IDAS and CVODES (rtol 1e-4 ... 1e-8), scipy Radau and BDF (1e-4, 1e-6), CasADi's fixed-step
+``rk`` (RK4) and ``collocation`` (Radau, 3 points) at N steps per cycle. A fixed-step run's outputs are
+its step points (``n_out = N + 1``: CasADi puts at least one step in each output interval), so its
+peak is sampled there. RK4 is run only where its step is within its stability bound
+(`bench_stability.py`: 105 µs for the rigid rod, 9.7 µs for the 2-element rod, less with more
+elements); an N that would need more than `MAX_RK_STEPS` steps is recorded as skipped.
+
+Errors against the reference: the peak motor torque (relative), and a time-series norm, the RMS of the
+torque difference at the run's output times (the reference interpolated from its 16001 samples)
+over the reference torque's RMS. Work: wall time (a warm-up run, then the median of 3 when a run
+takes under `REPEAT_BELOW` s, else that one run) and right-hand-side evaluations (CVODES ``nfevals``,
+IDAS residual evaluations ``nresevals``, scipy ``nfev``; RK4: 4 N; CasADi's collocation does not
+report its Newton iterations, so none). A method's tighter tolerances are skipped once one of its
+runs exceeds `BUDGET` s.
+
+    python benchmarks/bench_work_precision.py [--models clearance flexible-2 ...] [--scenes smooth impacting]
+
+Writes results/work_precision.json and work_precision.png.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from pressocp import FourierSpeed, PressParams, SpeedProblem, build_model, design_speed, simulate
+from pressocp.ocp.result import versions
+from pressocp.plots import save
+from pressocp.report import stamp
+from pressocp.simulate import SimulationError, periodic_state
+
+sys.path.insert(0, str(Path(__file__).parent))
+from bench_simulation import flexible_start  # noqa: E402
+
+OUT = Path(__file__).parent / "results"
+T = 0.8
+REF_RTOL = 1e-11
+REF_SAMPLES = 16001
+ADAPTIVE = {"idas": (1e-4, 1e-6, 1e-8), "cvodes": (1e-4, 1e-6, 1e-8), "scipy-radau": (1e-4, 1e-6),
+            "scipy-bdf": (1e-4, 1e-6)}
+FIXED = {"rk": (8000, 16000, 32000, 128000), "collocation": (400, 1600, 6400)}
+MAX_RK_STEPS = 200_000
+REPEAT_BELOW = 10.0
+BUDGET = 300.0
+#: RK4 stability bounds measured by bench_stability.py (s), by model.
+RK_BOUND = {"clearance": 105e-6, "flexible-2": 9.68e-6, "flexible-4": 0.78e-6, "flexible-8": 0.2e-6}
+
+
+def model_of(name: str, press: PressParams):
+    return build_model(press) if name == "clearance" else build_model(press, "flexible", n_elements=int(name[-1]))
+
+
+def start_of(model, speed) -> np.ndarray:
+    return periodic_state(model, speed, rtol=1e-9)[0] if model.rod == "rigid" else flexible_start(model, speed)
+
+
+def timed(run) -> tuple:
+    """(result, wall times): a warm-up run, then the median of 3 when it took under `REPEAT_BELOW` s."""
+    t0 = time.perf_counter()
+    r = run()
+    first = time.perf_counter() - t0
+    if first >= REPEAT_BELOW:
+        return r, [first]
+    times = []
+    for _ in range(3):
+        t0 = time.perf_counter()
+        r = run()
+        times.append(time.perf_counter() - t0)
+    return r, times
+
+
+def errors(sim, ref) -> tuple[float, float]:
+    """(peak-torque error, time-series RMS error) of `sim` against `ref` (relative)."""
+    peak = abs(sim.peak("torque") / ref.peak("torque") - 1)
+    at = np.interp(sim.t, ref.t, ref.torque)
+    rms = float(np.sqrt(np.mean((sim.torque - at) ** 2)) / np.sqrt(np.mean(ref.torque**2)))
+    return float(peak), rms
+
+
+def runs_of(model_name: str) -> list[tuple[str, float | int]]:
+    out = [(m, tol) for m, tols in ADAPTIVE.items() for tol in tols]
+    out += [("collocation", n) for n in FIXED["collocation"]]
+    out += [("rk", n) for n in FIXED["rk"]]
+    return out
+
+
+def measure(model_names, scene_names) -> dict:
+    press = PressParams()
+    speeds = {"smooth": FourierSpeed.constant(T),
+              "impacting": design_speed(SpeedProblem(press, period=T, ram_speed=-0.1)).speed}
+    rows = []
+    for scene in scene_names:
+        speed = speeds[scene]
+        for mname in model_names:
+            model = model_of(mname, press)
+            t0 = time.perf_counter()
+            x0 = start_of(model, speed)
+            t1 = time.perf_counter()
+            ref = simulate(model, speed, x0=x0, method="cvodes", rtol=REF_RTOL, n_out=REF_SAMPLES)
+            print(f"{scene} / {mname}: start {t1 - t0:.1f} s, reference {time.perf_counter() - t1:.1f} s, "
+                  f"peak {ref.peak('torque'):.4f} N m", flush=True)
+            over = set()
+            for method, setting in runs_of(mname):
+                row = {"scene": scene, "model": mname, "method": method, "nx": model.nx,
+                       "reference_peak_torque": ref.peak("torque")}
+                if method in ("rk", "collocation"):
+                    row["steps_per_cycle"] = setting
+                    row["step_s"] = T / setting
+                    kwargs = {"method": method, "step": T / setting, "n_out": setting + 1}
+                else:
+                    row["rtol"] = setting
+                    kwargs = {"method": method, "rtol": setting, "n_out": REF_SAMPLES}
+                if method in over:
+                    rows.append({**row, "ok": False, "skipped": f"a looser setting took over {BUDGET:g} s"})
+                    continue
+                if method == "rk" and (T / setting > RK_BOUND[mname] or setting > MAX_RK_STEPS):
+                    why = ("step above the RK4 stability bound" if T / setting > RK_BOUND[mname]
+                           else f"more than {MAX_RK_STEPS} steps")
+                    rows.append({**row, "ok": False, "skipped": why})
+                    continue
+                try:
+                    sim, times = timed(lambda: simulate(model, speed, x0=x0, **kwargs))
+                except SimulationError as err:
+                    rows.append({**row, "ok": False, "error": str(err).splitlines()[0]})
+                    print(f"  {method} {setting}: failed ({str(err).splitlines()[0]})", flush=True)
+                    continue
+                peak, rms = errors(sim, ref)
+                rhs = sim.stats.get("rhs_evaluations")
+                if method == "rk":
+                    rhs = 4 * setting
+                row.update(ok=bool(np.isfinite(peak)), wall_time_s=statistics.median(times), repeats=len(times),
+                           peak_torque_error=peak, rms_torque_error=rms, rhs_evaluations=rhs,
+                           steps=sim.stats.get("steps"))
+                rows.append(row)
+                print(f"  {method} {setting}: {row['wall_time_s']:.2f} s, peak error {peak:.1e}, RMS error {rms:.1e}, "
+                      f"RHS {rhs}", flush=True)
+                if row["wall_time_s"] > BUDGET:
+                    over.add(method)
+    return {**stamp(), "versions": versions(), "period_s": T, "reference_rtol": REF_RTOL, "rows": rows}
+
+
+def plot(data: dict) -> plt.Figure:
+    rows = [r for r in data["rows"] if r.get("ok")]
+    panels = sorted({(r["scene"], r["model"]) for r in rows}, key=lambda k: (k[0] != "smooth", k[1]))
+    fig, axes = plt.subplots(2, len(panels), figsize=(4.2 * len(panels), 7.5), squeeze=False)
+    methods = ["idas", "cvodes", "scipy-radau", "scipy-bdf", "rk", "collocation"]
+    marks = dict(zip(methods, "os^vDx"))
+    for j, (scene, mname) in enumerate(panels):
+        for method in methods:
+            pts = sorted(((r["wall_time_s"], r["peak_torque_error"], r["rms_torque_error"]) for r in rows
+                          if r["scene"] == scene and r["model"] == mname and r["method"] == method))
+            if not pts:
+                continue
+            x, yp, yr = (np.array(v) for v in zip(*pts))
+            axes[0, j].loglog(x, np.maximum(yp, 1e-12), marker=marks[method], label=method)
+            axes[1, j].loglog(x, np.maximum(yr, 1e-12), marker=marks[method], label=method)
+        for i, what in enumerate(("peak-torque error", "RMS torque error")):
+            ax = axes[i, j]
+            ax.axhline(1e-3, color="k", ls="--", lw=0.8, label="1e-3")
+            ax.set_title(f"{scene}, {mname}", fontsize=9)
+            ax.set_ylabel(f"{what} (relative)")
+            ax.set_xlabel("wall time of one cycle, s")
+            ax.grid(alpha=0.3, which="both")
+        axes[0, j].legend(fontsize=7)
+    fig.suptitle(f"Work against precision, T = {data['period_s']} s, reference CVODES rtol {data['reference_rtol']:g} "
+                 f"({data['date'][:10]}, {data['cpus']} CPUs)", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--models", nargs="+", default=["clearance", "flexible-2", "flexible-4", "flexible-8"],
+                    choices=["clearance", "flexible-2", "flexible-4", "flexible-8"])
+    ap.add_argument("--scenes", nargs="+", default=["smooth", "impacting"], choices=["smooth", "impacting"])
+    ap.add_argument("--replot", action="store_true", help="redraw the figure from the JSON")
+    a = ap.parse_args()
+    OUT.mkdir(exist_ok=True)
+    path = OUT / "work_precision.json"
+    if a.replot:
+        data = json.loads(path.read_text())
+    else:
+        data = measure(a.models, a.scenes)
+        if path.exists():  # keep the rows of (scene, model) pairs not run now
+            old = json.loads(path.read_text())
+            done = {(r["scene"], r["model"]) for r in data["rows"]}
+            data["rows"] = [r for r in old["rows"] if (r["scene"], r["model"]) not in done] + data["rows"]
+        path.write_text(json.dumps(data, indent=1, default=float))
+    save(plot(data), OUT / "work_precision.png")
+
+
+if __name__ == "__main__":
+    main()
