@@ -17,7 +17,12 @@ Cases (``--case``; each writes benchmarks/results/transcriptions_<case>.json and
               capped at ``--shooting-wall`` s of IPOPT wall time, and collocation at 400, 800 and 1600
               elements (1600 is the default call's grid).
 
-    python benchmarks/bench_transcriptions.py --case smooth|seed [--shooting-wall S]
+* ``map``     which transcription converges over (stroke rate x clearance of both pins): the 75 spm
+              scenario at 60 and 75 spm with 0.05 and 0.2 mm clearances, each from its own
+              no-reversal optimum; collocation on the default call's grid and IDAS multiple shooting
+              capped at ``--shooting-wall`` s. Writes transcriptions_map.json and .png.
+
+    python benchmarks/bench_transcriptions.py --case smooth|seed|map [--shooting-wall S]
 """
 
 from __future__ import annotations
@@ -59,17 +64,90 @@ def smooth_case(wall: float):
 
 def seed_case(wall: float):
     problem = po.Scenario.load("press75").problem
-    rigid = po.Rigid()
     # on the target model, as the default chain does: the window is widened by its ram drop
-    target = po.build_model(problem.press, n_harmonics=problem.n_harmonics)
-    r = rigid.solve(problem, target, WarmStart(po.design_speed(problem).speed), "rigid")
-    margin = po.Strategy().tension_margin * problem.hanging_weight
-    start = rigid.solve(problem.replace(min_tension=margin), target, WarmStart(r.speed), "no_reversal")
+    r, start = no_reversal_start(problem)
     runs = [("IDAS shooting 16x25", po.MultipleShooting("idas", min_eccentricity=1.0,
                                                          ipopt={"ipopt.max_wall_time": wall}))]
     runs += [(f"collocation {n}x3", po.Collocation(elements=n)) for n in (400, 800, 1600)]
     goals = {"issue goal 147.5 N·m": 147.5, f"rigid floor {r.objective:.1f} N·m": r.objective}
     return problem, start, runs, goals
+
+
+MAP_RATES_SPM = (60, 75)
+MAP_CLEARANCES_M = (5e-5, 2e-4)
+
+
+def no_reversal_start(problem):
+    """The start the default call gives its clearance stage: the rigid optimum on the target model's
+    window, then the no-reversal optimum (rod tension >= 5 % of the hanging weight)."""
+    target = po.build_model(problem.press, n_harmonics=problem.n_harmonics)
+    r = po.Rigid().solve(problem, target, WarmStart(po.design_speed(problem).speed), "rigid")
+    margin = po.Strategy().tension_margin * problem.hanging_weight
+    return r, po.Rigid().solve(problem.replace(min_tension=margin), target, WarmStart(r.speed), "no_reversal")
+
+
+def outcome(row: dict) -> str:
+    """converged (IPOPT succeeded, re-simulation periodic with the ram speed in tolerance), converged
+    but not verified, not converged, or error."""
+    if "error" in row:
+        return "error"
+    if not row["success"]:
+        return "not converged"
+    ok = row["periodic"] is True and row["ram_speed_violation_m_s"] <= 0.0
+    return "converged" if ok else "converged, not verified"
+
+
+def map_case(wall: float) -> None:
+    rows = []
+    base = po.Scenario.load("press75")
+    for spm in MAP_RATES_SPM:
+        for c in MAP_CLEARANCES_M:
+            sc = base.with_overrides({"problem.stroke_rate_spm": spm, "crank_pin.clearance": c,
+                                      "wrist_pin.clearance": c})
+            problem = sc.problem
+            rigid, start = no_reversal_start(problem)
+            model = po.build_model(problem.press, n_harmonics=problem.n_harmonics)
+            runs = [("collocation (default grid)", po.Collocation()),
+                    ("IDAS shooting 16x25", po.MultipleShooting("idas", min_eccentricity=1.0,
+                                                                 ipopt={"ipopt.max_wall_time": wall}))]
+            for label, tr in runs:
+                row = run_one(f"{spm} spm, {c * 1e3:g} mm: {label}", tr, problem, model, start)
+                row.update(stroke_rate_spm=spm, clearance_m=c, method=label, start_objective=start.objective,
+                           rigid_floor=rigid.objective)
+                row["outcome"] = outcome(row)
+                rows.append(row)
+                (OUT / "transcriptions_map.json").write_text(json.dumps(
+                    {**stamp(), "versions": versions(), "case": "map", "shooting_wall_s": wall,
+                     "verify_rtol": VERIFY_RTOL, "runs": rows}, indent=1, default=str) + "\n")
+    map_figure(json.loads((OUT / "transcriptions_map.json").read_text()))
+
+
+def map_figure(d: dict) -> None:
+    rows = d["runs"]
+    methods = list(dict.fromkeys(r["method"] for r in rows))
+    colours = {"converged": "C2", "converged, not verified": "C1", "not converged": "C3", "error": "k"}
+    fig, ax = plt.subplots(figsize=(8, 5))
+    for r in rows:
+        i = methods.index(r["method"])
+        x = MAP_CLEARANCES_M.index(r["clearance_m"]) + (i - 0.5) * 0.3
+        y = MAP_RATES_SPM.index(r["stroke_rate_spm"])
+        ax.scatter(x, y, s=900, marker="s", color=colours[r["outcome"]])
+        text = r["outcome"] if "verified_objective" not in r else f"{r['verified_objective']:.1f} N·m\n{r['wall_time_s']:.0f} s"
+        ax.annotate(f"{r['method'].split(' ')[0]}\n{text}", (x, y), ha="center", va="center", fontsize=6.5,
+                    color="w")
+    for name, c in colours.items():
+        ax.scatter([], [], marker="s", color=c, label=name)
+    ax.set_xticks(range(len(MAP_CLEARANCES_M)), [f"{c * 1e3:g} mm" for c in MAP_CLEARANCES_M])
+    ax.set_yticks(range(len(MAP_RATES_SPM)), [f"{s} spm" for s in MAP_RATES_SPM])
+    ax.set_xlim(-0.7, len(MAP_CLEARANCES_M) - 0.3)
+    ax.set_ylim(-0.6, len(MAP_RATES_SPM) - 0.4)
+    ax.set_xlabel("radial clearance of both pins")
+    ax.set_ylabel("stroke rate")
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=4)
+    ax.set_title(f"Which transcription converges (from the no-reversal optimum; shooting capped at "
+                 f"{d['shooting_wall_s']:.0f} s; {d['date'][:10]})", fontsize=9)
+    fig.tight_layout()
+    save(fig, OUT / "transcriptions_map.png")
 
 
 def run_one(label: str, tr, problem, model, start) -> dict:
@@ -136,14 +214,21 @@ def figure(case: str, rows: list[dict], goals: dict, start_value: float) -> None
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--case", choices=("smooth", "seed"), required=True)
+    ap.add_argument("--case", choices=("smooth", "seed", "map"), required=True)
     ap.add_argument("--replot", action="store_true", help="only redraw the PNG from the JSON")
     ap.add_argument("--shooting-wall", type=float, default=1800.0,
                     help="IPOPT wall-time cap of each multiple-shooting run, s")
     args = ap.parse_args()
     if args.replot:
         d = json.loads((OUT / f"transcriptions_{args.case}.json").read_text())
-        figure(args.case, d["runs"], d.get("goals", {}), d["start_objective"])
+        if args.case == "map":
+            map_figure(d)
+        else:
+            figure(args.case, d["runs"], d.get("goals", {}), d["start_objective"])
+        return
+    if args.case == "map":
+        OUT.mkdir(exist_ok=True)
+        map_case(args.shooting_wall)
         return
     problem, start, runs, goals = (smooth_case if args.case == "smooth" else seed_case)(args.shooting_wall)
     model = po.build_model(problem.press, n_harmonics=problem.n_harmonics)

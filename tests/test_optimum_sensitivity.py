@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import pressocp as po
-from pressocp.ocp.kkt import kkt_sensitivity
+from pressocp.ocp.kkt import kkt_sensitivity, resolve_tracking
 from pressocp.ocp.nlp import ParametricPoint
 from pressocp.ocp.stage import WarmStart
 
@@ -53,6 +53,14 @@ def test_kkt_with_an_active_bound():
     assert k.step_up[0] == pytest.approx(1.0, rel=1e-5) and k.change_up == ["b"]
     assert k.step_down[0] == pytest.approx(-1.0, rel=1e-5) and k.change_down == ["a"]
     assert k.active.tolist() == [True, False] and not k.weak.any()
+
+
+def test_tracking_resolve_follows_the_optimum_to_other_parameters():
+    # from p = 3 (x = (2, 6), "a" active) to p = 3.1: x = (2, 6.2), f* = (p - 2)^2 = 1.21, "a" still active
+    point, _ = solved_point(F, G, X, P, 3.0, LBG, UBG)
+    t = resolve_tracking(point, [3.1])
+    assert t.success and t.f == pytest.approx(1.21, rel=1e-7)
+    np.testing.assert_allclose(t.x, [2.0, 6.2], rtol=1e-7)
 
 
 def test_kkt_without_an_active_constraint():
@@ -114,6 +122,12 @@ def test_rigid_answer_derivative_matches_re_solved_optima(rigid_answer):
         assert s.derivative(n) == pytest.approx(fd, rel=0.01)
         row = s.table[s.table["parameter"] == n].iloc[0]
         assert row["derivative_check"] == pytest.approx(row["derivative"], rel=1e-4, abs=1e-6)
+    # the same optimum followed to p +- 0.1 % from its primal-dual point (IPOPT's warm start)
+    p = SMALL.press.value("slider_mass")
+    assert s.point.p[0] == p  # the NLP's p: the parameters in the order asked
+    f = [resolve_tracking(s.point, s.point.p * [1 + sg * 1e-3, 1, 1]) for sg in (1, -1)]
+    assert all(t.success for t in f)
+    assert s.derivative("slider_mass") == pytest.approx(s.to_objective * (f[0].f - f[1].f) / (2e-3 * p), rel=1e-3)
     # the optimum is flat in the coefficients here (re-solves 0.25 % either side both move them by
     # ~1e-2 rad/s the same way), and the result says their derivative is not two-sided
     assert s.table["coefficients_one_sided"].all()

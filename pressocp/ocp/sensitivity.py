@@ -28,6 +28,7 @@ from ..problem import SpeedProblem
 from ..speed import FourierSpeed
 from .collocation import Collocation
 from .kkt import KktSensitivity, kkt_sensitivity
+from .nlp import ParametricPoint
 from .result import OcpResult
 from .rigid import Rigid
 from .stage import StageResult, WarmStart
@@ -91,6 +92,11 @@ class OptimumSensitivities:
         The stage's transcription, with its settings.
     model : ModelSpec
         The stage's model level.
+    point : ParametricPoint
+        The stage's NLP at the re-solved optimum (its solver, solution and multipliers):
+        `pressocp.ocp.kkt.resolve_tracking` follows that optimum to other parameter values.
+    to_objective : float
+        dJ = to_objective d(NLP objective): the NLP minimises a scaled objective.
     """
 
     table: pd.DataFrame
@@ -107,6 +113,8 @@ class OptimumSensitivities:
     problem: SpeedProblem
     transcription: Rigid | Collocation
     model: ModelSpec
+    point: ParametricPoint | None = None
+    to_objective: float = 1.0
 
     def derivative(self, parameter: str) -> float:
         """dJ*/dp of one parameter."""
@@ -226,7 +234,7 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
         result_objective=stage.objective, active=per_group(k.active, again.point.groups),
         weakly_active=per_group(k.weak, again.point.groups),
         resolve_time=resolve_time, kkt_time=kkt_time, kkt=k, speed=again.speed, problem=problem,
-        transcription=transcription, model=spec)
+        transcription=transcription, model=spec, point=again.point, to_objective=to_J)
 
 
 __all__ = ["KINEMATIC", "ONE_SIDED", "OptimumSensitivities", "SensitivityError", "optimum_sensitivities"]
