@@ -7,7 +7,7 @@ differentiated optimum is followed to p +- h by `resolve_tracking` (IPOPT starte
 point with a small barrier), for h = 0.01 %, 0.1 %, 1 % and 2 % of the slider mass, and the central
 differences of the tracked optima are compared with the KKT derivative.
 
-    python benchmarks/bench_optimum_tracking.py SCENARIO [--result RESULT.json]
+    python benchmarks/bench_optimum_tracking.py SCENARIO [--result RESULT.json] [--steps H ...]
 
 ``--result`` differentiates a saved `OcpResult` (e.g. the main job's ``out/result.json``) instead of
 running the default call first. Appends to results/optimum_tracking.json.
@@ -36,6 +36,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("scenario")
     ap.add_argument("--result", type=Path, default=None, help="a saved OcpResult of the scenario's problem")
+    ap.add_argument("--steps", type=float, nargs="+", default=list(STEPS), help="relative steps h")
     a = ap.parse_args()
     problem = po.Scenario.load(a.scenario).problem
     t0 = time.perf_counter()
@@ -49,7 +50,7 @@ def main() -> None:
     print(f"{a.scenario}: J* {sens.objective:.6g} (stage {sens.stage}), dJ*/dp {d:.6g} N m/kg; re-solve "
           f"{sens.resolve_time:.0f} s, KKT {sens.kkt_time:.0f} s", flush=True)
     steps = []
-    for h in STEPS:
+    for h in a.steps:
         ends = {}
         for sign in (+1, -1):
             pv = sens.point.p.copy()
