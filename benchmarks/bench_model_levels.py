@@ -154,12 +154,10 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--replot", action="store_true", help="redraw the figure from the JSON")
     a = ap.parse_args()
-    OUT.mkdir(exist_ok=True)
     path = OUT / "model_levels.json"
-    if a.replot:
-        data = json.loads(path.read_text())
-    else:
-        data = measure()
+    data = json.loads(path.read_text()) if a.replot else measure()
+    if not a.replot:
+        OUT.mkdir(exist_ok=True)
         path.write_text(json.dumps(data, indent=1, default=float))
     save(plot(data), OUT / "model_levels.png")
 

@@ -4,10 +4,9 @@ differences of re-solved optima.
 For each scenario (``press60``: the rigid-press optimum is the answer; ``press75``: collocation on the
 clearance model), the default call optimises; `po.optimum_sensitivities` differentiates the answer
 with respect to the slider mass; then the optimum is re-solved from scratch (the default call) with
-the slider mass 2 % up and 2 % down, the differentiated stage's NLP is re-solved at p +- 2 % from its
-optimum (a cold barrier), and the differentiated optimum itself is followed to p +- 0.01 %, 0.1 % and
-2 % from its primal-dual point (`resolve_tracking`: IPOPT's warm start with a small barrier). Both the stage's own objective (what the NLP minimises) and the
-verified objective (periodic re-simulation) are differenced. Writes
+the slider mass 2 % up and 2 % down, and the differentiated stage's NLP is re-solved at p +- 2 % from
+its optimum (a fresh barrier; `bench_optimum_tracking.py` follows the optimum itself). Both the
+stage's own objective (what the NLP minimises) and the verified objective (periodic re-simulation) are differenced. Writes
 ``results/optimum_sensitivity.json`` and ``.png``.
 
     python benchmarks/bench_optimum_sensitivity.py [press60] [press75] [--step 0.02]
@@ -27,7 +26,6 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import pressocp as po  # noqa: E402
-from pressocp.ocp.kkt import resolve_tracking  # noqa: E402
 from pressocp.ocp.result import versions  # noqa: E402
 from pressocp.ocp.sensitivity import answer_stage  # noqa: E402
 from pressocp.plots import save  # noqa: E402
@@ -35,10 +33,6 @@ from pressocp.report import stamp  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 PARAMETER = "slider_mass"
-#: Relative steps of the tracking re-solves, and their IPOPT options on top of `TRACKING` (collocation's
-#: exact Hessian and MUMPS setting).
-TRACK_STEPS = (1e-4, 1e-3, 2e-2)
-TRACK_OPTIONS = {"ipopt.hessian_approximation": "exact", "ipopt.mumps_scaling": 0}
 
 
 def case(name: str, step: float) -> dict:
@@ -66,21 +60,6 @@ def case(name: str, step: float) -> dict:
         st = sens.transcription.solve(sens.problem.replace(press=pressed), m, po.WarmStart(sens.speed))
         stage["up" if sign > 0 else "down"] = {"wall_time_s": time.perf_counter() - t0, "success": st.success,
                                                 "objective": st.objective, "iterations": st.iterations}
-    tracked = {}  # the differentiated optimum followed to p +- h from its primal-dual point (IPOPT warm start)
-    j = list(sens.table["parameter"]).index(PARAMETER)
-    for h in TRACK_STEPS:
-        ends = {}
-        for sign in (+1, -1):
-            pv = sens.point.p.copy()
-            pv[j] *= 1 + sign * h
-            t = resolve_tracking(sens.point, pv, TRACK_OPTIONS)
-            ends["up" if sign > 0 else "down"] = {"objective": sens.to_objective * t.f, "success": t.success,
-                                                  "status": t.status, "iterations": t.iterations,
-                                                  "wall_time_s": t.wall_time}
-        fd_t = (ends["up"]["objective"] - ends["down"]["objective"]) / (2 * h * p)
-        tracked[f"{h:g}"] = {**ends, "fd_derivative": fd_t, "relative_difference": float(row["derivative"]) / fd_t - 1}
-        print(f"tracked +-{h:g}: {fd_t:.6g} ({tracked[f'{h:g}']['relative_difference']:+.2%}), "
-              f"{ends['up']['iterations']}/{ends['down']['iterations']} it", flush=True)
     fd_stage = (stage["up"]["objective"] - stage["down"]["objective"]) / (2 * step * p)
     fd = (solves["up"]["objective"] - solves["down"]["objective"]) / (2 * step * p)
     fd_verified = (solves["up"]["verified"] - solves["down"]["verified"]) / (2 * step * p)
@@ -93,7 +72,7 @@ def case(name: str, step: float) -> dict:
         "normalised": float(row["normalised"]), "step_up": float(row["step_up"]),
         "step_down": float(row["step_down"]), "change_up": row["change_up"], "change_down": row["change_down"],
         "weakly_active": int(row["weakly_active"]), "active": sens.active,
-        "fd_stage_derivative": fd_stage, "stage_resolves": stage, "tracked": tracked,
+        "fd_stage_derivative": fd_stage, "stage_resolves": stage,
         "relative_difference_stage": float(row["derivative"]) / fd_stage - 1,
         "fd_derivative": fd, "fd_derivative_verified": fd_verified,
         "relative_difference": float(row["derivative"]) / fd - 1,
