@@ -105,11 +105,22 @@ def runs_of(model_name: str) -> list[tuple[str, float | int]]:
     return out
 
 
-def measure(model_names, scene_names) -> dict:
+def write(data: dict, path: Path) -> None:
+    """Write `data`, keeping the rows of (scene, model) pairs it does not hold from the file."""
+    rows = data["rows"]
+    if path.exists():
+        done = {(r["scene"], r["model"]) for r in rows}
+        rows = [r for r in json.loads(path.read_text())["rows"] if (r["scene"], r["model"]) not in done] + rows
+    path.write_text(json.dumps({**data, "rows": rows}, indent=1, default=float))
+
+
+def measure(model_names, scene_names, path: Path) -> dict:
+    """Every run; the JSON is written after each (scene, model) pair, so a stopped run keeps what it did."""
     press = PressParams()
     speeds = {"smooth": FourierSpeed.constant(T),
               "impacting": design_speed(SpeedProblem(press, period=T, ram_speed=-0.1)).speed}
     rows = []
+    meta = {**stamp(), "versions": versions(), "period_s": T, "reference_rtol": REF_RTOL}
     for scene in scene_names:
         speed = speeds[scene]
         for mname in model_names:
@@ -157,7 +168,8 @@ def measure(model_names, scene_names) -> dict:
                       f"RHS {rhs}", flush=True)
                 if row["wall_time_s"] > BUDGET:
                     over.add(method)
-    return {**stamp(), "versions": versions(), "period_s": T, "reference_rtol": REF_RTOL, "rows": rows}
+            write({**meta, "rows": rows}, path)
+    return {**meta, "rows": rows}
 
 
 def plot(data: dict) -> plt.Figure:
@@ -201,12 +213,8 @@ def main() -> None:
     if a.replot:
         data = json.loads(path.read_text())
     else:
-        data = measure(a.models, a.scenes)
-        if path.exists():  # keep the rows of (scene, model) pairs not run now
-            old = json.loads(path.read_text())
-            done = {(r["scene"], r["model"]) for r in data["rows"]}
-            data["rows"] = [r for r in old["rows"] if (r["scene"], r["model"]) not in done] + data["rows"]
-        path.write_text(json.dumps(data, indent=1, default=float))
+        measure(a.models, a.scenes, path)
+        data = json.loads(path.read_text())
     save(plot(data), OUT / "work_precision.png")
 
 
