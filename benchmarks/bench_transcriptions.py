@@ -132,9 +132,10 @@ def map_figure(d: dict) -> None:
         x = MAP_CLEARANCES_M.index(r["clearance_m"]) + (i - 0.5) * 0.3
         y = MAP_RATES_SPM.index(r["stroke_rate_spm"])
         ax.scatter(x, y, s=900, marker="s", color=colours[r["outcome"]])
-        text = r["outcome"] if "verified_objective" not in r else f"{r['verified_objective']:.1f} N·m\n{r['wall_time_s']:.0f} s"
-        ax.annotate(f"{r['method'].split(' ')[0]}\n{text}", (x, y), ha="center", va="center", fontsize=6.5,
-                    color="w")
+        text = (r["outcome"] if "verified_objective" not in r
+                else f"{r['verified_objective']:.1f} N·m\n{r['wall_time_s']:.0f} s")
+        name = r["method"].split(" ")[0].replace("collocation", "colloc.")
+        ax.annotate(f"{name}\n{text}", (x, y), ha="center", va="center", fontsize=6.5, color="w")
     for name, c in colours.items():
         ax.scatter([], [], marker="s", color=c, label=name)
     ax.set_xticks(range(len(MAP_CLEARANCES_M)), [f"{c * 1e3:g} mm" for c in MAP_CLEARANCES_M])
