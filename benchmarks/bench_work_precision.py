@@ -43,6 +43,7 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.ticker import NullFormatter
 
 from pressocp import FourierSpeed, PressParams, SpeedProblem, build_model, design_speed, simulate
 from pressocp.ocp.result import versions
@@ -194,6 +195,7 @@ def plot(data: dict) -> plt.Figure:
             ax.set_ylabel(f"{what} (relative)")
             ax.set_xlabel("wall time of one cycle, s")
             ax.grid(alpha=0.3, which="both")
+            ax.xaxis.set_minor_formatter(NullFormatter())
         axes[0, j].legend(fontsize=7)
     fig.suptitle(f"Work against precision, T = {data['period_s']} s, reference CVODES rtol {data['reference_rtol']:g} "
                  f"({data['date'][:10]}, {data['cpus']} CPUs)", fontsize=10)
