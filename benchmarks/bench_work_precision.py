@@ -186,8 +186,9 @@ def plot(data: dict) -> plt.Figure:
             if not pts:
                 continue
             x, yp, yr = (np.array(v) for v in zip(*pts))
-            axes[0, j].loglog(x, np.maximum(yp, 1e-12), marker=marks[method], label=method)
-            axes[1, j].loglog(x, np.maximum(yr, 1e-12), marker=marks[method], label=method)
+            style = {"marker": marks[method], "color": f"C{methods.index(method)}", "label": method}
+            axes[0, j].loglog(x, np.maximum(yp, 1e-12), **style)
+            axes[1, j].loglog(x, np.maximum(yr, 1e-12), **style)
         for i, what in enumerate(("peak-torque error", "RMS torque error")):
             ax = axes[i, j]
             ax.axhline(1e-3, color="k", ls="--", lw=0.8, label="1e-3")
