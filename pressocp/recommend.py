@@ -12,13 +12,10 @@ Two questions, both answered on the ideal press (closed form, milliseconds):
   which drives its transverse inertia load): a load harmonic at a fraction r of the mode is amplified
   by 1 / (1 - r^2), 1 % at r = 0.1. Within a factor `MODE_FACTOR` the flexible rod is needed.
 
-Measured against the flexible rod across 16 scenes (`benchmarks/bench_model_levels.py`): where the
-answer is "rigid" the ideal press's peak loads are within 0.6 % of the flexible rod's; where it is
-"flexible" because of the mode ratio alone at constant speed (Simeon's rod at 50-150 rad/s) the rigid
-loads were still within 0.3-2.6 %: the factor 10 is conservative. Where it is "clearance" because
-the rod force reverses, the impacts' peaks on the flexible rod differed from the rigid rod's by 2-30 %
-(the impact's size depends on the rod's compliance): the clearance level locates the impacts but
-does not size them to 5 %. A design that keeps the rod in tension (an optimum) needs no more.
+The factor 10 is deliberately conservative. "clearance" locates impacts but does not size them: the
+size of an impact peak also depends on the rod's bending. A design that keeps the rod in tension (an
+optimum) needs no more than the clearance level. How each level compares with the flexible rod across
+scenes is measured in benchmarks/README.md ("Model levels across scenes").
 """
 
 from __future__ import annotations

@@ -209,8 +209,8 @@ def kkt_sensitivity(point: ParametricPoint) -> KktSensitivity:
 
 #: IPOPT options of a tracking re-solve (`resolve_tracking`): IPOPT starts at the given primal-dual point
 #: with a barrier parameter near the one it ended at and no push into the interior, so that its
-#: iterates follow the same local optimum instead of restarting the barrier (which, on the 75 spm
-#: scene, leaves it for another local optimum 1.6 % lower).
+#: iterates follow the same local optimum instead of restarting the barrier (which can leave it for
+#: another local optimum).
 TRACKING = {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-9, "ipopt.warm_start_bound_push": 1e-9,
             "ipopt.warm_start_bound_frac": 1e-9, "ipopt.warm_start_slack_bound_push": 1e-9,
             "ipopt.warm_start_slack_bound_frac": 1e-9, "ipopt.warm_start_mult_bound_push": 1e-9,

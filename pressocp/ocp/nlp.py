@@ -377,8 +377,8 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
     the outcome then holds the `ParametricPoint`.
     ``keep``: a dict that holds the solver afterwards (``keep["solver"]``). CasADi caches the derivatives
     it builds of a function weakly, so a compiled model function's derivatives (built and compiled
-    with the solver, 70 s for the 2-element flexible rod) live only as long as a solver using them:
-    kept, the next NLP on the same function (a polish round) reuses them.
+    with the solver) live only as long as a solver using them: kept, the next NLP on the same function
+    (a polish round) reuses them instead of compiling them again.
     Ctrl-C raises `KeyboardInterrupt` (with ``best`` holding the least-infeasible iterate)."""
     t0 = time.perf_counter()
     bar = None
