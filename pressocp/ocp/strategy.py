@@ -178,11 +178,7 @@ class Strategy:
             speed = st.speed
             if not st.success:
                 return stages
-        if chain and self.polish_rounds:
-            stages.extend(self.polish(problem, chain[-1][1], stages[-1], transcription, progress))
-        if self.refine_rounds:
-            stages.extend(self.refine(problem, base, stages[-1], transcription, progress))
-        return stages
+        return stages + self.rounds(problem, chain[-1][1] if chain else None, base, stages, transcription, progress)
 
     def flexible_only(self, problem: SpeedProblem, model: PressModel, rigid: StageResult,
                       transcription: Transcription, progress: bool) -> list[StageResult]:
@@ -194,12 +190,18 @@ class Strategy:
             reason = self.verified_reason
             return [StageResult.skipped("flexible", reason, model.spec.describe(), rigid)]
         st = transcription.solve(problem, model, WarmStart(rigid.speed), "flexible", progress)
-        stages = [st]
-        if st.success and self.polish_rounds:
-            stages.extend(self.polish(problem, model, st, transcription, progress))
-        if st.success and self.refine_rounds:
-            stages.extend(self.refine(problem, model, stages[-1], transcription, progress))
-        return stages
+        return [st, *self.rounds(problem, model, model, [st], transcription, progress)] if st.success else [st]
+
+    def rounds(self, problem: SpeedProblem, polish_model: PressModel | None, refine_model: PressModel,
+               stages: list[StageResult], transcription: Transcription, progress: bool) -> list[StageResult]:
+        """After the chain: the polish rounds on `polish_model` (None when no stage on a model with states
+        ran), then the refinement rounds on `refine_model`, from ``stages[-1]``."""
+        out: list[StageResult] = []
+        if polish_model is not None and self.polish_rounds:
+            out += self.polish(problem, polish_model, stages[-1], transcription, progress)
+        if self.refine_rounds:
+            out += self.refine(problem, refine_model, (stages + out)[-1], transcription, progress)
+        return out
 
     @property
     def verified_reason(self) -> str:
