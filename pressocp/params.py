@@ -142,7 +142,9 @@ class Bearing:
         chk.nonnegative("tangential_damping", self.tangential_damping, "N s/m")
         rj = plausible("journal_radius", self.journal_radius, *LENGTH_RANGE, "m")
         if c > MAX_CLEARANCE_FRACTION * rj:
-            slip = f": a clearance in mm? {c:g} mm is {c / 1000:g} m" if c / 1000 <= MAX_CLEARANCE_FRACTION * rj else ""
+            # Just over the limit is a worn joint, not a slip; ten times over, in mm, is a plausible clearance.
+            in_mm = c >= 10 * MAX_CLEARANCE_FRACTION * rj and c / 1000 <= MAX_CLEARANCE_FRACTION * rj
+            slip = f": a clearance in mm? {c:g} mm is {c / 1000:g} m" if in_mm else ""
             raise ValueError(f"clearance must be in (0, {MAX_CLEARANCE_FRACTION * rj:g}] m ({MAX_CLEARANCE_FRACTION:.0%} "
                              f"of journal_radius={rj:g} m), got {c!r}{slip}")
         if self.stiffness is not None:

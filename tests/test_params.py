@@ -73,6 +73,7 @@ def test_bad_press_params_message_names_range():
     (lambda: Bearing(clearance=0.15), r"clearance must be in \(0, 0.004\] m \(10% of journal_radius=0.04 m\), got 0.15: "
                                        r"a clearance in mm\? 0.15 mm is 0.00015 m"),
     (lambda: Bearing(journal_radius=25.0), r"journal_radius must be in .*25 mm is 0.025 m"),
+    (lambda: Bearing(clearance=0.0026, journal_radius=0.025), r"got 0.0026$"),
     (lambda: Bearing(stiffness=10.0), r"stiffness must be in \[10000, 1e\+16\]"),
 ])
 def test_implausible_values_name_the_likely_unit_slip(make, match):
