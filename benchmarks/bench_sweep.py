@@ -11,9 +11,12 @@ Cases (one per call; each writes benchmarks/results/sweep_<case>.json and .png):
                     against cold starts (the default call at each point), one worker each; time per
                     point and the optima compared. The path stops at 75 spm: from 80 spm no
                     15-harmonic speed keeps the rod in tension over this window and the default call
-                    gives no answer (benchmarks/README.md).
+                    gives no answer (benchmarks/README.md). With ``--ram-speed -0.15`` the window
+                    is crossed faster and the path runs 60 -> 90 spm; its files are named
+                    ``sweep_continuation_ram0.15*``. ``--side-by-side`` runs the path and the cold
+                    starts at the same time, one worker (one core) each.
 
-    python benchmarks/bench_sweep.py CASE [--repeat R] [--rates 60 65 70 75]
+    python benchmarks/bench_sweep.py CASE [--repeat R] [--rates 60 65 70 75] [--ram-speed V] [--side-by-side]
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ import multiprocessing
 import os
 import statistics
 import time
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 from pathlib import Path
 
 import matplotlib
@@ -93,24 +96,39 @@ def parallel(repeat: int) -> dict:
     return row
 
 
-def continuation(rates: list[float]) -> dict:
+def continuation(rates: list[float], ram_speed: float | None = None, side_by_side: bool = False) -> dict:
     scenario = po.Scenario.load("press75")
+    if ram_speed is not None:
+        scenario = scenario.with_overrides({"problem.ram_speed": ram_speed})
+    name = continuation_name(ram_speed)
     path = [{"problem.stroke_rate_spm": r} for r in rates]
-    with spawn_pool(1) as pool:
-        dt_warm, warm = timed(lambda: po.sweep(scenario, path, "optimize", executor=pool, progress=True,
-                                               csv=OUT / "sweep_continuation_warm.csv"))
-    with spawn_pool(1) as pool:
-        dt_cold, cold = timed(lambda: po.sweep(scenario, {"problem.stroke_rate_spm": rates}, "optimize",
-                                               executor=pool, progress=True, csv=OUT / "sweep_continuation_cold.csv"))
+
+    def run(vary, label: str) -> tuple[float, pd.DataFrame]:
+        with spawn_pool(1) as pool:
+            return timed(lambda: po.sweep(scenario, vary, "optimize", executor=pool, progress=not side_by_side,
+                                          csv=OUT / f"{name}_{label}.csv"))
+
+    jobs = ((path, "warm"), ({"problem.stroke_rate_spm": rates}, "cold"))
+    if side_by_side:
+        with ThreadPoolExecutor(2) as threads:
+            (dt_warm, warm), (dt_cold, cold) = threads.map(lambda job: run(*job), jobs)
+    else:
+        (dt_warm, warm), (dt_cold, cold) = (run(*job) for job in jobs)
     cols = ["problem.stroke_rate_spm", "ok", "peak_torque_N_m", "rigid_peak_torque_N_m", "wall_time_s", "status"]
-    row = {"case": "continuation", **machine(), "total_s": {"path (warm)": dt_warm, "cold": dt_cold},
+    row = {"case": "continuation", **machine(), "ram_speed_m_s": scenario.problem.ram_speed,
+           "side_by_side": side_by_side, "total_s": {"path (warm)": dt_warm, "cold": dt_cold},
            "warm": warm[cols].to_dict("records"), "cold": cold[cols].to_dict("records"),
            "relative_difference": (warm["peak_torque_N_m"] / cold["peak_torque_N_m"] - 1).tolist()}
-    continuation_figure(warm, cold)
+    continuation_figure(warm, cold, name, scenario.problem.ram_speed)
     return row
 
 
-def continuation_figure(warm: pd.DataFrame, cold: pd.DataFrame) -> None:
+def continuation_name(ram_speed: float | None) -> str:
+    """File stem of a continuation run: the scenario's ram speed has none, another says it."""
+    return "sweep_continuation" if ram_speed is None else f"sweep_continuation_ram{abs(ram_speed):g}"
+
+
+def continuation_figure(warm: pd.DataFrame, cold: pd.DataFrame, name: str, ram_speed: float) -> None:
     """Optimal peak torque and time per point along the path, warm against cold."""
     fig, axes = plt.subplots(2, 1, figsize=(6, 5), sharex=True)
     for table, label, style in ((cold, "cold start", "o-"), (warm, "continuation", "x--")):
@@ -123,11 +141,12 @@ def continuation_figure(warm: pd.DataFrame, cold: pd.DataFrame) -> None:
     axes[0].set_ylabel("optimal peak torque [N·m]")
     axes[1].set_ylabel("time per point [s]")
     axes[1].set_xlabel("stroke rate [strokes/min]")
+    axes[0].set_title(f"75 spm scenario along the stroke rate, ram at {ram_speed:g} m/s in the window", fontsize=9)
     for ax in axes:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     fig.tight_layout()
-    save(fig, OUT / "sweep_continuation.png")
+    save(fig, OUT / f"{name}.png")
 
 
 def main() -> None:
@@ -137,14 +156,18 @@ def main() -> None:
     ap.add_argument("--replot", action="store_true", help="only redraw the continuation figure from its CSVs")
     ap.add_argument("--rates", type=float, nargs="+", default=[60.0, 62.5, 65.0, 67.5, 70.0, 72.5, 75.0],
                     help="stroke rates of the continuation path, spm")
+    ap.add_argument("--ram-speed", type=float, default=None, help="ram speed in the window, m/s (default: the scenario's)")
+    ap.add_argument("--side-by-side", action="store_true", help="run the path and the cold starts at the same time")
     args = ap.parse_args()
+    name = continuation_name(args.ram_speed) if args.case == "continuation" else f"sweep_{args.case}"
     if args.replot:
-        continuation_figure(pd.read_csv(OUT / "sweep_continuation_warm.csv"),
-                            pd.read_csv(OUT / "sweep_continuation_cold.csv"))
+        ram = po.Scenario.load("press75").problem.ram_speed if args.ram_speed is None else args.ram_speed
+        continuation_figure(pd.read_csv(OUT / f"{name}_warm.csv"), pd.read_csv(OUT / f"{name}_cold.csv"), name, ram)
         return
-    row = parallel(args.repeat) if args.case == "parallel" else continuation(args.rates)
     OUT.mkdir(exist_ok=True)
-    (OUT / f"sweep_{args.case}.json").write_text(json.dumps(row, indent=2, default=str) + "\n")
+    row = parallel(args.repeat) if args.case == "parallel" else \
+        continuation(args.rates, args.ram_speed, args.side_by_side)
+    (OUT / f"{name}.json").write_text(json.dumps(row, indent=2, default=str) + "\n")
     print(json.dumps({k: v for k, v in row.items() if k not in ("table", "warm", "cold")}, indent=2, default=str))
 
 
