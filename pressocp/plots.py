@@ -197,6 +197,18 @@ def plot_speed_design(result, title: str = "") -> "plt.Figure":
     return fig
 
 
+#: Units of varied keys, by the end of their dotted name (SI, or as the name says).
+KEY_UNITS = (("_spm", "strokes/min"), ("ram_speed", "m/s"), ("period_s", "s"), ("clearance", "m"), ("mass", "kg"),
+             ("inertia", "kg m²"), ("radius", "m"), ("length", "m"), ("stiffness", "N/m^exponent"),
+             ("tangential_damping", "N s/m"))
+
+
+def key_label(key: str) -> str:
+    """A varied key with its unit, for an axis: ``"problem.ram_speed [m/s]"``."""
+    unit = next((u for end, u in KEY_UNITS if key.endswith(end)), None)
+    return f"{key} [{unit}]" if unit else key
+
+
 def plot_sweep(table, keys: Sequence[str], title: str = "") -> "plt.Figure":
     """Peaks against the first varied key of a `pressocp.sweep` table, one line per combination of the
     other keys: motor torque (with the initial speed's and the rigid floor, dashed, for optima), slider
@@ -229,7 +241,7 @@ def plot_sweep(table, keys: Sequence[str], title: str = "") -> "plt.Figure":
     if "initial_peak_torque_N_m" in data and data["initial_peak_torque_N_m"].max() > 5 * data["peak_torque_N_m"].max():
         axes[0].set_yscale("log")  # an impacting initial speed would flatten the optima against the floor
     axes[0].legend(fontsize=7)
-    axes[-1].set_xlabel(x)
+    axes[-1].set_xlabel(key_label(x))
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()

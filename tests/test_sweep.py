@@ -133,6 +133,7 @@ def test_a_path_of_optima_starts_each_from_its_neighbour(monkeypatch, serial):
     fig = plot_sweep(warm, ["problem.stroke_rate_spm"], "reduced study")
     labels = [line.get_label() for line in fig.axes[0].get_lines()]
     assert "rigid-press floor" in labels and "initial speed" in labels
+    assert fig.axes[-1].get_xlabel() == "problem.stroke_rate_spm [strokes/min]"
     starts.clear()  # without continuation, a path is a list of independent cold starts
 
     def stub(task, scenario, speed=None, initial=None):
