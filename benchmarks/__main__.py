@@ -74,8 +74,11 @@ JOBS = (
     Job("optimum_tracking", "bench_optimum_tracking.py", ("press75",), 40, "dJ*/dp against the tracked optimum"),
     Job("sweep_parallel", "bench_sweep.py", ("parallel",), 10, "sweep speed-up, 1/2 workers and dask"),
     Job("sweep_continuation", "bench_sweep.py", ("continuation",), 60, "warm path against cold starts"),
-    Job("studies", "bench_studies.py", ("stroke_rate", "clearance", "slider_mass", "wear", "tornado"), 120,
-        "optima against stroke rate, clearance, mass; wear; tornado"),
+    Job("sweep_continuation_90", "bench_sweep.py",
+        ("continuation", "--ram-speed", "-0.15", "--side-by-side", "--rates", "60", "65", "70", "75", "80", "85", "90"),
+        60, "warm path against cold starts, 60 -> 90 spm at -0.15 m/s"),
+    Job("studies", "bench_studies.py", ("stroke_rate", "clearance", "ram_speed", "slider_mass", "wear", "tornado"),
+        140, "optima against stroke rate, clearance, ram speed, mass; wear; tornado"),
 )
 
 
