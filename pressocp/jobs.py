@@ -125,7 +125,7 @@ def optimum_summary(scenario: Scenario, result: OcpResult, ideal: SimResult | No
         "max_ram_speed_violation_m_s": result.max_ram_speed_violation, "window_t_s": [result.t1, result.t2],
         "min_omega_rad_s": result.min_omega, "iterations": result.iterations, "wall_time_s": result.wall_time,
         "stages": [{"name": s.name, "model": s.model, "status": s.status, "success": s.success,
-                    "iterations": s.iterations, "wall_time_s": s.wall_time, "objective": s.objective}
+                    "superseded": s.superseded, "iterations": s.iterations, "wall_time_s": s.wall_time, "objective": s.objective}
                    for s in result.stages],
     }
 
@@ -183,7 +183,8 @@ def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobRep
         f"floor (rigid press optimum) {result.rigid_peak_torque:.1f} N·m; {result.wall_time:.0f} s",
     ])
     stages = format_table([["stage", "model", "status", "iterations", "time, s", f"objective, {unit}"],
-                           *([s.name, s.model, s.status, str(s.iterations), f"{s.wall_time:.1f}", f"{s.objective:.4g}"]
+                           *([s.name, s.model, s.status + (f" ({s.superseded})" if s.superseded else ""),
+                              str(s.iterations), f"{s.wall_time:.1f}", f"{s.objective:.4g}"]
                              for s in result.stages)])
     details = "\n".join([f"transcription: {result.transcription}", f"strategy: {result.strategy}",
                          f"verification: periodic CVODES re-simulation, rtol {result.verify_rtol:g}", "", stages])

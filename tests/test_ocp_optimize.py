@@ -152,6 +152,31 @@ def test_polish_keeps_only_a_verified_improvement(smooth):
     assert dropped.details["previous_verified_value"] == kept.details["verified_value"]
 
 
+def test_a_failed_continuation_restarts_as_a_cold_chain(smooth, monkeypatch):
+    """In a continuation ("continue"), the clearance stage starts from the neighbour's optimum. When
+    that fails, the cold chain runs after it and gives the answer; the failed stage stays in the
+    record, marked superseded, so it does not fail the result. When it succeeds, nothing else runs.
+    (The re-simulation checks are replaced: the rigid optimum "impacts", the neighbour "fits".)"""
+    from pressocp.ocp.stage import Check
+
+    model = build_model(SMOOTH.press, n_harmonics=4)
+    good = smooth.stages[0]
+    bad = dataclasses.replace(good, success=False, status="Infeasible_Problem_Detected")
+    impacts = Check(model="clearance", objective=300.0, ratio=4.0, periodic=True, ram_speed_violation=0.0,
+                    peak_torque=300.0, verified=False)
+    monkeypatch.setattr(Strategy, "check", lambda self, m, stage, problem: impacts)
+    monkeypatch.setattr(Strategy, "fits", lambda self, m, speed, problem: True)
+    strategy = Strategy(mode="continue", tension_margin=None, polish_rounds=0)
+    replay = Replay(bad, good)
+    stages = strategy.run(SMOOTH, model, replay, good.speed, False)
+    assert replay.calls == 2 and [s.name for s in stages] == ["rigid", "target", "target"]
+    assert not stages[1].success and "cold chain" in stages[1].superseded
+    assert stages[2].success and not stages[2].superseded
+    replay = Replay(good)
+    stages = strategy.run(SMOOTH, model, replay, good.speed, False)
+    assert replay.calls == 1 and [s.name for s in stages] == ["rigid", "target"] and stages[1].success
+
+
 def test_stages_log_every_iteration(smooth):
     """Each iteration's time, primal and dual infeasibility are kept; the times rise, the last dual
     infeasibility of a converged stage is at IPOPT's tolerance, and the log survives JSON."""

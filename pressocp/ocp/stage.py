@@ -115,6 +115,8 @@ class StageResult:
     point : ParametricPoint or None
         The NLP at its solution, when the stage's model carried press parameters
         (`pressocp.optimum_sensitivities`); not saved.
+    superseded : str
+        Why a failed stage does not fail the result (the chain went on another way), else empty.
     """
 
     name: str
@@ -137,6 +139,7 @@ class StageResult:
     check: Check | None = None
     states: np.ndarray | None = field(default=None, repr=False)
     point: ParametricPoint | None = field(default=None, repr=False)
+    superseded: str = ""
 
     @classmethod
     def skipped(cls, name: str, reason: str, model: str, start: "StageResult") -> "StageResult":

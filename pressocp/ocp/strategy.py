@@ -69,7 +69,8 @@ class Strategy:
         "auto": use no more model than the scene needs (a verified rigid-press answer ends the
         chain); "all": run every stage; "continue": as "auto", but when the initial speed (a
         neighbouring optimum, in a continuation) does not impact on the model, the stages on models
-        with states start from it, with no no-reversal or soft stage.
+        with states start from it, with no no-reversal or soft stage. When that chain fails, the
+        cold chain runs after it; the failed stage stays in the record, marked ``superseded``.
     rigid : Rigid
         Transcription of the rigid and no-reversal stages.
     tension_margin : float or None
@@ -141,9 +142,26 @@ class Strategy:
         base = model if model.rod == "rigid" else build_model(model.params, "rigid", model.clearance, 4,
                                                                model.n_harmonics)
         rigid.check = self.check(base, rigid, problem)
+        if self.mode == "continue" and not rigid.check.verified and self.fits(base, initial, problem):
+            tried = self.clearance_chain(problem, model, base, rigid, transcription, initial, progress)
+            if all(st.success for st in tried):
+                return stages + tried
+            for st in tried:
+                if not st.success:
+                    st.superseded = "the chain from the neighbour's optimum failed here; it restarted as a cold chain"
+            stages += tried
+        return stages + self.clearance_chain(problem, model, base, rigid, transcription, None, progress)
+
+    def clearance_chain(self, problem: SpeedProblem, model: PressModel, base: PressModel, rigid: StageResult,
+                        transcription: Transcription, neighbour: FourierSpeed | None,
+                        progress: bool) -> list[StageResult]:
+        """The stages after the rigid one on a model with clearance, to the polish and refinement
+        rounds; it stops at a failed stage. ``neighbour``: a non-impacting start (a neighbouring
+        optimum in a continuation) that the stages on models with states take as it is, with no
+        no-reversal or soft stage; None: the cold chain from the rigid optimum."""
+        stages: list[StageResult] = []
         start = rigid
-        cont = self.mode == "continue" and not rigid.check.verified and self.fits(base, initial, problem)
-        if not rigid.check.verified and not cont and self.tension_margin is not None \
+        if neighbour is None and not rigid.check.verified and self.tension_margin is not None \
                 and problem.press.process_force.force == 0.0:
             bound = self.tension_margin * problem.hanging_weight
             nr = self.rigid.solve(problem.replace(min_tension=bound), model, WarmStart(rigid.speed), "no_reversal",
@@ -165,20 +183,21 @@ class Strategy:
                     chain.append(("flexible", model))
         else:
             if getattr(transcription, "needs_soft_start", False) and self.soft_factor is not None \
-                    and not cont and start.check.ratio > IMPACT_RATIO:
+                    and neighbour is None and start.check.ratio > IMPACT_RATIO:
                 chain.append(("soft", build_model(soft_params(model.params, self.soft_factor), "rigid", base.clearance,
                                                   4, model.n_harmonics)))
             chain.append(("target", base))
             if model.rod == "flexible":
                 chain.append(("flexible", model))
-        speed = initial if cont else start.speed
+        speed = start.speed if neighbour is None else neighbour
         for name, m in chain:
             st = transcription.solve(problem, m, WarmStart(speed), name, progress)
             stages.append(st)
             speed = st.speed
             if not st.success:
                 return stages
-        return stages + self.rounds(problem, chain[-1][1] if chain else None, base, stages, transcription, progress)
+        return stages + self.rounds(problem, chain[-1][1] if chain else None, base, [rigid, *stages], transcription,
+                                    progress)
 
     def flexible_only(self, problem: SpeedProblem, model: PressModel, rigid: StageResult,
                       transcription: Transcription, progress: bool) -> list[StageResult]:
