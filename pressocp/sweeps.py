@@ -88,6 +88,9 @@ def run_point(task: str, scenario: Scenario, speed: FourierSpeed | None = None,
                                        replace(scenario.solver.make_strategy(), mode="continue"))
             summary = jobs.optimum_summary(scenario, result)
             row.update(ok=bool(result.success and result.verified), speed=json.dumps(result.speed.to_dict()))
+            if initial is not None:  # a path: did the chain from the neighbour give the answer?
+                row["start"] = "cold after the neighbour's chain failed" if any(s.superseded for s in result.stages) \
+                    else "neighbour"
         elif task == "simulate":
             from .design import design_speed
 

@@ -125,6 +125,7 @@ def test_a_path_of_optima_starts_each_from_its_neighbour(monkeypatch, serial):
     path = [{"problem.stroke_rate_spm": 60}, {"problem.stroke_rate_spm": 66}]
     warm = po.sweep(base, path, task="optimize", executor=serial, progress=False)
     assert starts == [None, pytest.approx(60 / 66)] and warm["ok"].all()
+    assert warm["start"].iloc[1] == "neighbour"  # the path's rows say where their answer came from
     cold = po.sweep(base, {"problem.stroke_rate_spm": [66]}, task="optimize", executor=serial, progress=False)
     assert warm["peak_torque_N_m"].iloc[1] == pytest.approx(cold["peak_torque_N_m"].iloc[0], rel=1e-3)
     # the study figure (notebook 06): on the ideal press each optimum is its own floor (a rescaled
