@@ -41,6 +41,10 @@ from pressocp.simulate import periodic_state
 
 OUT = Path(__file__).parent / "results"
 PERIOD = 0.8
+GOAL_WALL_S = 120.0  # issue #4: wall time to convergence on the clearance model, 2 cores
+GOAL_VERIFY_PCT = 2.0  # issue #4: re-simulated peak within 2 % of the reported one
+GOAL_PEAK_NM = 147.5  # issue #14: the seed case's default call
+GOAL_FLOOR_RATIO = 1.10  # issue #4: near the floor
 
 
 def main() -> None:
@@ -104,17 +108,36 @@ def figure(out: dict):
     for k, w, e in zip(K, wall, err):
         ax.annotate(f"{k}", (w, 100 * e), textcoords="offset points", xytext=(4, 4), fontsize=8)
     jit = " (compiled, compilation included)" if out.get("jit") else ""
+    # the project's goals (issue #4): the whole optimisation within 120 s on 2 cores (the solve
+    # alone here; the start took start_wall_time_s more), the reported peak within 2 % of the re-simulated
+    ax.axvline(GOAL_WALL_S, color="tab:red", ls="--", lw=0.8)
+    ax.text(GOAL_WALL_S, 1.0, f" goal: {GOAL_WALL_S:.0f} s", transform=ax.get_xaxis_transform(),
+            color="tab:red", fontsize=7, ha="right", va="bottom")
+    if out.get("start_wall_time_s"):
+        budget = GOAL_WALL_S - out["start_wall_time_s"]
+        ax.axvline(budget, color="0.5", ls="--", lw=0.8)
+        ax.text(budget, 1.0, f"120 s − start ({out['start_wall_time_s']:.0f} s) ", transform=ax.get_xaxis_transform(),
+                color="0.4", fontsize=7, ha="right", va="bottom")
+    ax.axhline(GOAL_VERIFY_PCT, color="tab:red", ls="--", lw=0.8)
+    ax.text(ax.get_xlim()[0], GOAL_VERIFY_PCT, f"  goal: within {GOAL_VERIFY_PCT:g} %", color="tab:red", fontsize=7,
+            va="bottom")
     ax.set(xlabel=f"collocation solve wall time{jit}, s", ylabel="|reported − re-simulated| peak, %",
-           title="speed against accuracy (labels: elements)")
-    ax.legend()
+           title="speed against accuracy (labels: elements)\n")
+    ax.legend(loc="center left")
     peak = np.array([r["resimulated_peak_torque"] for r in rows])
     bx.plot(K[ok], peak[ok], "o-", label="collocation optimum (re-simulated)")
     if (~ok).any():
         bx.plot(K[~ok], peak[~ok], "x", color="C3", label="not converged (its last iterate)")
     bx.axhline(out["start_peak_torque"], color="C1", ls="--", label="start: no-reversal optimum")
     bx.axhline(out["rigid_floor"], color="k", ls=":", label="rigid floor")
-    bx.set(xlabel="elements per period", ylabel="peak motor torque, N·m", title="optimum on the clearance model")
-    bx.legend()
+    # goals: the seed case's default call at most 147.5 N·m (issue #14); near the floor, 1.10 × (issue #4)
+    near = GOAL_FLOOR_RATIO * out["rigid_floor"]
+    for v, text in ((GOAL_PEAK_NM, f"goal: ≤ {GOAL_PEAK_NM:g} N·m"),
+                    (near, f"goal: {GOAL_FLOOR_RATIO:.2f} × floor = {near:.1f} N·m")):
+        bx.axhline(v, color="tab:red", ls="--", lw=0.8)
+        bx.text(bx.get_xlim()[1], v, text + " ", color="tab:red", fontsize=7, ha="right", va="bottom")
+    bx.set(xlabel="elements per period", ylabel="peak motor torque, N·m", title="optimum on the clearance model\n")
+    bx.legend(loc="center right", fontsize=8)
     fig.tight_layout()
     return fig
 
