@@ -8,7 +8,7 @@ method whose peak-torque error is below a target.
 
 Writes benchmarks/results/simulation.json and simulation.png.
 
-    python benchmarks/bench_simulation.py [--quick]
+    python benchmarks/bench_simulation.py [--quick] [--replot]
 """
 
 from __future__ import annotations
@@ -88,8 +88,14 @@ def equal_accuracy(rows, target):
     return best
 
 
+GOAL_SPEEDUP = 20.0  # issue #3: IDAS >= 20x faster than scipy-radau at equal peak-torque accuracy
+GOAL_FLEXIBLE_S = 1.0  # issue #3: the flexible model (4 elements) under 1 s per cycle
+
+
 def plot_results(results: dict, methods, path: Path) -> None:
-    """Peak-torque error against wall time per cycle, one panel per case (log-log)."""
+    """Peak-torque error against wall time per cycle, one panel per case (log-log), with the goals:
+    scipy-radau's curve at 1/20 of its time (IDAS must lie left of it) and, for the flexible model,
+    1 s per cycle."""
     fig, axes = plt.subplots(1, len(results), figsize=(5.5 * len(results), 4.2), squeeze=False)
     for ax, (case, res) in zip(axes[0], results.items()):
         for m in methods:
@@ -99,13 +105,22 @@ def plot_results(results: dict, methods, path: Path) -> None:
                 x, y, tol = zip(*pts)
                 ax.loglog(x, np.maximum(y, 1e-12), "o-", label=m)
                 for xi, yi, ti in zip(x, y, tol):
-                    ax.annotate(f"{ti:.0e}", (xi, max(yi, 1e-12)), fontsize=6, alpha=0.7)
+                    ax.annotate(f"{ti:.0e}", (xi, max(yi, 1e-12)), xytext=(3, 2), textcoords="offset points",
+                                fontsize=6, alpha=0.7)
+                if m == "scipy-radau":
+                    ax.loglog(np.asarray(x) / GOAL_SPEEDUP, np.maximum(y, 1e-12), "--", color="tab:red", lw=0.8,
+                              label=f"goal for idas: scipy-radau's time / {GOAL_SPEEDUP:g}")
+        if case.startswith("flexible"):
+            ax.axvline(GOAL_FLEXIBLE_S, color="0.4", ls="--", lw=0.8)
+            ax.text(GOAL_FLEXIBLE_S, 0.02, f" goal: {GOAL_FLEXIBLE_S:g} s per cycle", transform=ax.get_xaxis_transform(),
+                    color="0.3", fontsize=7, rotation=90, va="bottom", ha="right")
         ax.set_xlabel("wall time per cycle [s] (labels: rtol)")
         ax.set_ylabel("relative error of peak torque")
-        ax.set_title(f"{case} model, impact scenario (T = 0.8 s)", fontsize=9)
+        model = "flexible model (4 elements)" if case == "flexible" else f"{case} model"
+        ax.set_title(f"{model}, impact scenario (T = 0.8 s)", fontsize=9)
         ax.grid(alpha=0.3, which="both")
-        ax.legend()
-    fig.tight_layout()
+    fig.legend(*axes[0][0].get_legend_handles_labels(), loc="lower center", ncol=4, fontsize=8)
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
     fig.savefig(path, dpi=130)
     plt.close(fig)
 
@@ -114,7 +129,12 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="fewer tolerances and repeats")
     ap.add_argument("--case", choices=("all", "clearance", "flexible"), default="all")
+    ap.add_argument("--replot", action="store_true", help="only redraw simulation.png from simulation.json")
     args = ap.parse_args()
+    if args.replot:
+        data = json.loads((OUT / "simulation.json").read_text())
+        plot_results(data["results"], ("idas", "cvodes", "scipy-radau"), OUT / "simulation.png")
+        return
     OUT.mkdir(exist_ok=True)
     p = PressParams()
     speed = design_speed(SpeedProblem(p, period=0.8, ram_speed=-0.1)).speed
