@@ -16,7 +16,7 @@ Cases (one per call; each writes benchmarks/results/sweep_<case>.json and .png):
                     60 -> 90 spm; its files are named ``sweep_continuation_ram0.15*``. ``--side-by-side`` runs the path and the cold
                     starts at the same time, one worker (one core) each.
 
-    python benchmarks/bench_sweep.py CASE [--repeat R] [--rates 60 65 70 75] [--ram-speed V] [--side-by-side]
+    python benchmarks/bench_sweep.py CASE [--repeat R] [--rates 60 65 70 75] [--ram-speed V] [--side-by-side] [--replot]
 """
 
 from __future__ import annotations
@@ -85,15 +85,30 @@ def parallel(repeat: int) -> dict:
            "median_s": med, "speedup_2_workers": med["1 worker"] / med["2 workers"],
            "speedup_dask": med["1 worker"] / med["dask, 2 workers"], "identical_tables": identical,
            "table": tables["1 worker"].drop(columns="speed").to_dict("records")}
+    parallel_figure(row)
+    return row
+
+
+GOAL_SPEEDUP = 1.6  # issue #16: 2 workers >= 1.6x faster than 1 on the same machine, same run
+GOAL_CONTINUATION = 0.005  # issue #16: the continuation's optima within +-0.5 % of the cold starts'
+
+
+def parallel_figure(row: dict) -> None:
+    """Median wall time per executor, with the 2-worker goal (1 worker's time / 1.6)."""
+    med = row["median_s"]
     fig, ax = plt.subplots(figsize=(6, 3))
     ax.barh(list(med), list(med.values()), color=["C0", "C1", "C2"])
     for i, v in enumerate(med.values()):
         ax.text(v, i, f" {v:.1f} s (x{med['1 worker'] / v:.2f})", va="center", fontsize=8)
-    ax.set_xlabel(f"wall time of 8 periodic simulations, s (median of {repeat})")
-    ax.set_title(f"pressocp.sweep on {os.cpu_count()} cores", fontsize=9)
+    goal = med["1 worker"] / GOAL_SPEEDUP
+    ax.axvline(goal, color="tab:red", ls="--", lw=0.8)
+    ax.text(goal, 1.0, f"goal for 2 workers: ≥ {GOAL_SPEEDUP:g}× ({goal:.1f} s)", transform=ax.get_xaxis_transform(),
+            color="tab:red", fontsize=7, ha="center", va="bottom")
+    ax.set_xlim(0, 1.3 * max(med.values()))
+    ax.set_xlabel(f"wall time of 8 periodic simulations, s (median of {row['repeat']})")
+    ax.set_title(f"pressocp.sweep on {row.get('cpus', os.cpu_count())} cores\n", fontsize=9)
     fig.tight_layout()
     save(fig, OUT / "sweep_parallel.png")
-    return row
 
 
 def continuation(rates: list[float], ram_speed: float | None = None, side_by_side: bool = False) -> dict:
@@ -129,8 +144,10 @@ def continuation_name(ram_speed: float | None) -> str:
 
 
 def continuation_figure(warm: pd.DataFrame, cold: pd.DataFrame, name: str, ram_speed: float) -> None:
-    """Optimal peak torque and time per point along the path, warm against cold."""
-    fig, axes = plt.subplots(2, 1, figsize=(6, 5), sharex=True)
+    """Optimal peak torque, the path's difference to the cold starts (with the ±0.5 % goal) and time
+    per point along the path, warm against cold."""
+    fig, axes = plt.subplots(3, 1, figsize=(6, 7), sharex=True, gridspec_kw={"height_ratios": (1.2, 0.8, 1)})
+    axes = [axes[0], axes[2], axes[1]]  # torque, time, difference (drawn between them)
     for table, label, style in ((cold, "cold start", "o-"), (warm, "continuation", "x--")):
         axes[0].plot(table["problem.stroke_rate_spm"], table["peak_torque_N_m"], style, label=label)
         axes[1].plot(table["problem.stroke_rate_spm"], table["wall_time_s"], style, label=label)
@@ -138,13 +155,32 @@ def continuation_figure(warm: pd.DataFrame, cold: pd.DataFrame, name: str, ram_s
         axes[0].plot(bad["problem.stroke_rate_spm"], bad["peak_torque_N_m"], "s", mfc="none", ms=11, color="C3",
                      label=f"{label}: not converged" if len(bad) else None)
     axes[0].plot(cold["problem.stroke_rate_spm"], cold["rigid_peak_torque_N_m"], ":", color="0.5", label="rigid floor")
+    key = "problem.stroke_rate_spm"
+    both = warm.merge(cold, on=key, suffixes=("_warm", "_cold")).sort_values(key)
+    diff = 100 * (both["peak_torque_N_m_warm"] / both["peak_torque_N_m_cold"] - 1)
+    dx = axes[2]
+    dx.plot(both[key], diff, "x--", color="C1")
+    bad = ~(both["ok_warm"].astype(bool) & both["ok_cold"].astype(bool))
+    dx.plot(both[key][bad], diff[bad], "s", mfc="none", ms=11, color="C3")
+    for v in (-100 * GOAL_CONTINUATION, 100 * GOAL_CONTINUATION):
+        dx.axhline(v, color="tab:red", ls="--", lw=0.8)
+    dx.text(dx.get_xlim()[0], 100 * GOAL_CONTINUATION, f" goal: within ±{GOAL_CONTINUATION:.1%}", color="tab:red",
+            fontsize=7, va="bottom")
+    dx.axhline(0, color="0.5", lw=0.6)
+    dx.set_yscale("symlog", linthresh=1.0)
+    lo, hi = min(-2.0, 3 * float(diff.min())), max(2.0, 3 * float(diff.max()))
+    dx.set_ylim(lo, hi)
+    ticks = [v for v in (-100, -10, -1, -0.5, 0, 0.5, 1, 10, 100) if lo <= v <= hi]
+    dx.set_yticks(ticks, [f"{v:g}" for v in ticks])
+    dx.set_ylabel("path / cold − 1 [%]")
     axes[0].set_ylabel("optimal peak torque [N·m]")
     axes[1].set_ylabel("time per point [s]")
     axes[1].set_xlabel("stroke rate [strokes/min]")
     axes[0].set_title(f"75 spm scenario along the stroke rate, ram at {ram_speed:g} m/s in the window", fontsize=9)
     for ax in axes:
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
+        if ax is not dx:  # its markers are the top panel's
+            ax.legend(fontsize=8)
     fig.tight_layout()
     save(fig, OUT / f"{name}.png")
 
@@ -153,7 +189,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("case", choices=("parallel", "continuation"))
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--replot", action="store_true", help="only redraw the continuation figure from its CSVs")
+    ap.add_argument("--replot", action="store_true", help="only redraw the figure (continuation: from its CSVs; parallel: from its JSON)")
     ap.add_argument("--rates", type=float, nargs="+", default=[60.0, 62.5, 65.0, 67.5, 70.0, 72.5, 75.0],
                     help="stroke rates of the continuation path, spm")
     ap.add_argument("--ram-speed", type=float, default=None, help="ram speed in the window, m/s (default: the scenario's)")
@@ -161,8 +197,14 @@ def main() -> None:
     args = ap.parse_args()
     name = continuation_name(args.ram_speed) if args.case == "continuation" else f"sweep_{args.case}"
     if args.replot:
+        if args.case == "parallel":
+            parallel_figure(json.loads((OUT / "sweep_parallel.json").read_text()))
+            return
         ram = po.Scenario.load("press75").problem.ram_speed if args.ram_speed is None else args.ram_speed
-        continuation_figure(pd.read_csv(OUT / f"{name}_warm.csv"), pd.read_csv(OUT / f"{name}_cold.csv"), name, ram)
+        cold = pd.read_csv(OUT / f"{name}_cold.csv")
+        continuation_figure(pd.read_csv(OUT / f"{name}_warm.csv"), cold, name, ram)
+        if (OUT / f"{name}_warm_nofallback.csv").exists():  # the path measured before the cold fallback
+            continuation_figure(pd.read_csv(OUT / f"{name}_warm_nofallback.csv"), cold, f"{name}_nofallback", ram)
         return
     OUT.mkdir(exist_ok=True)
     row = parallel(args.repeat) if args.case == "parallel" else \
