@@ -9,7 +9,7 @@ its optimum (a fresh barrier; `bench_optimum_tracking.py` follows the optimum it
 stage's own objective (what the NLP minimises) and the verified objective (periodic re-simulation) are differenced. Writes
 ``results/optimum_sensitivity.json`` and ``.png``.
 
-    python benchmarks/bench_optimum_sensitivity.py [press60] [press75] [--step 0.02]
+    python benchmarks/bench_optimum_sensitivity.py [press60] [press75] [--step 0.02] [--replot]
 """
 
 from __future__ import annotations
@@ -33,6 +33,7 @@ from pressocp.report import stamp  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 PARAMETER = "slider_mass"
+GOAL_REL = 0.05  # issue #16: dJ*/dp within 5 % of central differences of re-solved optima
 
 
 def case(name: str, step: float) -> dict:
@@ -92,16 +93,27 @@ def figure(rows: list[dict]) -> None:
     ax.bar(x - 0.2, [r["derivative"] for r in rows], 0.4, label="NLP sensitivity (KKT)")
     ax.bar(x + 0.2, [r["fd_derivative"] for r in rows], 0.4, label=f"central difference of re-solved optima "
                                                                     f"(±{rows[0]['step_relative']:.0%})")
+    for i, r in enumerate(rows):  # issue #16: the NLP sensitivity within 5 % of the differences
+        for v in (1 - GOAL_REL, 1 + GOAL_REL):
+            ax.plot([i - 0.45, i + 0.45], [v * r["fd_derivative"]] * 2, color="tab:red", ls="--", lw=0.8,
+                    label=f"goal: within ±{GOAL_REL:.0%} of the difference" if i == 0 and v > 1 else None)
+        top = max(r["derivative"], (1 + GOAL_REL) * r["fd_derivative"])
+        ax.text(i - 0.2, top * 1.01, f"{r['relative_difference']:+.1%}", ha="center", va="bottom", fontsize=7)
     ax.set_xticks(x, [f"{r['scenario']}\n({r['stage']})" for r in rows])
     ax.set_ylabel("dJ*/d slider mass [N·m/kg]")
-    ax.legend(fontsize=7)
+    ax.set_ylim(0, 1.45 * max(max(r["derivative"], r["fd_derivative"]) for r in rows))
+    ax.legend(fontsize=7, loc="upper left")
     ax = axes[1]
     ax.bar(x - 0.27, [r["sensitivity_kkt_s"] for r in rows], 0.27, label="KKT solve")
     ax.bar(x, [r["sensitivity_resolve_s"] for r in rows], 0.27, label="re-solve at the answer")
     ax.bar(x + 0.27, [r["two_resolves_s"] for r in rows], 0.27, label="two re-solved optima (difference)")
+    for i, r in enumerate(rows):
+        ax.text(i - 0.27, r["sensitivity_kkt_s"], f"{r['ratio_kkt_to_two_resolves']:.2f}×", ha="center",
+                va="bottom", fontsize=7)
     ax.set_xticks(x, [r["scenario"] for r in rows])
     ax.set_ylabel("wall time [s]")
-    ax.legend(fontsize=7)
+    ax.set_ylim(0, 1.3 * max(r["two_resolves_s"] for r in rows))
+    ax.legend(fontsize=7, loc="upper left", title="label: KKT / two re-solves", title_fontsize=7)
     for a in axes:
         a.grid(alpha=0.3, axis="y")
     fig.tight_layout()
@@ -112,7 +124,11 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("scenarios", nargs="*", default=["press60", "press75"])
     ap.add_argument("--step", type=float, default=0.02)
+    ap.add_argument("--replot", action="store_true", help="only redraw the PNG from the JSON")
     args = ap.parse_args()
+    if args.replot:
+        figure(json.loads((OUT / "optimum_sensitivity.json").read_text())["cases"])
+        return
     rows = []
     for name in args.scenarios:
         rows.append(case(name, args.step))
