@@ -133,7 +133,7 @@ def map_figure(d: dict) -> None:
         i = methods.index(r["method"])
         x = MAP_CLEARANCES_M.index(r["clearance_m"]) + (i - 0.5) * 0.3
         y = MAP_RATES_SPM.index(r["stroke_rate_spm"])
-        ax.scatter(x, y, s=900, marker="s", color=colours[r["outcome"]])
+        ax.scatter(x, y, s=1700, marker="s", color=colours[r["outcome"]])  # wide enough for "147.3 N·m"
         text = (r["outcome"] if "verified_objective" not in r
                 else f"{r['verified_objective']:.1f} N·m\n{r['wall_time_s']:.0f} s")
         name = r["method"].split(" ")[0].replace("collocation", "colloc.")
