@@ -251,7 +251,9 @@ def plot_sweep(table, keys: Sequence[str], title: str = "") -> "plt.Figure":
 def plot_tornado(sensitivities, quantity: str = "peak_torque", title: str = "", ax=None) -> "plt.Figure":
     """Normalised sensitivities p/J dJ/dp of one quantity (a `pressocp.Sensitivities`), largest on top:
     the % change of the peak per % change of each parameter. One-sided rows (rival peaks) show both
-    sides. Drawn on `ax` when given (a panel of a larger figure)."""
+    sides; rows whose error estimate is over `pressocp.sensitivity.RESOLVED` are grey and hatched
+    (below the integrator's resolution: their sign and size are not known). Drawn on `ax` when given
+    (a panel of a larger figure)."""
     t = sensitivities.table[sensitivities.table["quantity"] == quantity].copy()
     scale = t["parameter_value"] / t["value"]
     t["up"], t["down"] = t["derivative_up"] * scale, t["derivative_down"] * scale
@@ -259,10 +261,18 @@ def plot_tornado(sensitivities, quantity: str = "peak_torque", title: str = "", 
     own = ax is None
     fig, ax = plt.subplots(figsize=(7, 0.45 * len(t) + 1.2)) if own else (ax.figure, ax)
     y = np.arange(len(t))
-    ax.barh(y, t["normalised"], color=["tab:red" if v > 0 else "tab:blue" for v in t["normalised"]])
+    resolved = t["resolved"].to_numpy(bool) if "resolved" in t else np.ones(len(t), bool)
+    colours = ["tab:red" if v > 0 else "tab:blue" for v in t["normalised"]]
+    ax.barh(y[resolved], t["normalised"][resolved], color=np.array(colours)[resolved])
+    if not resolved.all():
+        ax.barh(y[~resolved], t["normalised"][~resolved], color="0.85", edgecolor="0.5", hatch="//",
+                label="below the integrator's resolution")
     for k, (_, row) in enumerate(t.iterrows()):
         if not row["unique"]:
-            ax.plot([row["down"], row["up"]], [k, k], "k|-", lw=1, ms=8)
+            ax.plot([row["down"], row["up"]], [k, k], "k|-", lw=1, ms=8,
+                    label="rival peaks: p increasing / decreasing" if k == t["unique"].to_numpy().argmin() else None)
+    if not resolved.all() or not t["unique"].all():
+        ax.legend(fontsize=7, loc="lower right")
     ax.set_yticks(y, t["parameter"])
     ax.axvline(0, color="k", lw=0.8)
     ax.set_xlabel(f"p / J · dJ/dp of {quantity} (% per %)")

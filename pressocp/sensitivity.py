@@ -12,7 +12,15 @@ one-sided: each is differentiated and the row gives both sides and is flagged.
 The periodic state moves with the parameter too. With Phi(x0, p) the state after one period,
 x0*(p) = Phi(x0*, p) gives dx0*/dp = (I - dPhi/dx0)^-1 dPhi/dp, and y(t*) = Y(x0*, p) then gives
 dy/dp = dY/dx0 dx0*/dp + dY/dp. The Jacobians are forward sensitivities of CVODES (forward mode
-is asked for: adjoints through the contact fail).
+is asked for: adjoints through the contact fail), from a periodic state found to 1000 rtol.
+
+Each derivative carries an error estimate: the same derivative at ten times the tolerance, its
+periodic state found anew, compared. A peak's derivative can be a near-cancellation: at constant speed a
+journal on its wall moves along the joint force when the clearance or the contact stiffness changes,
+so the torque's explicit dependence on the contact force and its dependence through the journal's
+position cancel to 1e-5 (clearance) or 1e-7 (stiffness) of their size, and the integrator's error
+in the sensitivities decides the result. Such a row is not ``resolved``: raise the accuracy (a
+smaller rtol) until it is, or read it as "below the integrator's resolution".
 """
 
 from __future__ import annotations
@@ -27,7 +35,7 @@ import pandas as pd
 
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
-from .simulate import simulate
+from .simulate import periodic_state, simulate
 from .speed import FourierSpeed
 
 #: Quantities (peak magnitudes) and the model output they are the peak of.
@@ -37,6 +45,12 @@ QUANTITIES = {"peak_torque": "torque", "peak_slider_normal_force": "slider_norma
 UNIQUE_TOL = 1e-3
 #: Samples of the response in which the peak's time is located.
 SAMPLES = 20001
+#: Tolerance of the periodic state, in units of rtol (max-norm of x(T) - x(0), scaled states).
+PERIODIC_TOL = 1e3
+#: The error estimate compares the derivatives with those at this many times rtol.
+LOOSER = 10.0
+#: A derivative whose error estimate (relative) is at most this is ``resolved``.
+RESOLVED = 0.01
 
 
 @dataclass
@@ -54,8 +68,12 @@ class Sensitivities:
         min-max optimum equalises them), J is their maximum and its derivative is one-sided:
         ``derivative_up`` (p increasing: the largest of their derivatives) and ``derivative_down``
         (p decreasing: the smallest) hold for an exact tie; `change` predicts a finite step.
+        ``error_estimate`` (relative: the largest change of a rival peak's derivative when rtol is
+        loosened tenfold, an upper estimate of the error at rtol) and ``resolved`` (it is at most
+        `RESOLVED`).
     per_peak : pandas.DataFrame
-        One row per (quantity, rival peak, parameter): ``time`` (s), ``value``, ``derivative``.
+        One row per (quantity, rival peak, parameter): ``time`` (s), ``value``, ``derivative``,
+        ``error_estimate``.
     periodic : bool
         Whether the derivatives include the motion of the periodic state.
     wall_time : float
@@ -109,6 +127,52 @@ def peak_times(t: np.ndarray, y: np.ndarray, period: float) -> list[float]:
     return times
 
 
+def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tuple[float, int]], x0: np.ndarray,
+                     n_parameters: int, rtol: float, periodic: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Outputs y at given times and sign(y) dy/dp, by forward sensitivities of one period from `x0`.
+
+    Parameters
+    ----------
+    msym : PressModel
+        The model with its last `n_parameters` parameters as symbols.
+    speed : FourierSpeed
+    targets : sequence of (float, int)
+        (time within the period in s, index in `OUTPUT_NAMES`) of each output.
+    x0 : ndarray
+        Scaled start state (the periodic state when `periodic`).
+    n_parameters : int
+    rtol : float
+        CVODES tolerance (relative, and absolute on the scaled states).
+    periodic : bool
+        Include the motion of the periodic state, dx0/dp = (I - dPhi/dx0)^-1 dPhi/dp.
+
+    Returns
+    -------
+    y : ndarray, shape (len(targets),)
+    d : ndarray, shape (len(targets), n_parameters)
+    """
+    T = speed.period
+    times = sorted({t for t, _ in targets if t > 0.0})
+    grid = [*times, T] if not times or times[-1] < T else times
+    pv = msym.parameters(speed)
+    n_speed = pv.size - n_parameters
+    dae = msym.dae(explicit=True)
+    dae.pop("quad")
+    F = ca.integrator("period", "cvodes", dae, 0.0, grid, {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**7})
+    X0, Pp = ca.MX.sym("x0", msym.nx), ca.MX.sym("p", n_parameters)
+    pfull = ca.vertcat(ca.DM(pv[:n_speed]), Pp)
+    X = F(x0=X0, p=pfull)["xf"]
+    outs = [X[:, -1]] + [msym.outputs(t, X0 if t == 0.0 else X[:, grid.index(t)], pfull)[i] for t, i in targets]
+    g = ca.vertcat(*outs)
+    J = ca.Function("J", [X0, Pp], [g, ca.jacobian(g, ca.vertcat(X0, Pp))], {"ad_weight": 0.0, "ad_weight_sp": 0.0})
+    g_value, jac = (np.asarray(v) for v in J(x0, pv[n_speed:]))
+    nx = msym.nx
+    dx0 = (np.linalg.solve(np.eye(nx) - jac[:nx, :nx], jac[:nx, nx:]) if periodic
+           else np.zeros((nx, n_parameters)))
+    y = g_value.ravel()[nx:]
+    return y, np.sign(y)[:, None] * (jac[nx:, :nx] @ dx0 + jac[nx:, nx:])
+
+
 def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[str],
                   quantities: Sequence[str] = ("peak_torque",), periodic: bool = True,
                   rtol: float = 1e-10) -> Sensitivities:
@@ -127,7 +191,8 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     periodic : bool
         Differentiate the periodic steady state (True) or the first cycle from the model's rest state.
     rtol : float
-        Integrator tolerance (CVODES), also of the periodic search.
+        Integrator tolerance (CVODES), also of the periodic search. The derivatives are integrated
+        once more at ten times it, for their error estimate (about 60 % more time).
 
     Returns
     -------
@@ -152,51 +217,38 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     msym = build_model(model.params, model.rod, model.clearance, model.n_elements, model.n_harmonics, names)
     pv = msym.parameters(speed)
     T = speed.period
-    res = simulate(model, speed, periodic=periodic, method="cvodes", rtol=rtol, n_out=SAMPLES)
-    x0 = res.states[:, 0] / model.x_scale
+    x0 = periodic_state(model, speed, "cvodes", rtol, tol=PERIODIC_TOL * rtol)[0] if periodic else model.x0
+    res = simulate(model, speed, method="cvodes", rtol=rtol, n_out=SAMPLES, x0=x0)
     t_rel = res.t - res.t[0]
     peaks = {q: [min(max(tq, 0.0), T) for tq in peak_times(t_rel, getattr(res, QUANTITIES[q]), T)]
              for q in quantities}
-    times = sorted({tq for q in quantities for tq in peaks[q] if tq > 0.0})
-    grid = [*times, T] if not times or times[-1] < T else times
-
+    targets = [(tq, OUTPUT_NAMES.index(QUANTITIES[q])) for q in quantities for tq in peaks[q]]
+    y, d = peak_derivatives(msym, speed, targets, x0, len(names), rtol, periodic)
+    # the estimate repeats everything at the looser tolerance, the periodic state included (found anew
+    # from the model's start): on the wall of a stiff contact its error moves a small derivative most
+    x_loose = (periodic_state(model, speed, "cvodes", LOOSER * rtol, tol=PERIODIC_TOL * LOOSER * rtol)[0]
+               if periodic else x0)
+    d_loose = peak_derivatives(msym, speed, targets, x_loose, len(names), LOOSER * rtol, periodic)[1]
+    scale = np.maximum(np.abs(d), np.finfo(float).tiny)
+    errors = np.abs(d - d_loose) / scale
     n_speed = pv.size - len(names)
-    opts = {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**7}
-    dae = msym.dae(explicit=True)
-    dae.pop("quad")
-    F = ca.integrator("period", "cvodes", dae, 0.0, grid, opts)
-    X0, Pp = ca.MX.sym("x0", msym.nx), ca.MX.sym("p", len(names))
-    pfull = ca.vertcat(ca.DM(pv[:n_speed]), Pp)
-    X = F(x0=X0, p=pfull)["xf"]
-    outs = [X[:, -1]]
-    for q in quantities:
-        for tq in peaks[q]:
-            col = X0 if tq == 0.0 else X[:, grid.index(tq)]
-            outs.append(msym.outputs(tq, col, pfull)[OUTPUT_NAMES.index(QUANTITIES[q])])
-    g = ca.vertcat(*outs)
-    J = ca.Function("J", [X0, Pp], [g, ca.jacobian(g, ca.vertcat(X0, Pp))], {"ad_weight": 0.0, "ad_weight_sp": 0.0})
-    g_value, jac = (np.asarray(v) for v in J(x0, pv[n_speed:]))
-    values = g_value.ravel()[msym.nx:]
-    nx = msym.nx
-    phi_x, phi_p = jac[:nx, :nx], jac[:nx, nx:]
-    dx0 = np.linalg.solve(np.eye(nx) - phi_x, phi_p) if periodic else np.zeros((nx, len(names)))
     rows, per_peak = [], []
-    i = nx
+    i = 0
     for q in quantities:
-        n_peaks = len(peaks[q])
-        y = values[i - nx:i - nx + n_peaks]
-        d = np.sign(y)[:, None] * (jac[i:i + n_peaks, :nx] @ dx0 + jac[i:i + n_peaks, nx:])
-        i += n_peaks
-        value = float(abs(y[0]))
+        k = slice(i, i + len(peaks[q]))
+        i += len(peaks[q])
+        yq, dq, eq = y[k], d[k], errors[k]
+        value = float(abs(yq[0]))
         for j, n in enumerate(names):
             pval = float(pv[n_speed + j])
-            per_peak += [{"quantity": q, "parameter": n, "time": tk, "value": float(abs(yk)), "derivative": float(dk)}
-                         for tk, yk, dk in zip(peaks[q], y, d[:, j])]
+            per_peak += [{"quantity": q, "parameter": n, "time": tk, "value": float(abs(yk)), "derivative": float(dk),
+                          "error_estimate": float(ek)} for tk, yk, dk, ek in zip(peaks[q], yq, dq[:, j], eq[:, j])]
             rows.append({"quantity": q, "parameter": n, "value": value, "parameter_value": pval,
-                         "derivative": float(d[0, j]), "derivative_up": float(d[:, j].max()),
-                         "derivative_down": float(d[:, j].min()),
-                         "normalised": float(d[0, j]) * pval / value if value else float("nan"),
-                         "time": peaks[q][0], "peaks": n_peaks, "unique": n_peaks == 1})
+                         "derivative": float(dq[0, j]), "derivative_up": float(dq[:, j].max()),
+                         "derivative_down": float(dq[:, j].min()),
+                         "normalised": float(dq[0, j]) * pval / value if value else float("nan"),
+                         "error_estimate": float(eq[:, j].max()), "resolved": bool(eq[:, j].max() <= RESOLVED),
+                         "time": peaks[q][0], "peaks": len(peaks[q]), "unique": len(peaks[q]) == 1})
     return Sensitivities(pd.DataFrame(rows), pd.DataFrame(per_peak), periodic, time.perf_counter() - t_start)
 
 
