@@ -31,6 +31,20 @@ SERIES_LABELS = {
 }
 
 
+def ram_speed_error_axis(ax, curves, window: tuple[float, float], ram_speed: float, tol: float) -> None:
+    """Draw the ram speed in the working window relative to the one asked for (%), with the tolerance
+    dashed: `curves` are (label, SimResult, plot keywords), each against its time from its first
+    sample; `window` (s), `ram_speed` and `tol` (m/s)."""
+    for curve, res, style in curves:
+        t = res.t - res.t[0]
+        inside = (t >= window[0]) & (t <= window[1])
+        ax.plot(t, np.where(inside, 100 * (res.ram_velocity / ram_speed - 1), np.nan), label=curve, **style)
+    for y in (-100 * tol / abs(ram_speed), 100 * tol / abs(ram_speed)):
+        ax.axhline(y, color="k", ls="--", lw=0.8)
+    ax.set_ylabel(f"ram speed error\nin the window [%]\n(asked {ram_speed:g} m/s)", fontsize=8)
+    ax.set_ylim(-300 * tol / abs(ram_speed), 300 * tol / abs(ram_speed))
+
+
 def plot_responses(
     responses: Sequence[tuple[str, SimResult]],
     window: tuple[float, float] | None = None,
@@ -68,17 +82,8 @@ def plot_responses(
         for curve, res in responses:
             ax.plot(res.t - res.t[0], getattr(res, name) * scale, label=curve, lw=1.1)
         ax.set_ylabel(label, fontsize=8)
-    if error_axis:  # the ram speed in the window, relative to the one asked for, against its tolerance
-        v, tol = ram_speed
-        ax = axes[-1]
-        for curve, res in responses:
-            t = res.t - res.t[0]
-            inside = (t >= window[0]) & (t <= window[1])
-            ax.plot(t, np.where(inside, 100 * (res.ram_velocity / v - 1), np.nan), lw=1.1, label=curve)
-        for y in (-100 * tol / abs(v), 100 * tol / abs(v)):
-            ax.axhline(y, color="k", ls="--", lw=0.8)
-        ax.set_ylabel(f"ram speed error\nin the window [%]\n(asked {v:g} m/s)", fontsize=8)
-        ax.set_ylim(-300 * tol / abs(v), 300 * tol / abs(v))
+    if error_axis:
+        ram_speed_error_axis(axes[-1], [(curve, res, {"lw": 1.1}) for curve, res in responses], window, *ram_speed)
     for ax in axes:
         if window is not None:
             ax.axvspan(*window, color="0.9", zorder=0)
@@ -172,21 +177,27 @@ def plot_impact_study(study) -> "plt.Figure":
 def plot_speed_design(result, title: str = "") -> "plt.Figure":
     """Initial vs optimal speed (an `pressocp.ocp.OcpResult`): crank speed, motor torque, slider normal
     force and ram velocity on the target model, with the rigid optimum on the rigid model dashed and
-    the working window shaded (Figs. 9-11 of the source paper)."""
+    the working window shaded (Figs. 9-11 of the source paper); a last axis shows the optimum's ram
+    speed error in its window against the tolerance (dashed)."""
     si, so = result.initial_simulation, result.simulation
     if si is None or so is None:
         raise ValueError("result must hold the initial and optimal simulations (from optimize_speed)")
     rr = rigid_response(result.problem.press, result.rigid.speed, so.t)
-    fig, axes = plt.subplots(4, 1, figsize=(8, 10), sharex=True)
+    fig, axes = plt.subplots(5, 1, figsize=(8, 11.5), sharex=True)
     rows = [("omega", "crank speed ω, rad/s"), ("torque", "motor torque, N·m"),
             ("slider_normal_force", "slider normal force, N"), ("ram_velocity", "ram velocity, m/s")]
     label = "optimum" if result.success else "best iterate (not converged)"
+    curves = [("initial (rigid design), target model", si, {"lw": 0.8, "color": "tab:red"}),
+              (f"{label}, target model", so, {"lw": 1.0, "color": "tab:blue"}),
+              ("rigid optimum, rigid press", rr, {"lw": 0.8, "ls": "--", "color": "k"})]
     for ax, (key, name) in zip(axes, rows):
-        ax.plot(si.t, getattr(si, key), lw=0.8, color="tab:red", label="initial (rigid design), target model")
-        ax.plot(so.t, getattr(so, key), lw=1.0, color="tab:blue", label=f"{label}, target model")
-        ax.plot(rr.t, getattr(rr, key), lw=0.8, ls="--", color="k", label="rigid optimum, rigid press")
-        ax.axvspan(result.t1, result.t2, color="0.9", zorder=0)
+        for curve, res, style in curves:
+            ax.plot(res.t, getattr(res, key), label=curve, **style)
         ax.set_ylabel(name)
+    # the window's times are the optimum's (another speed crosses h/H at other times)
+    ram_speed_error_axis(axes[-1], curves[1:2], (result.t1, result.t2), result.problem.ram_speed, result.problem.tol)
+    for ax in axes:
+        ax.axvspan(result.t1, result.t2, color="0.9", zorder=0)
         ax.grid(alpha=0.3)
     # upper centre: over the working window, where the crank runs slowly (upper right hid the return peak)
     axes[0].legend(fontsize=7, loc="upper center")

@@ -1,17 +1,24 @@
 """Sensitivities of peaks to press parameters: AD (forward sensitivities of the periodic response)
 against central finite differences of separately run periodic simulations."""
 
+import importlib.util
 import json
 from dataclasses import replace
 from pathlib import Path
 
-import casadi as ca
 import numpy as np
 import pytest
 
 import pressocp as po
-from pressocp.model import OUTPUT_NAMES
 from pressocp.sensitivity import peak_times, sensitivities
+
+# |torque| of the periodic response at given times, settled cycle by cycle (written apart from the
+# package's periodic search and sensitivities, in the benchmark that measures them)
+_spec = importlib.util.spec_from_file_location(
+    "bench_sensitivity", Path(__file__).resolve().parents[1] / "benchmarks" / "bench_sensitivity.py")
+bench_sensitivity = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(bench_sensitivity)
+torque_at = bench_sensitivity.torque_at
 
 OPTIMUM = Path(__file__).parent / "references" / "press75_optimum_speed.json"
 PARAMETERS = ("slider_mass", "wrist_pin.clearance", "crank_pin.stiffness")
@@ -117,30 +124,6 @@ def test_ad_matches_central_differences_for_a_worn_wrist_pin_at_constant_speed()
           - refined_peak_torque(with_value(press, name, press.value(name) - h), speed, 1e-10)) / (2 * h)
     predicted = (s.change("peak_torque", name, h) - s.change("peak_torque", name, -h)) / (2 * h)
     assert fd == pytest.approx(predicted, rel=0.02)
-
-
-def torque_at(press, speed, times, rtol):
-    """|torque| of the periodic response at the given times (s): whole cycles from the model's start
-    until the state repeats to 1e-10, then one run to the times (written here, apart from the
-    package's periodic search and simulation)."""
-    model = po.build_model(press)
-    dae = model.dae(explicit=True)
-    dae.pop("quad")
-    opts = {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**8}
-    cycle = ca.integrator("cycle", "cvodes", dae, 0.0, speed.period, opts)
-    p = model.parameters(speed)
-    x = model.x0
-    for _ in range(60):
-        x_next = np.asarray(cycle(x0=x, p=p)["xf"]).ravel()
-        settled = np.max(np.abs(x_next - x)) < 1e-10
-        x = x_next
-        if settled:
-            break
-    else:
-        pytest.fail("the response did not settle to a periodic state")
-    X = np.asarray(ca.integrator("to_times", "cvodes", dae, 0.0, list(times), opts)(x0=x, p=p)["xf"])
-    k = OUTPUT_NAMES.index("torque")
-    return np.array([abs(float(model.outputs(t, X[:, i], p)[k])) for i, t in enumerate(times)])
 
 
 @pytest.fixture(scope="module")
