@@ -70,6 +70,7 @@ JOBS = (
     Job("reversal", "bench_reversal.py", (), 10, "rod-tension bound against impacts"),
     Job("transcriptions_map", "bench_transcriptions.py", ("--case", "map", "--shooting-wall", "600"), 70,
         "which transcription converges over stroke rate x clearance"),
+    Job("sensitivity", "bench_sensitivity.py", (), 12, "AD sensitivities against differences, rtol 1e-10 .. 1e-13"),
     Job("optimum_sensitivity", "bench_optimum_sensitivity.py", (), 40, "dJ*/dp against re-solved optima"),
     Job("optimum_tracking", "bench_optimum_tracking.py", ("press75",), 40, "dJ*/dp against the tracked optimum"),
     Job("sweep_parallel", "bench_sweep.py", ("parallel",), 10, "sweep speed-up, 1/2 workers and dask"),

@@ -51,8 +51,8 @@ def with_value(press: po.PressParams, name: str, value: float) -> po.PressParams
     return replace(press, **{name: value})
 
 
-def torque_at(press: po.PressParams, speed: po.FourierSpeed, times: list[float], rtol: float) -> np.ndarray:
-    """|torque| (N m) of the periodic response at `times` (s)."""
+def torque_at(press: po.PressParams, speed: po.FourierSpeed, times, rtol: float) -> np.ndarray:
+    """|torque| (N m) of the periodic response at `times` (s, in any order)."""
     model = po.build_model(press)
     dae = model.dae(explicit=True)
     dae.pop("quad")
@@ -68,9 +68,13 @@ def torque_at(press: po.PressParams, speed: po.FourierSpeed, times: list[float],
             break
     else:
         raise RuntimeError(f"no periodic state: change per cycle {change:.2g}")
-    X = np.asarray(ca.integrator("to_times", "cvodes", dae, 0.0, times, opts)(x0=x, p=p)["xf"])
+    order = np.argsort(times)  # an integrator's output times increase
+    grid = [float(times[i]) for i in order]
+    X = np.asarray(ca.integrator("to_times", "cvodes", dae, 0.0, grid, opts)(x0=x, p=p)["xf"])
     k = OUTPUT_NAMES.index("torque")
-    return np.array([abs(float(model.outputs(t, X[:, i], p)[k])) for i, t in enumerate(times)])
+    out = np.empty(len(grid))
+    out[order] = [abs(float(model.outputs(t, X[:, i], p)[k])) for i, t in enumerate(grid)]
+    return out
 
 
 def measure() -> dict:
