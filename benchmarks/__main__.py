@@ -67,6 +67,8 @@ JOBS = (
         "transcriptions from one start, smooth case"),
     Job("transcriptions_seed", "bench_transcriptions.py", ("--case", "seed"), 45,
         "transcriptions from one start, 75 spm (IDAS shooting capped at 30 min)"),
+    Job("transcriptions_flexible", "bench_transcriptions.py", ("--case", "flexible", "--shooting-wall", "900"), 60,
+        "transcriptions from one start, slender flexible rod"),
     Job("reversal", "bench_reversal.py", (), 10, "rod-tension bound against impacts"),
     Job("transcriptions_map", "bench_transcriptions.py", ("--case", "map", "--shooting-wall", "600"), 70,
         "which transcription converges over stroke rate x clearance"),

@@ -1,9 +1,12 @@
 """Transcriptions compared on the same problems, from the same start.
 
-Each transcription solves the clearance-model stage of one problem (`Transcription.solve`), warm-started
-from the same speed; its answer is re-simulated (periodic CVODES, rtol 1e-9). Recorded per run: IPOPT's
-status, iterations, wall time, its objective and dual infeasibility per iteration (with the time of each
-iteration), and the verified objective with the ram-speed violation.
+Each transcription solves the stage on a model with states of one problem (`Transcription.solve`: the
+clearance-model stage, or the flexible-rod stage), warm-started from the same speed; its answer is
+re-simulated (periodic CVODES, rtol 1e-9). Recorded per run: IPOPT's status, iterations, wall time (IPOPT's,
+and the whole call's with the start's periodic response and the model functions' compilation), its
+objective and dual infeasibility per iteration (with the time of each iteration), and the verified
+objective with the ram-speed violation. The JSON is written after every run, so an interrupted run keeps
+the finished ones.
 
 Cases (``--case``; each writes benchmarks/results/transcriptions_<case>.json and .png):
 
@@ -16,13 +19,20 @@ Cases (``--case``; each writes benchmarks/results/transcriptions_<case>.json and
               start the default call gives its clearance stage. IDAS multiple shooting as above,
               capped at ``--shooting-wall`` s of IPOPT wall time, and collocation at 400, 800 and 1600
               elements (1600 is the default call's grid).
+* ``flexible`` the bundled ``slender_rod`` scenario (Simeon's slender rod at a mean 100 rad/s, ideal
+              joints, the rod in 4 elements), the default call's ``flexible`` stage; start: the rigid
+              press's optimum (80.9 N·m there, 112.4 N·m re-simulated on the flexible rod), as in the
+              default call. IDAS and CVODES multiple shooting (16 x 25), each capped at
+              ``--shooting-wall`` s, and collocation at 63, 126 (the default call's grid: 0.5 ms
+              elements) and 252 elements. Every run gets its own model, so that each collocation run
+              compiles its model functions as the default call does (about 5.5 min on 2 cores).
 
 * ``map``     which transcription converges over (stroke rate x clearance of both pins): the 75 spm
               scenario at 60 and 75 spm with 0.05 and 0.2 mm clearances, each from its own
               no-reversal optimum; collocation on the default call's grid and IDAS multiple shooting
               capped at ``--shooting-wall`` s. Writes transcriptions_map.json and .png.
 
-    python benchmarks/bench_transcriptions.py --case smooth|seed|map [--shooting-wall S]
+    python benchmarks/bench_transcriptions.py --case smooth|seed|flexible|map [--shooting-wall S]
 """
 
 from __future__ import annotations
@@ -30,6 +40,8 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import matplotlib
@@ -50,9 +62,42 @@ OUT = Path(__file__).parent / "results"
 VERIFY_RTOL = 1e-9
 GOAL_WALL_S = 120.0  # issue #4: wall time of the clearance-model optimisation, 2 cores
 GOAL_REL = 0.005  # issue #17: IDAS multiple shooting's verified optimum within 0.5 % of collocation's
+#: The slender-rod default call's answer re-simulated on the 4-element rod (periodic, rtol 1e-9), N m:
+#: its flexible stage then polish_1, both collocation on 126 elements (results/ocp.jsonl, case "slender").
+SLENDER_DEFAULT_ANSWER = 71.49
 
 
-def smooth_case(wall: float):
+@dataclass
+class Case:
+    """One problem the transcriptions are compared on.
+
+    Attributes
+    ----------
+    problem : po.SpeedProblem
+    start : StageResult
+        The common start (its speed warm-starts every run; its objective is on the rigid press, N m).
+    runs : list of (str, Transcription)
+        Label and transcription of each run, in order.
+    goals : dict
+        Horizontal lines of the figure: label -> objective, N m.
+    model : callable
+        The model of a run (called once per run; the same object for every run unless the case says so).
+    stage : str
+        Stage name the default chain gives this stage (records, progress).
+    extra : dict
+        Further fields of the JSON.
+    """
+
+    problem: po.SpeedProblem
+    start: object
+    runs: list
+    goals: dict
+    model: Callable[[], po.PressModel]
+    stage: str = "target"
+    extra: dict = field(default_factory=dict)
+
+
+def smooth_case(wall: float) -> Case:
     problem = po.SpeedProblem(po.PressParams(), period=1.0, ram_speed=-0.15, n_harmonics=4)
     rigid = po.Rigid(samples=300)
     start = rigid.solve(problem, po.build_model(problem.press, clearance=(), n_harmonics=4),
@@ -61,10 +106,11 @@ def smooth_case(wall: float):
     runs = [("IDAS shooting 16x25", po.MultipleShooting("idas", min_eccentricity=1.0, ipopt=cap)),
             ("CVODES shooting 16x25", po.MultipleShooting("cvodes", min_eccentricity=1.0, ipopt=cap))]
     runs += [(f"collocation {n}x3", po.Collocation(elements=n, jit=False)) for n in (100, 200, 400)]
-    return problem, start, runs, {}
+    model = po.build_model(problem.press, n_harmonics=problem.n_harmonics)
+    return Case(problem, start, runs, {}, lambda: model)
 
 
-def seed_case(wall: float):
+def seed_case(wall: float) -> Case:
     problem = po.Scenario.load("press75").problem
     # on the target model, as the default chain does: the window is widened by its ram drop
     r, start = no_reversal_start(problem)
@@ -72,7 +118,31 @@ def seed_case(wall: float):
                                                          ipopt={"ipopt.max_wall_time": wall}))]
     runs += [(f"collocation {n}x3", po.Collocation(elements=n)) for n in (400, 800, 1600)]
     goals = {"issue goal 147.5 N·m": 147.5, f"rigid floor {r.objective:.1f} N·m": r.objective}
-    return problem, start, runs, goals
+    model = po.build_model(problem.press, n_harmonics=problem.n_harmonics)
+    return Case(problem, start, runs, goals, lambda: model)
+
+
+def flexible_case(wall: float) -> Case:
+    """The slender-rod scene's flexible stage, from the rigid press's optimum, as the default call runs it
+    (`Strategy.flexible_only`): the scenario's model, the rigid stage on it (its window widened by the
+    model's ram drop, none here), the default chain's stage name. Each run builds its own model."""
+    sc = po.Scenario.load("slender_rod")
+    problem = sc.problem
+    model = sc.build_model()
+    start = po.Rigid().solve(problem, model, WarmStart(po.design_speed(problem).speed), "rigid")
+    on_rod = float(get_objective(problem.objective).value(verify_speed(model, start.speed, VERIFY_RTOL)))
+    print(f"rigid-press optimum re-simulated on the flexible rod: {on_rod:.5g}", flush=True)
+    cap = {"ipopt.max_wall_time": wall}
+    default = po.Collocation().grid(problem.period).elements  # 126: 0.5 ms elements
+    runs = [(f"collocation {n}x3", po.Collocation(elements=n)) for n in (default // 2, default)]
+    runs += [("IDAS shooting 16x25", po.MultipleShooting("idas", ipopt=cap)),
+             ("CVODES shooting 16x25", po.MultipleShooting("cvodes", ipopt=cap)),
+             (f"collocation {2 * default}x3", po.Collocation(elements=2 * default))]
+    goals = {f"rigid-press optimum on the flexible rod {on_rod:.1f} N·m": on_rod,
+             f"default call's answer {SLENDER_DEFAULT_ANSWER:.2f} N·m (flexible stage + polish)":
+                 SLENDER_DEFAULT_ANSWER}
+    return Case(problem, start, runs, goals, sc.build_model, "flexible",
+                {"scenario": "slender_rod", "model": model.spec.describe(), "start_on_model_objective": on_rod})
 
 
 MAP_RATES_SPM = (60, 75)
@@ -153,22 +223,28 @@ def map_figure(d: dict) -> None:
     save(fig, OUT / "transcriptions_map.png")
 
 
-def run_one(label: str, tr, problem, model, start) -> dict:
+def run_one(label: str, tr, problem, model, start, stage: str = "target") -> dict:
+    """One transcription's `stage` on `model` from `start`'s speed, its answer re-simulated.
+
+    ``wall_time_s`` is IPOPT's (from building the solver, compiled derivatives included, to its answer), s;
+    ``call_time_s`` the whole `Transcription.solve` call's (the start's periodic response and the compiled
+    model function too), s."""
     print(f"{label} ...", flush=True)
     t0 = time.perf_counter()
     try:
-        st = tr.solve(problem, model, WarmStart(start.speed), "target", progress=False)
+        st = tr.solve(problem, model, WarmStart(start.speed), stage, progress=False)
     except Exception as err:  # a transcription that cannot even start is a measured failure
         return {"label": label, "transcription": repr(tr), "error": f"{type(err).__name__}: {err}",
                 "wall_time_s": time.perf_counter() - t0}
+    call = time.perf_counter() - t0
     sim = verify_speed(model, st.speed, VERIFY_RTOL)
     objective = get_objective(problem.objective).value(sim)
     row = {"label": label, "transcription": repr(tr), "success": st.success, "status": st.status,
-           "iterations": st.iterations, "wall_time_s": st.wall_time, "objective": st.objective,
+           "iterations": st.iterations, "wall_time_s": st.wall_time, "call_time_s": call, "objective": st.objective,
            "verified_objective": float(objective), "periodic": is_periodic(sim),
            "ram_speed_violation_m_s": float(max(ram_speed_violation(sim, problem), 0.0)),
            "history": st.history, "iteration_log": st.iteration_log}
-    print(f"  {st.status}, {st.iterations} it, {st.wall_time:.0f} s, J {st.objective:.5g}, "
+    print(f"  {st.status}, {st.iterations} it, {st.wall_time:.0f} s ({call:.0f} s in all), J {st.objective:.5g}, "
           f"verified {objective:.5g}, ram-speed violation {row['ram_speed_violation_m_s']:.2g}", flush=True)
     return row
 
@@ -208,7 +284,8 @@ def figure(case: str, rows: list[dict], goals: dict, start_value: float) -> None
                   color="tab:red", fontsize=7, va="bottom")
     low = min([r["verified_objective"] for r in done] + [v for v in goals.values() if v > 0.9 * start_value]
               + [start_value])
-    axes[0].set_ylim(0.99 * low, 1.12 * max([start_value] + [r["verified_objective"] for r in done]))
+    axes[0].set_ylim(0.99 * low, 1.12 * max([start_value] + [r["verified_objective"] for r in done]
+                                            + [v for v in goals.values() if v > 0.9 * start_value]))
     axes[0].set_ylabel("objective of the iterates [N·m]")
     axes[1].set_ylabel("primal infeasibility")
     axes[2].set_ylabel("dual infeasibility (scaled)")
@@ -228,7 +305,7 @@ def figure(case: str, rows: list[dict], goals: dict, start_value: float) -> None
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--case", choices=("smooth", "seed", "map"), required=True)
+    ap.add_argument("--case", choices=("smooth", "seed", "flexible", "map"), required=True)
     ap.add_argument("--replot", action="store_true", help="only redraw the PNG from the JSON")
     ap.add_argument("--shooting-wall", type=float, default=1800.0,
                     help="IPOPT wall-time cap of each multiple-shooting run, s")
@@ -244,15 +321,22 @@ def main() -> None:
         OUT.mkdir(exist_ok=True)
         map_case(args.shooting_wall)
         return
-    problem, start, runs, goals = (smooth_case if args.case == "smooth" else seed_case)(args.shooting_wall)
-    model = po.build_model(problem.press, n_harmonics=problem.n_harmonics)
+    case = CASES[args.case](args.shooting_wall)
+    start = case.start
     print(f"start: {start.name} optimum, {start.objective:.5g} on the rigid press", flush=True)
-    rows = [run_one(label, tr, problem, model, start) for label, tr in runs]
     OUT.mkdir(exist_ok=True)
-    out = {**stamp(), "versions": versions(), "case": args.case, "start": start.name,
-           "start_objective": start.objective, "goals": goals, "verify_rtol": VERIFY_RTOL, "runs": rows}
-    (OUT / f"transcriptions_{args.case}.json").write_text(json.dumps(out, indent=1, default=str) + "\n")
-    figure(args.case, rows, goals, start.objective)
+    path = OUT / f"transcriptions_{args.case}.json"
+    meta = {**stamp(), "versions": versions(), "case": args.case, "stage": case.stage, "start": start.name,
+            "start_objective": start.objective, "goals": case.goals, "shooting_wall_s": args.shooting_wall,
+            "verify_rtol": VERIFY_RTOL, **case.extra}
+    rows: list[dict] = []
+    for label, tr in case.runs:
+        rows.append(run_one(label, tr, case.problem, case.model(), start, case.stage))
+        path.write_text(json.dumps({**meta, "runs": rows}, indent=1, default=str) + "\n")  # every finished run
+    figure(args.case, rows, case.goals, start.objective)
+
+
+CASES: dict[str, Callable[[float], Case]] = {"smooth": smooth_case, "seed": seed_case, "flexible": flexible_case}
 
 
 if __name__ == "__main__":
