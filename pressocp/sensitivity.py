@@ -21,9 +21,7 @@ so the torque's explicit dependence on the contact force and its dependence thro
 position cancel to 1e-5 (clearance) or 1e-7 (stiffness) of their size, and the integrator's error
 in the sensitivities decides the result. The estimate is the error of the looser run, so it is an
 upper one: a ``resolved`` row (estimate at most 1 %) can be trusted; one that is not is below what
-this tolerance verifies. At the default press's bearings those two derivatives are noise at rtol
-1e-10 and right at 1e-13 (checked against central differences), while their estimate, the 1e-12
-run's error, still says not resolved there.
+this tolerance verifies, and a smaller rtol may resolve it (benchmarks/README.md measures where).
 """
 
 from __future__ import annotations
@@ -194,8 +192,8 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     periodic : bool
         Differentiate the periodic steady state (True) or the first cycle from the model's rest state.
     rtol : float
-        Integrator tolerance (CVODES), also of the periodic search. The derivatives are integrated
-        once more at ten times it, for their error estimate (about 60 % more time).
+        Integrator tolerance (CVODES), also of the periodic search. The periodic state and the
+        derivatives are computed once more at ten times it, for their error estimate.
 
     Returns
     -------
