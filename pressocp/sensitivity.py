@@ -36,7 +36,7 @@ import pandas as pd
 
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
-from .simulate import periodic_state, simulate
+from .simulate import SimulationError, periodic_state, simulate
 from .speed import FourierSpeed
 
 #: Quantities (peak magnitudes) and the model output they are the peak of.
@@ -79,12 +79,16 @@ class Sensitivities:
         Whether the derivatives include the motion of the periodic state.
     wall_time : float
         s.
+    unverified : str
+        Empty, or why there is no error estimate (the run at ten times rtol failed: through impacts its
+        periodic search can stall above its tolerance); every ``error_estimate`` is then inf.
     """
 
     table: pd.DataFrame
     per_peak: pd.DataFrame
     periodic: bool
     wall_time: float
+    unverified: str = ""
 
     def change(self, quantity: str, parameter: str, dp: float) -> float:
         """First-order change of J for a step `dp` of the parameter (its unit): the new maximum of
@@ -227,11 +231,15 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     y, d = peak_derivatives(msym, speed, targets, x0, len(names), rtol, periodic)
     # the estimate repeats everything at the looser tolerance, the periodic state included (found anew
     # from the model's start): on the wall of a stiff contact its error moves a small derivative most
-    x_loose = (periodic_state(model, speed, "cvodes", LOOSER * rtol, tol=PERIODIC_TOL * LOOSER * rtol)[0]
-               if periodic else x0)
-    d_loose = peak_derivatives(msym, speed, targets, x_loose, len(names), LOOSER * rtol, periodic)[1]
-    scale = np.maximum(np.abs(d), np.finfo(float).tiny)
-    errors = np.abs(d - d_loose) / scale
+    try:
+        x_loose = (periodic_state(model, speed, "cvodes", LOOSER * rtol, tol=PERIODIC_TOL * LOOSER * rtol)[0]
+                   if periodic else x0)
+        d_loose = peak_derivatives(msym, speed, targets, x_loose, len(names), LOOSER * rtol, periodic)[1]
+        errors = np.abs(d - d_loose) / np.maximum(np.abs(d), np.finfo(float).tiny)
+        unverified = ""
+    except SimulationError as err:  # no estimate: every derivative is unverified, and says why
+        errors = np.full(d.shape, np.inf)
+        unverified = f"the run at {LOOSER:g} rtol failed: {str(err).splitlines()[0]}"
     n_speed = pv.size - len(names)
     rows, per_peak = [], []
     i = 0
@@ -250,7 +258,8 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
                          "normalised": float(dq[0, j]) * pval / value if value else float("nan"),
                          "error_estimate": float(eq[:, j].max()), "resolved": bool(eq[:, j].max() <= RESOLVED),
                          "time": peaks[q][0], "peaks": len(peaks[q]), "unique": len(peaks[q]) == 1})
-    return Sensitivities(pd.DataFrame(rows), pd.DataFrame(per_peak), periodic, time.perf_counter() - t_start)
+    return Sensitivities(pd.DataFrame(rows), pd.DataFrame(per_peak), periodic, time.perf_counter() - t_start,
+                         unverified)
 
 
 __all__ = ["QUANTITIES", "Sensitivities", "peak_times", "sensitivities"]

@@ -163,3 +163,24 @@ def test_a_derivative_below_the_integrators_resolution_is_flagged():
     t = s.table.set_index("parameter")
     assert t.loc["slider_mass", "resolved"] and t.loc["slider_mass", "error_estimate"] < 1e-2
     assert not t.loc["crank_pin.stiffness", "resolved"] and t.loc["crank_pin.stiffness", "error_estimate"] > 0.1
+
+
+def test_without_a_looser_run_every_derivative_is_unverified(monkeypatch):
+    """When the run at ten times rtol finds no periodic state (through impacts its periodic search can
+    stall above its tolerance), the derivatives stand, each with an infinite error estimate, and the
+    result says why."""
+    import pressocp.sensitivity as sens
+
+    found = sens.periodic_state
+
+    def stalls_when_loose(model, speed, method, rtol, **kwargs):
+        if rtol > 1e-8:
+            raise po.SimulationError("periodic steady state not found: residual 3e-05 (tol 1e-05)")
+        return found(model, speed, method, rtol, **kwargs)
+
+    monkeypatch.setattr(sens, "periodic_state", stalls_when_loose)
+    model = po.build_model(po.PressParams(), clearance=("wrist_pin",))
+    s = sensitivities(model, po.FourierSpeed.constant(0.8), ("slider_mass",), rtol=1e-8)
+    row = s.table.iloc[0]
+    assert np.isinf(row["error_estimate"]) and not row["resolved"] and 0.4 < row["derivative"] < 0.6
+    assert "failed" in s.unverified and "residual 3e-05" in s.unverified
