@@ -30,6 +30,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import pandas as pd  # noqa: E402
 
 import pressocp as po  # noqa: E402
 from pressocp.plots import plot_sweep, plot_tornado, plot_wear, save  # noqa: E402
@@ -100,24 +101,31 @@ def wear(workers: int) -> None:
                  "min_crank_pin_eccentricity", "min_wrist_pin_eccentricity", "free_flight"]].to_string(index=False))
 
 
+def tornado_figure(out: dict) -> None:
+    """Both tornado panels from the saved tables (`study_tornado.json`)."""
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4))
+    for ax, (label, run) in zip(axes, out.items()):
+        s = po.Sensitivities(pd.DataFrame(run["table"]), pd.DataFrame(), True, run["wall_time_s"], run["unverified"])
+        plot_tornado(s, title=f"peak motor torque, 75 spm, {label}", ax=ax)
+    fig.tight_layout()
+    save(fig, OUT / "study_tornado.png")
+
+
 def tornado() -> None:
     scenario = po.Scenario.load("press75")
     model = scenario.build_model()
     speeds = {"kinematic design (impacting)": po.design_speed(scenario.problem).speed,
               "optimum": po.FourierSpeed.from_dict(json.loads(REFERENCE.read_text()))}
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4))
     out = {}
-    for ax, (label, speed) in zip(axes, speeds.items()):
+    for label, speed in speeds.items():
         t0 = time.perf_counter()
         s = po.sensitivities(model, speed, PARAMETERS)
         out[label] = {"wall_time_s": time.perf_counter() - t0, "rtol": 1e-10, "unverified": s.unverified,
                       "table": s.table.to_dict("records")}
-        plot_tornado(s, title=f"peak motor torque, 75 spm, {label}", ax=ax)
         print(label, s.table[["parameter", "value", "derivative", "normalised", "error_estimate", "resolved", "unique"]]
               .to_string(index=False))
-    fig.tight_layout()
-    save(fig, OUT / "study_tornado.png")
     (OUT / "study_tornado.json").write_text(json.dumps(out, indent=2, default=str) + "\n")
+    tornado_figure(out)
 
 
 def main() -> None:
@@ -126,16 +134,16 @@ def main() -> None:
                                                  "tornado"))
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--replot", action="store_true",
-                    help="only redraw the optima studies' figures from their CSVs (wear and tornado: not redrawn)")
+                    help="only redraw the figures from the saved results (wear: not redrawn)")
     args = ap.parse_args()
     if args.replot:
-        import pandas as pd
-
         for case in args.cases:
-            if case in ("wear", "tornado"):
+            if case == "wear":
                 print(f"{case}: no --replot (its figure is drawn from the computed result)")
-                continue
-            optima_figure(pd.read_csv(OUT / f"study_{case}.csv"), case)
+            elif case == "tornado":
+                tornado_figure(json.loads((OUT / "study_tornado.json").read_text()))
+            else:
+                optima_figure(pd.read_csv(OUT / f"study_{case}.csv"), case)
         return
     OUT.mkdir(exist_ok=True)
     for case in args.cases:

@@ -263,8 +263,10 @@ def plot_tornado(sensitivities, quantity: str = "peak_torque", title: str = "", 
     """Normalised sensitivities p/J dJ/dp of one quantity (a `pressocp.Sensitivities`), largest on top:
     the % change of the peak per % change of each parameter. One-sided rows (rival peaks) show both
     sides; rows whose error estimate is over `pressocp.sensitivity.RESOLVED` are grey and hatched
-    (below the integrator's resolution: their sign and size are not known). Drawn on `ax` when given
-    (a panel of a larger figure)."""
+    (not resolved: their sign and size are not known). Drawn on `ax` when given (a panel of a larger
+    figure)."""
+    from .sensitivity import RESOLVED
+
     t = sensitivities.table[sensitivities.table["quantity"] == quantity].copy()
     scale = t["parameter_value"] / t["value"]
     t["up"], t["down"] = t["derivative_up"] * scale, t["derivative_down"] * scale
@@ -277,7 +279,7 @@ def plot_tornado(sensitivities, quantity: str = "peak_torque", title: str = "", 
     ax.barh(y[resolved], t["normalised"][resolved], color=np.array(colours)[resolved])
     if not resolved.all():
         ax.barh(y[~resolved], t["normalised"][~resolved], color="0.85", edgecolor="0.5", hatch="//",
-                label="below the integrator's resolution")
+                label=f"not resolved (error estimate over {RESOLVED:.0%})")
     for k, (_, row) in enumerate(t.iterrows()):
         if not row["unique"]:
             ax.plot([row["down"], row["up"]], [k, k], "k|-", lw=1, ms=8,
