@@ -10,7 +10,11 @@ Scenes (the default press, both clearances, T = 0.8 s):
 One cycle from the same start per model and scene: the periodic state of the rigid-rod clearance
 model (`periodic_state`, CVODES rtol 1e-9); for the flexible rod, those journal states with no
 elastic deformation, then one warm-up cycle (as `bench_simulation.py`). The reference is CVODES at
-rtol 1e-11 from the same start.
+rtol 1e-11 from the same start (``--reference-rtol`` sets another; every row records its
+``reference_rtol`` and the reference's wall time, and the figure names a panel's reference when it is not
+1e-11). ``--reference-timeout`` S runs the reference in a child process and stops it after S s: the pair
+then gets one row, method ``reference``, not ok, with how long it ran, and no method is run on it.
+Rows are kept per (scene, model, reference rtol).
 
 Methods: IDAS and CVODES (rtol 1e-4 ... 1e-8), scipy Radau and BDF (1e-4, 1e-6), CasADi's fixed-step
 ``rk`` (RK4) and ``collocation`` (Radau, 3 points) at N steps per cycle. A fixed-step run's outputs are
@@ -28,6 +32,7 @@ report its Newton iterations, so none). A method's tighter tolerances are skippe
 runs exceeds `BUDGET` s.
 
     python benchmarks/bench_work_precision.py [--models clearance flexible-2 ...] [--scenes smooth impacting]
+        [--reference-rtol 1e-11] [--reference-timeout S] [--replot]
 
 Writes results/work_precision.json and work_precision.png.
 """
@@ -36,6 +41,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import multiprocessing as mp
 import statistics
 import sys
 import time
@@ -106,17 +112,98 @@ def runs_of(model_name: str) -> list[tuple[str, float | int]]:
     return out
 
 
+def key(row: dict) -> tuple[str, str, float]:
+    """(scene, model, reference rtol) of a row; rows written before rows recorded it used `REF_RTOL`."""
+    return row["scene"], row["model"], row.get("reference_rtol", REF_RTOL)
+
+
 def write(data: dict, path: Path) -> None:
-    """Write `data`, keeping the rows of (scene, model) pairs it does not hold from the file."""
+    """Write `data`, keeping the rows of (scene, model, reference rtol) triples it does not hold from the file."""
     rows = data["rows"]
     if path.exists():
-        done = {(r["scene"], r["model"]) for r in rows}
-        rows = [r for r in json.loads(path.read_text())["rows"] if (r["scene"], r["model"]) not in done] + rows
+        done = {key(r) for r in rows}
+        old = json.loads(path.read_text())["rows"]
+        rows = [{**r, "reference_rtol": key(r)[2]} for r in old if key(r) not in done] + rows
     path.write_text(json.dumps({**data, "rows": rows}, indent=1, default=float))
 
 
-def measure(model_names, scene_names, path: Path) -> dict:
-    """Every run; the JSON is written after each (scene, model) pair, so a stopped run keeps what it did."""
+def _reference_child(conn, model, speed, x0: np.ndarray, rtol: float) -> None:
+    """Child process of `reference`: sends ("ok", SimResult) or ("error", first line of the message)."""
+    try:
+        conn.send(("ok", simulate(model, speed, x0=x0, method="cvodes", rtol=rtol, n_out=REF_SAMPLES)))
+    except SimulationError as err:
+        conn.send(("error", str(err).splitlines()[0]))
+    finally:
+        conn.close()
+
+
+def reference(model, speed, x0: np.ndarray, rtol: float, timeout: float | None) -> tuple:
+    """The CVODES reference run of one cycle.
+
+    Parameters
+    ----------
+    model : PressModel
+        The model.
+    speed : FourierSpeed
+        The crank speed of the scene.
+    x0 : ndarray
+        Scaled start state.
+    rtol : float
+        CVODES relative (and absolute, scaled) tolerance.
+    timeout : float or None
+        Wall-time limit, s. None: run in this process, no limit; else in a forked child, killed after
+        `timeout` s.
+
+    Returns
+    -------
+    tuple
+        (SimResult or None, wall time s, None or why there is no result).
+    """
+    t0 = time.perf_counter()
+    if timeout is None:
+        try:
+            ref = simulate(model, speed, x0=x0, method="cvodes", rtol=rtol, n_out=REF_SAMPLES)
+        except SimulationError as err:
+            return None, time.perf_counter() - t0, str(err).splitlines()[0]
+        return ref, time.perf_counter() - t0, None
+    ctx = mp.get_context("fork")
+    recv, send = ctx.Pipe(duplex=False)
+    child = ctx.Process(target=_reference_child, args=(send, model, speed, x0, rtol), daemon=True)
+    child.start()
+    send.close()
+    try:
+        if recv.poll(timeout):
+            try:
+                status, out = recv.recv()
+            except EOFError:
+                status, out = "error", f"the reference process ended without a result (exit code {child.exitcode})"
+            wall = time.perf_counter() - t0
+            return (out, wall, None) if status == "ok" else (None, wall, out)
+        wall = time.perf_counter() - t0
+        return None, wall, f"CVODES rtol {rtol:g} reference stopped unfinished after {wall:.0f} s (limit {timeout:g} s)"
+    finally:
+        if child.is_alive():
+            child.kill()
+        child.join()
+        recv.close()
+
+
+def measure(model_names: list[str], scene_names: list[str], path: Path, ref_rtol: float = REF_RTOL,
+            ref_timeout: float | None = None) -> dict:
+    """Every run; the JSON is written after each run, so a stopped run keeps what it did (a pair stopped
+    part-way has rows only for the runs it finished).
+
+    Parameters
+    ----------
+    model_names, scene_names : list of str
+        The pairs to measure.
+    path : Path
+        The JSON to merge into.
+    ref_rtol : float
+        CVODES rtol of the reference.
+    ref_timeout : float or None
+        Wall-time limit of the reference, s (see `reference`).
+    """
     press = PressParams()
     speeds = {"smooth": FourierSpeed.constant(T),
               "impacting": design_speed(SpeedProblem(press, period=T, ram_speed=-0.1)).speed}
@@ -129,13 +216,21 @@ def measure(model_names, scene_names, path: Path) -> dict:
             t0 = time.perf_counter()
             x0 = start_of(model, speed)
             t1 = time.perf_counter()
-            ref = simulate(model, speed, x0=x0, method="cvodes", rtol=REF_RTOL, n_out=REF_SAMPLES)
-            print(f"{scene} / {mname}: start {t1 - t0:.1f} s, reference {time.perf_counter() - t1:.1f} s, "
+            ref, ref_wall, why = reference(model, speed, x0, ref_rtol, ref_timeout)
+            if ref is None:
+                print(f"{scene} / {mname}: start {t1 - t0:.1f} s, no reference ({why})", flush=True)
+                rows.append({"scene": scene, "model": mname, "method": "reference", "nx": model.nx,
+                             "reference_rtol": ref_rtol, "ok": False, "error": why, "reference_wall_time_s": ref_wall})
+                write({**meta, "rows": rows}, path)
+                continue
+            print(f"{scene} / {mname}: start {t1 - t0:.1f} s, reference (CVODES rtol {ref_rtol:g}) {ref_wall:.1f} s, "
                   f"peak {ref.peak('torque'):.4f} N m", flush=True)
             over = set()
             for method, setting in runs_of(mname):
+                write({**meta, "rows": rows}, path)  # every finished row, before the next run
                 row = {"scene": scene, "model": mname, "method": method, "nx": model.nx,
-                       "reference_peak_torque": ref.peak("torque")}
+                       "reference_peak_torque": ref.peak("torque"), "reference_rtol": ref_rtol,
+                       "reference_wall_time_s": ref_wall}
                 if method in ("rk", "collocation"):
                     row["steps_per_cycle"] = setting
                     row["step_s"] = T / setting
@@ -174,32 +269,45 @@ def measure(model_names, scene_names, path: Path) -> dict:
 
 
 def plot(data: dict) -> plt.Figure:
+    """Error against wall time per (scene, model, reference rtol): for each scene a row of peak-torque
+    panels over a row of RMS panels, one column per model (rigid-rod clearance model first)."""
     rows = [r for r in data["rows"] if r.get("ok")]
-    panels = sorted({(r["scene"], r["model"]) for r in rows}, key=lambda k: (k[0] != "smooth", k[1]))
-    fig, axes = plt.subplots(2, len(panels), figsize=(4.2 * len(panels), 7.5), squeeze=False)
+    default = data.get("reference_rtol", REF_RTOL)
+    scenes = sorted({r["scene"] for r in rows}, key=lambda s: s != "smooth")
+    order = ["clearance", "flexible-2", "flexible-4", "flexible-8"]
+    panels = {s: sorted({(r["model"], r.get("reference_rtol", default)) for r in rows if r["scene"] == s},
+                        key=lambda k: (order.index(k[0]), -k[1])) for s in scenes}
+    ncol = max((len(p) for p in panels.values()), default=1)
+    fig, axes = plt.subplots(2 * len(scenes), ncol, figsize=(4.2 * ncol, 3.75 * 2 * len(scenes)), squeeze=False)
     methods = ["idas", "cvodes", "scipy-radau", "scipy-bdf", "rk", "collocation"]
     marks = dict(zip(methods, "os^vDx"))
-    for j, (scene, mname) in enumerate(panels):
-        for method in methods:
-            pts = sorted(((r["wall_time_s"], r["peak_torque_error"], r["rms_torque_error"]) for r in rows
-                          if r["scene"] == scene and r["model"] == mname and r["method"] == method))
-            if not pts:
-                continue
-            x, yp, yr = (np.array(v) for v in zip(*pts))
-            style = {"marker": marks[method], "color": f"C{methods.index(method)}", "label": method}
-            axes[0, j].loglog(x, np.maximum(yp, 1e-12), **style)
-            axes[1, j].loglog(x, np.maximum(yr, 1e-12), **style)
-        for i, what in enumerate(("peak-torque error", "RMS torque error")):
-            ax = axes[i, j]
-            ax.axhline(1e-3, color="k", ls="--", lw=0.8, label="1e-3")
-            ax.set_title(f"{scene}, {mname}", fontsize=9)
-            ax.set_ylabel(f"{what} (relative)")
-            ax.set_xlabel("wall time of one cycle, s")
-            ax.grid(alpha=0.3, which="both")
-            ax.xaxis.set_minor_formatter(NullFormatter())
-        axes[0, j].legend(fontsize=7)
-    fig.suptitle(f"Work against precision, T = {data['period_s']} s, reference CVODES rtol {data['reference_rtol']:g} "
-                 f"({data['date'][:10]}, {data['cpus']} CPUs)", fontsize=10)
+    for i0, scene in enumerate(scenes):
+        for j in range(len(panels[scene]), ncol):
+            axes[2 * i0, j].axis("off")
+            axes[2 * i0 + 1, j].axis("off")
+        for j, (mname, rtol) in enumerate(panels[scene]):
+            for method in methods:
+                pts = sorted(((r["wall_time_s"], r["peak_torque_error"], r["rms_torque_error"]) for r in rows
+                              if r["scene"] == scene and r["model"] == mname and r["method"] == method
+                              and r.get("reference_rtol", default) == rtol))
+                if not pts:
+                    continue
+                x, yp, yr = (np.array(v) for v in zip(*pts))
+                style = {"marker": marks[method], "color": f"C{methods.index(method)}", "label": method}
+                axes[2 * i0, j].loglog(x, np.maximum(yp, 1e-12), **style)
+                axes[2 * i0 + 1, j].loglog(x, np.maximum(yr, 1e-12), **style)
+            title = f"{scene}, {mname}" + ("" if rtol == default else f" (reference rtol {rtol:g})")
+            for i, what in enumerate(("peak-torque error", "RMS torque error")):
+                ax = axes[2 * i0 + i, j]
+                ax.axhline(1e-3, color="k", ls="--", lw=0.8, label="1e-3")
+                ax.set_title(title, fontsize=9)
+                ax.set_ylabel(f"{what} (relative)")
+                ax.set_xlabel("wall time of one cycle, s")
+                ax.grid(alpha=0.3, which="both")
+                ax.xaxis.set_minor_formatter(NullFormatter())
+            axes[2 * i0, j].legend(fontsize=7)
+    fig.suptitle(f"Work against precision, T = {data['period_s']} s, reference CVODES rtol {default:g} unless a panel "
+                 f"says otherwise ({data['date'][:10]}, {data['cpus']} CPUs)", fontsize=10)
     fig.tight_layout()
     return fig
 
@@ -209,6 +317,10 @@ def main() -> None:
     ap.add_argument("--models", nargs="+", default=["clearance", "flexible-2", "flexible-4", "flexible-8"],
                     choices=["clearance", "flexible-2", "flexible-4", "flexible-8"])
     ap.add_argument("--scenes", nargs="+", default=["smooth", "impacting"], choices=["smooth", "impacting"])
+    ap.add_argument("--reference-rtol", type=float, default=REF_RTOL,
+                    help=f"CVODES rtol of the reference (default {REF_RTOL:g}); rows record it")
+    ap.add_argument("--reference-timeout", type=float, default=None,
+                    help="stop the reference after this many s (wall) and record that; default no limit")
     ap.add_argument("--replot", action="store_true", help="redraw the figure from the JSON")
     a = ap.parse_args()
     OUT.mkdir(exist_ok=True)
@@ -216,7 +328,7 @@ def main() -> None:
     if a.replot:
         data = json.loads(path.read_text())
     else:
-        measure(a.models, a.scenes, path)
+        measure(a.models, a.scenes, path, a.reference_rtol, a.reference_timeout)
         data = json.loads(path.read_text())
     save(plot(data), OUT / "work_precision.png")
 
