@@ -62,6 +62,9 @@ OUT = Path(__file__).parent / "results"
 VERIFY_RTOL = 1e-9
 GOAL_WALL_S = 120.0  # issue #4: wall time of the clearance-model optimisation, 2 cores
 GOAL_REL = 0.005  # issue #17: IDAS multiple shooting's verified optimum within 0.5 % of collocation's
+#: Goals below this fraction of the start's objective are not drawn (they would flatten the axis).
+GOAL_SHOWN = 0.8
+LEGEND_LINE_IN = 0.135  # height of a legend line at 6.5 pt, inch
 #: The slender-rod default call's answer re-simulated on the 4-element rod (periodic, rtol 1e-9), N m:
 #: its flexible stage then polish_1, both collocation on 126 elements (results/ocp.jsonl, case "slender").
 SLENDER_DEFAULT_ANSWER = 71.49
@@ -228,7 +231,8 @@ def run_one(label: str, tr, problem, model, start, stage: str = "target") -> dic
 
     ``wall_time_s`` is IPOPT's (from building the solver, compiled derivatives included, to its answer), s;
     ``call_time_s`` the whole `Transcription.solve` call's (the start's periodic response and the compiled
-    model function too), s."""
+    model function too), s. A run that did not converge answers with its least-infeasible iterate;
+    its last iterate is re-simulated too (``last_iterate``). ``speed``: the answer (`FourierSpeed.to_dict`)."""
     print(f"{label} ...", flush=True)
     t0 = time.perf_counter()
     try:
@@ -243,15 +247,28 @@ def run_one(label: str, tr, problem, model, start, stage: str = "target") -> dic
            "iterations": st.iterations, "wall_time_s": st.wall_time, "call_time_s": call, "objective": st.objective,
            "verified_objective": float(objective), "periodic": is_periodic(sim),
            "ram_speed_violation_m_s": float(max(ram_speed_violation(sim, problem), 0.0)),
-           "history": st.history, "iteration_log": st.iteration_log}
+           "history": st.history, "iteration_log": st.iteration_log, "speed": st.speed.to_dict()}
     print(f"  {st.status}, {st.iterations} it, {st.wall_time:.0f} s ({call:.0f} s in all), J {st.objective:.5g}, "
           f"verified {objective:.5g}, ram-speed violation {row['ram_speed_violation_m_s']:.2g}", flush=True)
+    if not st.success:
+        last = verify_speed(model, st.last_speed, VERIFY_RTOL)
+        row["last_iterate"] = {
+            "objective": st.history[-1] if st.history else None,
+            "inf_pr": (st.iteration_log.get("inf_pr") or [None])[-1],
+            "verified_objective": float(get_objective(problem.objective).value(last)), "periodic": is_periodic(last),
+            "ram_speed_violation_m_s": float(max(ram_speed_violation(last, problem), 0.0)),
+            "speed": st.last_speed.to_dict()}
+        print(f"  last iterate: J {row['last_iterate']['objective']}, verified "
+              f"{row['last_iterate']['verified_objective']:.5g}, ram-speed violation "
+              f"{row['last_iterate']['ram_speed_violation_m_s']:.2g}", flush=True)
     return row
 
 
 def figure(case: str, rows: list[dict], goals: dict, start_value: float) -> None:
     """Objective, primal and dual infeasibility of each run's iterates against wall time (log);
-    the verified answer as a marker (o converged, x not: the least-infeasible iterate)."""
+    the verified answer as a marker (o converged, x not: the least-infeasible iterate; + the last iterate of
+    a run that did not converge, when recorded). Goals at or above `GOAL_SHOWN` x the start's objective are
+    drawn; the legend goes below the axes."""
     fig, axes = plt.subplots(3, 1, figsize=(7, 8.5), sharex=True)
     done = [r for r in rows if "error" not in r]
     for i, r in enumerate(done):
@@ -259,16 +276,21 @@ def figure(case: str, rows: list[dict], goals: dict, start_value: float) -> None
         t = np.maximum(np.asarray(log.get("time_s", [])), 0.1)
         n = min(len(t), len(r["history"]))
         held = r["ram_speed_violation_m_s"] <= 0.0
+        last = r.get("last_iterate")
         axes[0].plot(t[:n], r["history"][:n], "-", color=c, lw=1,
                      label=f"{r['label']}: {r['status']}, {r['iterations']} it, re-simulated "
-                           f"{r['verified_objective']:.2f}{'' if held else ', ram speed out of tolerance'}")
+                           f"{r['verified_objective']:.2f}{'' if held else ', ram speed out of tolerance'}"
+                           + ("" if last is None else f"; last iterate {last['verified_objective']:.2f}"
+                              + ("" if last["ram_speed_violation_m_s"] <= 0.0 else " (ram speed out)")))
+        if last is not None:  # + : the last iterate re-simulated
+            axes[0].plot([r["wall_time_s"]], [last["verified_objective"]], "+", color=c, ms=9)
         axes[0].plot([r["wall_time_s"]], [r["verified_objective"]], ("o" if held else "s") if r["success"] else "x",
                      color=c, ms=7, mfc=None if held else "none")
         for ax, key in ((axes[1], "inf_pr"), (axes[2], "inf_du")):
             v = np.asarray(log.get(key, []))
             m = min(len(t), len(v))
             ax.plot(t[:m], np.maximum(v[:m], 1e-16), "-", color=c, lw=1)
-    for k, (name, v) in enumerate((n, v) for n, v in goals.items() if v > 0.9 * start_value):
+    for k, (name, v) in enumerate((n, v) for n, v in goals.items() if v > GOAL_SHOWN * start_value):
         axes[0].axhline(v, color="0.4", ls=(0, (4, 2 + 2 * k)), lw=0.8, label=name)
     axes[0].axhline(start_value, color="0.7", lw=0.8, ls=":", label=f"start {start_value:.2f} (rigid press)")
     # issue #17: multiple shooting's verified optimum within 0.5 % of collocation's (the finest converged grid)
@@ -282,24 +304,27 @@ def figure(case: str, rows: list[dict], goals: dict, start_value: float) -> None
         ax.axvline(GOAL_WALL_S, color="tab:red", ls="--", lw=0.8)
     axes[-1].text(GOAL_WALL_S, 0.02, f" goal: {GOAL_WALL_S:.0f} s", transform=axes[-1].get_xaxis_transform(),
                   color="tab:red", fontsize=7, va="bottom")
-    low = min([r["verified_objective"] for r in done] + [v for v in goals.values() if v > 0.9 * start_value]
-              + [start_value])
+    low = min([r["verified_objective"] for r in done] + [v for v in goals.values() if v > GOAL_SHOWN * start_value]
+              + [start_value] + [r["last_iterate"]["verified_objective"] for r in done if "last_iterate" in r])
     axes[0].set_ylim(0.99 * low, 1.12 * max([start_value] + [r["verified_objective"] for r in done]
-                                            + [v for v in goals.values() if v > 0.9 * start_value]))
+                                            + [v for v in goals.values() if v > GOAL_SHOWN * start_value]))
     axes[0].set_ylabel("objective of the iterates [N·m]")
     axes[1].set_ylabel("primal infeasibility")
     axes[2].set_ylabel("dual infeasibility (scaled)")
     axes[2].set_xlabel("wall time [s]")
     axes[0].set_title(f"Transcriptions from the same start: {case} case. Markers: the answer re-simulated\n"
-                      "(o converged and verified, □ ram speed out of tolerance, x not converged); "
+                      "(o converged and verified, □ ram speed out of tolerance, x not converged: its least-"
+                      "infeasible iterate,\n+ its last iterate); "
                       "iterates off the top are infeasible", fontsize=8)
-    axes[0].legend(fontsize=6.5)
+    handles, labels = axes[0].get_legend_handles_labels()  # below the axes, clear of the curves
+    fig.legend(handles, labels, fontsize=6.5, loc="lower left", bbox_to_anchor=(0.01, 0.0))
     for ax in axes:
         ax.set_xscale("log")
         ax.grid(alpha=0.3, which="both")
     for ax in axes[1:]:
         ax.set_yscale("log")
-    fig.tight_layout()
+    fig.set_figheight(8.5 + LEGEND_LINE_IN * len(labels))
+    fig.tight_layout(rect=(0.0, (LEGEND_LINE_IN * len(labels) + 0.1) / fig.get_figheight(), 1.0, 1.0))
     save(fig, OUT / f"transcriptions_{case}.png")
 
 
