@@ -70,7 +70,7 @@ JOBS = (
     Job("transcriptions_flexible", "bench_transcriptions.py", ("--case", "flexible", "--shooting-wall", "900"), 60,
         "transcriptions from one start, slender flexible rod"),
     Job("reversal", "bench_reversal.py", (), 10, "rod-tension bound against impacts"),
-    Job("transcriptions_map", "bench_transcriptions.py", ("--case", "map", "--shooting-wall", "600"), 70,
+    Job("transcriptions_map", "bench_transcriptions.py", ("--case", "map", "--shooting-wall", "600"), 110,
         "which transcription converges over stroke rate x clearance"),
     Job("sensitivity", "bench_sensitivity.py", (), 12, "AD sensitivities against differences, rtol 1e-10 .. 1e-13"),
     Job("optimum_sensitivity", "bench_optimum_sensitivity.py", (), 40, "dJ*/dp against re-solved optima"),

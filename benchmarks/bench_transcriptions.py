@@ -29,8 +29,9 @@ Cases (``--case``; each writes benchmarks/results/transcriptions_<case>.json and
 
 * ``map``     which transcription converges over (stroke rate x clearance of both pins): the 75 spm
               scenario at 60 and 75 spm with 0.05 and 0.2 mm clearances, each from its own
-              no-reversal optimum; collocation on the default call's grid and IDAS multiple shooting
-              capped at ``--shooting-wall`` s. Writes transcriptions_map.json and .png.
+              no-reversal optimum; collocation on the default call's grid, IDAS and CVODES multiple
+              shooting capped at ``--shooting-wall`` s (``--methods`` runs some of them; the JSON
+              keeps the others' rows). Writes transcriptions_map.json and .png.
 
     python benchmarks/bench_transcriptions.py --case smooth|seed|flexible|map [--shooting-wall S]
 """
@@ -172,7 +173,23 @@ def outcome(row: dict) -> str:
     return "converged" if ok else "converged, not verified"
 
 
-def map_case(wall: float) -> None:
+#: The map's transcriptions, by the name ``--methods`` takes.
+MAP_METHODS = {"collocation": "collocation (default grid)", "idas": "IDAS shooting 16x25",
+               "cvodes": "CVODES shooting 16x25"}
+
+
+def map_transcription(method: str, wall: float):
+    """The map's transcription `method` (a key of `MAP_METHODS`), shooting capped at `wall` s."""
+    if method == "collocation":
+        return po.Collocation()
+    return po.MultipleShooting(method, min_eccentricity=1.0, ipopt={"ipopt.max_wall_time": wall})
+
+
+def map_case(wall: float, methods: list[str]) -> None:
+    """Run `methods` at every map point; rows of other methods already in the JSON are kept."""
+    path = OUT / "transcriptions_map.json"
+    labels = [MAP_METHODS[m] for m in methods]
+    kept = [r for r in json.loads(path.read_text())["runs"] if r["method"] not in labels] if path.exists() else []
     rows = []
     base = po.Scenario.load("press75")
     for spm in MAP_RATES_SPM:
@@ -182,34 +199,33 @@ def map_case(wall: float) -> None:
             problem = sc.problem
             rigid, start = no_reversal_start(problem)
             model = po.build_model(problem.press, n_harmonics=problem.n_harmonics)
-            runs = [("collocation (default grid)", po.Collocation()),
-                    ("IDAS shooting 16x25", po.MultipleShooting("idas", min_eccentricity=1.0,
-                                                                 ipopt={"ipopt.max_wall_time": wall}))]
-            for label, tr in runs:
+            for method, label in zip(methods, labels):
+                tr = map_transcription(method, wall)
                 row = run_one(f"{spm} spm, {c * 1e3:g} mm: {label}", tr, problem, model, start)
                 row.update(stroke_rate_spm=spm, clearance_m=c, method=label, start_objective=start.objective,
                            rigid_floor=rigid.objective)
                 row["outcome"] = outcome(row)
                 rows.append(row)
-                (OUT / "transcriptions_map.json").write_text(json.dumps(
+                path.write_text(json.dumps(
                     {**stamp(), "versions": versions(), "case": "map", "shooting_wall_s": wall,
-                     "verify_rtol": VERIFY_RTOL, "runs": rows}, indent=1, default=str) + "\n")
-    map_figure(json.loads((OUT / "transcriptions_map.json").read_text()))
+                     "verify_rtol": VERIFY_RTOL, "runs": kept + rows}, indent=1, default=str) + "\n")
+    map_figure(json.loads(path.read_text()))
 
 
 def map_figure(d: dict) -> None:
     rows = d["runs"]
-    methods = list(dict.fromkeys(r["method"] for r in rows))
+    methods = [m for m in MAP_METHODS.values() if any(r["method"] == m for r in rows)]
     colours = {"converged": "C2", "converged, not verified": "C1", "not converged": "C3", "error": "k"}
     fig, ax = plt.subplots(figsize=(8, 5))
     for r in rows:
         i = methods.index(r["method"])
-        x = MAP_CLEARANCES_M.index(r["clearance_m"]) + (i - 0.5) * 0.3
+        x = MAP_CLEARANCES_M.index(r["clearance_m"]) + (i - (len(methods) - 1) / 2) * 0.3
         y = MAP_RATES_SPM.index(r["stroke_rate_spm"])
         ax.scatter(x, y, s=1700, marker="s", color=colours[r["outcome"]])  # wide enough for "147.3 N·m"
         text = (r["outcome"] if "verified_objective" not in r
                 else f"{r['verified_objective']:.1f} N·m\n{r['wall_time_s']:.0f} s")
         name = r["method"].split(" ")[0].replace("collocation", "colloc.")
+        text = text.replace("not converged", "not\nconverged")
         ax.annotate(f"{name}\n{text}", (x, y), ha="center", va="center", fontsize=6.5, color="w")
     for name, c in colours.items():
         ax.scatter([], [], marker="s", color=c, label=name)
@@ -332,6 +348,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--case", choices=("smooth", "seed", "flexible", "map"), required=True)
     ap.add_argument("--replot", action="store_true", help="only redraw the PNG from the JSON")
+    ap.add_argument("--methods", nargs="+", choices=tuple(MAP_METHODS), default=list(MAP_METHODS),
+                    help="with --case map: the transcriptions to run (the JSON keeps the others' rows)")
     ap.add_argument("--shooting-wall", type=float, default=1800.0,
                     help="IPOPT wall-time cap of each multiple-shooting run, s")
     args = ap.parse_args()
@@ -344,7 +362,7 @@ def main() -> None:
         return
     if args.case == "map":
         OUT.mkdir(exist_ok=True)
-        map_case(args.shooting_wall)
+        map_case(args.shooting_wall, args.methods)
         return
     case = CASES[args.case](args.shooting_wall)
     start = case.start
