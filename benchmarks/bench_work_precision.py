@@ -44,6 +44,7 @@ import json
 import multiprocessing as mp
 import statistics
 import sys
+import textwrap
 import time
 from pathlib import Path
 
@@ -270,12 +271,14 @@ def measure(model_names: list[str], scene_names: list[str], path: Path, ref_rtol
 
 def plot(data: dict) -> plt.Figure:
     """Error against wall time per (scene, model, reference rtol): for each scene a row of peak-torque
-    panels over a row of RMS panels, one column per model (rigid-rod clearance model first)."""
-    rows = [r for r in data["rows"] if r.get("ok")]
+    panels over a row of RMS panels, one column per model (rigid-rod clearance model first). A triple
+    without a reference (method ``reference`` not ok) gets the reason instead of curves."""
+    every = data["rows"]
+    rows = [r for r in every if r.get("ok")]
     default = data.get("reference_rtol", REF_RTOL)
-    scenes = sorted({r["scene"] for r in rows}, key=lambda s: s != "smooth")
+    scenes = sorted({r["scene"] for r in every}, key=lambda s: s != "smooth")
     order = ["clearance", "flexible-2", "flexible-4", "flexible-8"]
-    panels = {s: sorted({(r["model"], r.get("reference_rtol", default)) for r in rows if r["scene"] == s},
+    panels = {s: sorted({(r["model"], r.get("reference_rtol", default)) for r in every if r["scene"] == s},
                         key=lambda k: (order.index(k[0]), -k[1])) for s in scenes}
     ncol = max((len(p) for p in panels.values()), default=1)
     fig, axes = plt.subplots(2 * len(scenes), ncol, figsize=(4.2 * ncol, 3.75 * 2 * len(scenes)), squeeze=False)
@@ -297,6 +300,17 @@ def plot(data: dict) -> plt.Figure:
                 axes[2 * i0, j].loglog(x, np.maximum(yp, 1e-12), **style)
                 axes[2 * i0 + 1, j].loglog(x, np.maximum(yr, 1e-12), **style)
             title = f"{scene}, {mname}" + ("" if rtol == default else f" (reference rtol {rtol:g})")
+            failed = [r for r in every if r["scene"] == scene and r["model"] == mname and r["method"] == "reference"
+                      and r.get("reference_rtol", default) == rtol and not r.get("ok")]
+            if failed:
+                for i in range(2):
+                    ax = axes[2 * i0 + i, j]
+                    ax.set_xticks([])
+                    ax.set_yticks([])
+                    ax.set_title(title, fontsize=9)
+                    ax.text(0.5, 0.5, textwrap.fill("no reference: " + failed[-1]["error"], 40), ha="center",
+                            va="center", fontsize=8, transform=ax.transAxes)
+                continue
             for i, what in enumerate(("peak-torque error", "RMS torque error")):
                 ax = axes[2 * i0 + i, j]
                 ax.axhline(1e-3, color="k", ls="--", lw=0.8, label="1e-3")
