@@ -65,6 +65,10 @@ OUT = Path(__file__).parent / "results"
 T = 0.8
 REF_RTOL = 1e-11
 REF_SAMPLES = 16001
+#: Goals: IDAS this many times faster than scipy Radau at equal accuracy, and one cycle of the
+#: 4-element rod within this many seconds.
+GOAL_RADAU_RATIO = 20.0
+GOAL_CYCLE_S, GOAL_CYCLE_MODEL = 1.0, "flexible-4"
 ADAPTIVE = {"idas": (1e-4, 1e-6, 1e-8), "cvodes": (1e-4, 1e-6, 1e-8), "scipy-radau": (1e-4, 1e-6),
             "scipy-bdf": (1e-4, 1e-6)}
 FIXED = {"rk": (8000, 16000, 32000, 128000), "collocation": (400, 1600, 6400)}
@@ -299,6 +303,10 @@ def plot(data: dict) -> plt.Figure:
                 style = {"marker": marks[method], "color": f"C{methods.index(method)}", "label": method}
                 axes[2 * i0, j].loglog(x, np.maximum(yp, 1e-12), **style)
                 axes[2 * i0 + 1, j].loglog(x, np.maximum(yr, 1e-12), **style)
+                if method == "scipy-radau":  # goal: IDAS 20x faster than scipy Radau at equal accuracy
+                    goal = {"color": style["color"], "ls": ":", "lw": 1, "label": "goal: Radau's time / 20"}
+                    axes[2 * i0, j].loglog(x / GOAL_RADAU_RATIO, np.maximum(yp, 1e-12), **goal)
+                    axes[2 * i0 + 1, j].loglog(x / GOAL_RADAU_RATIO, np.maximum(yr, 1e-12), **goal)
             title = f"{scene}, {mname}" + ("" if rtol == default else f" (reference rtol {rtol:g})")
             failed = [r for r in every if r["scene"] == scene and r["model"] == mname and r["method"] == "reference"
                       and r.get("reference_rtol", default) == rtol and not r.get("ok")]
@@ -314,6 +322,8 @@ def plot(data: dict) -> plt.Figure:
             for i, what in enumerate(("peak-torque error", "RMS torque error")):
                 ax = axes[2 * i0 + i, j]
                 ax.axhline(1e-3, color="k", ls="--", lw=0.8, label="1e-3")
+                if mname == GOAL_CYCLE_MODEL:
+                    ax.axvline(GOAL_CYCLE_S, color="tab:red", ls="--", lw=0.8, label="goal: 1 s per cycle")
                 ax.set_title(title, fontsize=9)
                 ax.set_ylabel(f"{what} (relative)")
                 ax.set_xlabel("wall time of one cycle, s")
