@@ -18,7 +18,6 @@ from __future__ import annotations
 import argparse
 import json
 import time
-from dataclasses import replace
 from pathlib import Path
 
 import casadi as ca
@@ -41,14 +40,6 @@ RTOLS = (1e-10, 1e-11, 1e-12, 1e-13)
 FD_RTOL = 1e-13
 STEP = 0.05
 GOAL = 0.02
-
-
-def with_value(press: po.PressParams, name: str, value: float) -> po.PressParams:
-    """`press` with one dotted parameter set."""
-    if "." in name:
-        joint, field = name.split(".")
-        return replace(press, **{joint: replace(getattr(press, joint), **{field: value})})
-    return replace(press, **{name: value})
 
 
 def torque_at(press: po.PressParams, speed: po.FourierSpeed, times, rtol: float) -> np.ndarray:
@@ -94,8 +85,8 @@ def measure() -> dict:
         times = [r["time"] for r in rows]
         h = STEP * press.value(name)
         t0 = time.perf_counter()
-        up = torque_at(with_value(press, name, press.value(name) + h), speed, times, FD_RTOL)
-        down = torque_at(with_value(press, name, press.value(name) - h), speed, times, FD_RTOL)
+        up = torque_at(press.with_value(name, press.value(name) + h), speed, times, FD_RTOL)
+        down = torque_at(press.with_value(name, press.value(name) - h), speed, times, FD_RTOL)
         for r, d in zip(rows, (up - down) / (2 * h)):
             fd.append({"parameter": name, "time": r["time"], "derivative": float(d), "step": STEP})
         print(f"FD {name}: {(up - down) / (2 * h)} ({time.perf_counter() - t0:.1f} s)", flush=True)

@@ -373,6 +373,15 @@ class PressParams:
             v = getattr(owner, DERIVED[field_name])
         return float(v)
 
+    def with_value(self, name: str, value: float) -> "PressParams":
+        """A copy with one parameter, by dotted name (`NUMERIC_PARAMETERS`), set to `value` (its SI
+        unit; validated again)."""
+        check_parameter(name)
+        if "." in name:
+            joint, field_name = name.split(".")
+            return replace(self, **{joint: replace(getattr(self, joint), **{field_name: value})})
+        return replace(self, **{name: value})
+
     def _owner(self, name: str):
         if "." in name:
             joint, field_name = name.split(".")

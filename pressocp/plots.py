@@ -280,10 +280,12 @@ def plot_tornado(sensitivities, quantity: str = "peak_torque", title: str = "", 
     if not resolved.all():
         ax.barh(y[~resolved], t["normalised"][~resolved], color="0.85", edgecolor="0.5", hatch="//",
                 label=f"not resolved (error estimate over {RESOLVED:.0%})")
+    labelled = False
     for k, (_, row) in enumerate(t.iterrows()):
         if not row["unique"]:
             ax.plot([row["down"], row["up"]], [k, k], "k|-", lw=1, ms=8,
-                    label="rival peaks: p increasing / decreasing" if k == t["unique"].to_numpy().argmin() else None)
+                    label=None if labelled else "rival peaks: p increasing / decreasing")
+            labelled = True
     if not resolved.all() or not t["unique"].all():
         ax.legend(fontsize=7, loc="lower right")
     ax.set_yticks(y, t["parameter"])

@@ -126,3 +126,14 @@ def test_fuzz_valid_geometry_accepted(r, ratio):
     p = PressParams(crank_radius=r, rod_length=r * ratio)
     assert math.isclose(p.stroke, 2 * r)
     assert np.isfinite(p.rod_inertia_value)
+
+
+def test_a_parameter_set_by_its_dotted_name():
+    press = PressParams()
+    worn = press.with_value("wrist_pin.clearance", 2e-4).with_value("slider_mass", 180.0)
+    assert worn.value("wrist_pin.clearance") == 2e-4 and worn.value("slider_mass") == 180.0
+    assert worn.crank_pin == press.crank_pin and press.value("wrist_pin.clearance") == 1e-4
+    with pytest.raises(ValueError, match="slider_mass"):
+        press.with_value("slider_mas", 1.0)
+    with pytest.raises(ValueError):
+        press.with_value("wrist_pin.clearance", -1e-4)

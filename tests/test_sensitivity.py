@@ -3,7 +3,6 @@ against central finite differences of separately run periodic simulations."""
 
 import importlib.util
 import json
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -22,13 +21,6 @@ torque_at = bench_sensitivity.torque_at
 
 OPTIMUM = Path(__file__).parent / "references" / "press75_optimum_speed.json"
 PARAMETERS = ("slider_mass", "wrist_pin.clearance", "crank_pin.stiffness")
-
-
-def with_value(press, name, value):
-    if "." in name:
-        joint, field = name.split(".")
-        return replace(press, **{joint: replace(getattr(press, joint), **{field: value})})
-    return replace(press, **{name: value})
 
 
 def refined_peak_torque(press, speed, rtol):
@@ -99,8 +91,8 @@ def test_ad_matches_central_differences(ad, case, name, step):
     press = po.PressParams()
     speed, s = ad[case]
     h = step * press.value(name)
-    fd = (refined_peak_torque(with_value(press, name, press.value(name) + h), speed, 1e-10)
-          - refined_peak_torque(with_value(press, name, press.value(name) - h), speed, 1e-10)) / (2 * h)
+    fd = (refined_peak_torque(press.with_value(name, press.value(name) + h), speed, 1e-10)
+          - refined_peak_torque(press.with_value(name, press.value(name) - h), speed, 1e-10)) / (2 * h)
     predicted = (s.change("peak_torque", name, h) - s.change("peak_torque", name, -h)) / (2 * h)
     assert fd == pytest.approx(predicted, rel=0.02)
 
@@ -115,13 +107,13 @@ def test_ad_matches_central_differences_for_a_worn_wrist_pin_at_constant_speed()
     step moves J by 9e-5 N m, inside that ripple; on a 2 mm (worn) wrist pin a ±20 % step moves it
     by 1.4e-2 N m, and J is linear in c over that range (AD: -17.09, -16.76, -16.85 N m/m at 0.1,
     1, 2 mm), so the large step costs no truncation error."""
-    press = with_value(po.PressParams(), "wrist_pin.clearance", 2e-3)
+    press = po.PressParams().with_value("wrist_pin.clearance", 2e-3)
     speed = po.FourierSpeed.constant(0.8)
     name = "wrist_pin.clearance"
     s = sensitivities(po.build_model(press), speed, (name,), rtol=1e-10)
     h = 0.2 * press.value(name)
-    fd = (refined_peak_torque(with_value(press, name, press.value(name) + h), speed, 1e-10)
-          - refined_peak_torque(with_value(press, name, press.value(name) - h), speed, 1e-10)) / (2 * h)
+    fd = (refined_peak_torque(press.with_value(name, press.value(name) + h), speed, 1e-10)
+          - refined_peak_torque(press.with_value(name, press.value(name) - h), speed, 1e-10)) / (2 * h)
     predicted = (s.change("peak_torque", name, h) - s.change("peak_torque", name, -h)) / (2 * h)
     assert fd == pytest.approx(predicted, rel=0.02)
 
@@ -150,8 +142,8 @@ def test_ad_matches_central_differences_on_the_smooth_case_at_rtol_1e_13(smooth_
     assert len(rows) == 2
     h = 0.05 * press.value(name)
     times = rows["time"].to_numpy()
-    fd = (torque_at(with_value(press, name, press.value(name) + h), speed, times, 1e-13)
-          - torque_at(with_value(press, name, press.value(name) - h), speed, times, 1e-13)) / (2 * h)
+    fd = (torque_at(press.with_value(name, press.value(name) + h), speed, times, 1e-13)
+          - torque_at(press.with_value(name, press.value(name) - h), speed, times, 1e-13)) / (2 * h)
     assert fd == pytest.approx(rows["derivative"].to_numpy(), rel=0.02)
 
 
