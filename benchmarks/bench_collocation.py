@@ -38,13 +38,10 @@ from pressocp.ocp.verify import ram_speed_violation, verify_speed
 from pressocp.plots import save
 from pressocp.rigid import rigid_response
 from pressocp.simulate import periodic_state
+from goals import GOAL_WALL_S, GOAL_VERIFY_PCT, GOAL_PEAK_NM, GOAL_FLOOR_RATIO
 
 OUT = Path(__file__).parent / "results"
 PERIOD = 0.8
-GOAL_WALL_S = 120.0  # issue #4: wall time to convergence on the clearance model, 2 cores
-GOAL_VERIFY_PCT = 2.0  # issue #4: re-simulated peak within 2 % of the reported one
-GOAL_PEAK_NM = 147.5  # issue #14: the seed case's default call
-GOAL_FLOOR_RATIO = 1.10  # issue #4: near the floor
 
 
 def main() -> None:

@@ -55,6 +55,8 @@ from pressocp import (Collocation, FourierSpeed, MultipleShooting, PressParams, 
 from pressocp.ocp.strategy import max_relative_change
 from pressocp.plots import plot_speed_design, save
 
+from goals import GOAL_FLOOR_RATIO, GOAL_PEAK_NM, GOAL_WALL_S
+
 OUT = Path(__file__).parent / "results"
 OPTIMISATION_CASES = ["default", "default_all", "default_idas", "seed", "seed_idas", "seed_collocation",
                       "seed_collocation_jit", "pin_cap", "flexible", "slender"]
@@ -130,6 +132,15 @@ def slender_figure(row: dict) -> "plt.Figure":
                     fontsize=10)
     fig.tight_layout()
     return fig
+
+
+def goal_levels(case: str, floor: float) -> dict[str, list[tuple[float, str]]]:
+    """The project's goals on a case's torque axis: the peak within `GOAL_FLOOR_RATIO` x the rigid
+    floor (N m), and for the 75 spm default call (``seed``) `GOAL_PEAK_NM`."""
+    goals = [(GOAL_FLOOR_RATIO * floor, f"goal: {GOAL_FLOOR_RATIO:.2f} × floor = {GOAL_FLOOR_RATIO * floor:.1f} N·m")]
+    if case == "seed":
+        goals.append((GOAL_PEAK_NM, f"goal: ≤ {GOAL_PEAK_NM:g} N·m"))
+    return {"torque": goals}
 
 
 def optimisation_call(case: str, max_iter: int | None, cap_N: float | None) -> tuple[dict, dict]:
@@ -229,8 +240,9 @@ def main() -> None:
         name = f"pin_cap_{a.cap_N:.0f}N" if a.case == "pin_cap" else a.case
         cap = f", pin forces ≤ {a.cap_N:.0f} N" if a.case == "pin_cap" else ""
         title = (f"{a.case}{cap}: peak torque {r.initial_peak_torque:.0f} → {r.peak_torque:.0f} N·m "
-                 f"(rigid floor {r.rigid_peak_torque:.0f}), {row['wall_time_s']:.0f} s")
-        save(plot_speed_design(r, title), OUT / f"ocp_{name}.png")
+                 f"(rigid floor {r.rigid_peak_torque:.1f}), {row['wall_time_s']:.0f} s "
+                 f"(goal {GOAL_WALL_S:.0f} s{'' if a.repeat == 1 else f', median of {a.repeat}'})")
+        save(plot_speed_design(r, title, levels=goal_levels(a.case, r.rigid_peak_torque)), OUT / f"ocp_{name}.png")
     with open(OUT / "ocp.jsonl", "a") as fh:
         fh.write(json.dumps(row, default=float) + "\n")
     short = {k: v for k, v in row.items() if k not in ("objective_history", "history", "coefficients", "stages")}

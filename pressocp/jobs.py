@@ -88,13 +88,21 @@ def _problem_summary(problem: SpeedProblem) -> dict:
 
 
 def _figures(out: Path, responses: list[tuple[str, SimResult]], problem: SpeedProblem,
-             window: tuple[float, float], title: str, journals: bool) -> list[Path]:
+             window: tuple[float, float], title: str, journals: bool, floor: float | None = None) -> list[Path]:
+    """The `FIGURES`, with the ram speed tolerance, the pin-force cap (when the problem has one) and
+    the rigid-press floor of the peak torque (`floor`, N·m, for an optimum) drawn."""
+    levels: dict[str, list[tuple[float, str]]] = {}
+    if floor is not None:
+        levels["torque"] = [(floor, f"rigid-press floor ±{floor:.1f} N·m")]
+    if problem.max_pin_force is not None:
+        for pin in ("crank_pin_force", "wrist_pin_force"):
+            levels[pin] = [(problem.max_pin_force, f"cap {problem.max_pin_force:.0f} N")]
     files = []
     for name, series in FIGURES.items():
         if name == "journals.png" and not journals:
             continue
         fig = plot_responses(responses, window=window, series=series, title=title,
-                             ram_speed=(problem.ram_speed, problem.tol))
+                             ram_speed=(problem.ram_speed, problem.tol), levels=levels)
         files.append(save(fig, out / name))
     return files
 
@@ -166,7 +174,7 @@ def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobRep
              write_json(out / "speed.json", result.speed.to_dict()), result.to_json(out / "result.json")]
     label = "optimum" if result.success else "best iterate (not converged)"
     files += _figures(out, [("initial: rigid design", init), (label, sim)], problem, (result.t1, result.t2),
-                      f"{scenario.name}: {where}", bool(scenario.model.clearance))
+                      f"{scenario.name}: {where}", bool(scenario.model.clearance), result.rigid_peak_torque)
     verdict = ("converged and verified" if result.success and result.verified else
                f"NOT {'verified' if result.success else 'converged'}: {result.status}"
                + ("" if result.periodic is True else f"; {result.periodic}"))

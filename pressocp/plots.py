@@ -5,7 +5,8 @@ No backend is chosen here: in Jupyter the figures show inline, and a script pick
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import textwrap
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import matplotlib.pyplot as plt
@@ -31,6 +32,22 @@ SERIES_LABELS = {
 }
 
 
+def draw_levels(ax, levels: Sequence[tuple[float, str]], legend: bool = True) -> None:
+    """Draw reference levels on an axis: each (value, label) as a dashed line at `value` (plotted
+    units), and at -value too when the axis already shows negative values (a peak bounds the
+    magnitude of a signed series), labelled once. With `legend`, the axis gets its own legend (upper
+    left) of the levels alone."""
+    signed = any(np.nanmin(line.get_ydata(), initial=0.0) < 0 for line in ax.get_lines())
+    handles = []
+    for k, (value, label) in enumerate(levels):
+        style = {"color": "0.25", "lw": 0.9, "ls": ("--", ":", "-.")[k % 3], "zorder": 1}
+        handles.append(ax.axhline(value, label=label, **style))
+        if value > 0 and signed:
+            ax.axhline(-value, **style)
+    if legend:
+        ax.legend(handles=handles, fontsize=7, loc="upper left")
+
+
 def ram_speed_error_axis(ax, curves, window: tuple[float, float], ram_speed: float, tol: float) -> None:
     """Draw the ram speed in the working window relative to the one asked for (%), with the tolerance
     dashed: `curves` are (label, SimResult, plot keywords), each against its time from its first
@@ -51,6 +68,7 @@ def plot_responses(
     series: Sequence[str] = ("omega", "ram_height", "ram_velocity", "torque", "slider_normal_force"),
     title: str = "",
     ram_speed: tuple[float, float] | None = None,
+    levels: Mapping[str, Sequence[tuple[float, str]]] | None = None,
 ):
     """Stack time histories of several responses over one cycle, one axis per series.
 
@@ -68,6 +86,9 @@ def plot_responses(
         Ram velocity asked for in the window and its allowed deviation, m/s: with a window and a
         ram-velocity axis, a last axis shows the relative ram speed error over the window and the
         tolerance (dashed).
+    levels : mapping of series name to sequence of (value, label), optional
+        Reference levels to draw across a series' axis, in SI (`draw_levels`): the rigid-press
+        floor of the peak torque, a cap on the pin forces.
 
     Returns
     -------
@@ -82,6 +103,8 @@ def plot_responses(
         for curve, res in responses:
             ax.plot(res.t - res.t[0], getattr(res, name) * scale, label=curve, lw=1.1)
         ax.set_ylabel(label, fontsize=8)
+        if levels and name in levels:
+            draw_levels(ax, [(value * scale, text) for value, text in levels[name]], legend=ax is not axes[0])
     if error_axis:
         ram_speed_error_axis(axes[-1], [(curve, res, {"lw": 1.1}) for curve, res in responses], window, *ram_speed)
     for ax in axes:
@@ -91,7 +114,7 @@ def plot_responses(
     axes[0].legend(fontsize=8, loc="best")
     axes[-1].set_xlabel("time in the cycle t [s]" + (" (grey: working window)" if window is not None else ""))
     if title:
-        fig.suptitle(title, fontsize=10)
+        fig.suptitle(textwrap.fill(title, 100), fontsize=10)
     fig.tight_layout()
     return fig
 
@@ -174,26 +197,54 @@ def plot_impact_study(study) -> "plt.Figure":
     return fig
 
 
-def plot_speed_design(result, title: str = "") -> "plt.Figure":
+def plot_speed_design(result, title: str = "",
+                      levels: Mapping[str, Sequence[tuple[float, str]]] | None = None) -> "plt.Figure":
     """Initial vs optimal speed (an `pressocp.ocp.OcpResult`): crank speed, motor torque, slider normal
     force and ram velocity on the target model, with the rigid optimum on the rigid model dashed and
-    the working window shaded (Figs. 9-11 of the source paper); a last axis shows the optimum's ram
-    speed error in its window against the tolerance (dashed)."""
+    the working window shaded (Figs. 9-11 of the source paper).
+
+    The torque axis shows the rigid-press floor (±, the least peak torque a rigid press allows). When
+    the problem caps the pin forces, an axis shows the larger pin force against the cap. A last axis
+    shows the optimum's ram speed error in its window against the tolerance (dashed).
+
+    Parameters
+    ----------
+    result : OcpResult
+        From `optimize_speed`, with its initial and optimal simulations.
+    title : str
+        Figure title.
+    levels : mapping of series name to sequence of (value, label), optional
+        More reference levels (SI) for the axes ``"torque"``, ``"slider_normal_force"``,
+        ``"pin_force"`` (when shown), drawn after the built-in ones (`draw_levels`).
+    """
     si, so = result.initial_simulation, result.simulation
     if si is None or so is None:
         raise ValueError("result must hold the initial and optimal simulations (from optimize_speed)")
+    cap = result.problem.max_pin_force
     rr = rigid_response(result.problem.press, result.rigid.speed, so.t)
-    fig, axes = plt.subplots(5, 1, figsize=(8, 11.5), sharex=True)
     rows = [("omega", "crank speed ω, rad/s"), ("torque", "motor torque, N·m"),
-            ("slider_normal_force", "slider normal force, N"), ("ram_velocity", "ram velocity, m/s")]
+            ("slider_normal_force", "slider normal force, N")]
+    if cap is not None:
+        rows.append(("pin_force", "larger pin force, N"))
+    rows.append(("ram_velocity", "ram velocity, m/s"))
+    fig, axes = plt.subplots(len(rows) + 1, 1, figsize=(8, 2.3 * len(rows) + 2.3), sharex=True)
     label = "optimum" if result.success else "best iterate (not converged)"
     curves = [("initial (rigid design), target model", si, {"lw": 0.8, "color": "tab:red"}),
               (f"{label}, target model", so, {"lw": 1.0, "color": "tab:blue"}),
               ("rigid optimum, rigid press", rr, {"lw": 0.8, "ls": "--", "color": "k"})]
+    floor = result.rigid_peak_torque
+    drawn = {"torque": [(floor, f"rigid-press floor ±{floor:.1f} N·m")],
+             "pin_force": [] if cap is None else [(cap, f"pin-force cap {cap:.0f} N")]}
+    for key, extra in (levels or {}).items():
+        drawn.setdefault(key, []).extend(extra)
     for ax, (key, name) in zip(axes, rows):
         for curve, res, style in curves:
-            ax.plot(res.t, getattr(res, key), label=curve, **style)
+            y = (np.maximum(res.crank_pin_force, res.wrist_pin_force) if key == "pin_force"
+                 else getattr(res, key))
+            ax.plot(res.t, y, label=curve, **style)
         ax.set_ylabel(name)
+        if drawn.get(key):
+            draw_levels(ax, drawn[key])
     # the window's times are the optimum's (another speed crosses h/H at other times)
     ram_speed_error_axis(axes[-1], curves[1:2], (result.t1, result.t2), result.problem.ram_speed, result.problem.tol)
     for ax in axes:

@@ -191,8 +191,11 @@ class Scenario:
 
     def with_overrides(self, overrides: dict[str, Any]) -> "Scenario":
         """A copy with dotted keys set, e.g. ``{"problem.stroke_rate_spm": 60, "wrist_pin.clearance":
-        5e-5}`` (press fields may leave out ``press.``). Checked like a file."""
+        5e-5}`` (press fields may leave out ``press.``). Checked like a file. Unless ``name`` is set,
+        the copy's name lists the keys set (it titles figures and reports)."""
         data = self.to_dict()
+        if overrides and "name" not in overrides:
+            data["name"] = f"{self.name}; " + ", ".join(f"{k} = {v}" for k, v in overrides.items())
         for key, value in overrides.items():
             parts = key.split(".")
             if parts[0] not in data or (len(parts) > 1 and not isinstance(data[parts[0]], dict)):

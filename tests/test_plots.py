@@ -1,0 +1,59 @@
+"""Figures carry their reference levels: the rigid-press floor on the torque, the pin-force cap."""
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+import pressocp as po  # noqa: E402
+from pressocp.plots import plot_responses, plot_speed_design  # noqa: E402
+
+
+def horizontal_levels(ax) -> list[float]:
+    """The y values of the horizontal lines (axhline) of an axis."""
+    return sorted(float(line.get_ydata()[0]) for line in ax.get_lines()
+                  if len(set(np.asarray(line.get_ydata(), float))) == 1 and list(line.get_xdata()) == [0, 1])
+
+
+@pytest.fixture(scope="module")
+def capped_optimum():
+    """The ideal press at 60 spm, 6 harmonics, pin forces capped at 3200 N (a rigid stage, seconds)."""
+    sc = po.Scenario.load("press75").with_overrides({"model.clearance": [], "problem.stroke_rate_spm": 60,
+                                                      "problem.n_harmonics": 6, "problem.max_pin_force": 3200.0})
+    return sc.optimize(False)
+
+
+def test_levels_are_mirrored_on_signed_series_only(capped_optimum):
+    sim = capped_optimum.simulation
+    fig = plot_responses([("optimum", sim)], series=("torque", "crank_pin_force"),
+                         levels={"torque": [(90.0, "floor")], "crank_pin_force": [(3200.0, "cap")]})
+    torque_ax, pin_ax = fig.axes
+    assert horizontal_levels(torque_ax) == [-90.0, 90.0]  # the torque changes sign over the cycle
+    assert horizontal_levels(pin_ax) == [3200.0]  # a pin force is a magnitude
+    assert [t.get_text() for t in pin_ax.get_legend().get_texts()] == ["cap"]
+    plt.close(fig)
+
+
+def test_speed_design_draws_the_floor_and_the_pin_cap(capped_optimum):
+    r = capped_optimum
+    assert r.success
+    fig = plot_speed_design(r, levels={"torque": [(1.1 * r.rigid_peak_torque, "goal")]})
+    by_label = {ax.get_ylabel(): ax for ax in fig.axes}
+    assert horizontal_levels(by_label["motor torque, N·m"]) == pytest.approx(
+        sorted([-1.1 * r.rigid_peak_torque, -r.rigid_peak_torque, r.rigid_peak_torque, 1.1 * r.rigid_peak_torque]))
+    pin_ax = by_label["larger pin force, N"]
+    assert horizontal_levels(pin_ax) == [3200.0]
+    # the optimum meets its cap: the drawn peak is at or under the line, within the solver's tolerance
+    peak = max(line.get_ydata().max() for line in pin_ax.get_lines()[1:2])
+    assert 3000.0 < peak <= 3200.0 * (1 + 1e-3)
+    plt.close(fig)
+
+
+def test_an_overridden_scenario_names_its_changes():
+    sc = po.Scenario.load("press75").with_overrides({"problem.stroke_rate_spm": 60})
+    assert sc.name.endswith("problem.stroke_rate_spm = 60")
+    named = po.Scenario.load("press75").with_overrides({"name": "mine", "problem.stroke_rate_spm": 60})
+    assert named.name == "mine"
