@@ -32,11 +32,11 @@ SERIES_LABELS = {
 }
 
 
-def draw_levels(ax, levels: Sequence[tuple[float, str]], legend: bool = True) -> None:
+def draw_levels(ax, levels: Sequence[tuple[float, str]], legend: bool = True, loc: str = "upper left") -> None:
     """Draw reference levels on an axis: each (value, label) as a dashed line at `value` (plotted
     units), and at -value too when the axis already shows negative values (a peak bounds the
-    magnitude of a signed series), labelled once. With `legend`, the axis gets its own legend (upper
-    left) of the levels alone."""
+    magnitude of a signed series), labelled once. With `legend`, the axis gets its own legend of the
+    levels alone, at `loc`."""
     signed = any(np.nanmin(line.get_ydata(), initial=0.0) < 0 for line in ax.get_lines())
     handles = []
     for k, (value, label) in enumerate(levels):
@@ -45,7 +45,7 @@ def draw_levels(ax, levels: Sequence[tuple[float, str]], legend: bool = True) ->
         if value > 0 and signed:
             ax.axhline(-value, **style)
     if legend:
-        ax.legend(handles=handles, fontsize=7, loc="upper left")
+        ax.legend(handles=handles, fontsize=7, loc=loc)
 
 
 def ram_speed_error_axis(ax, curves, window: tuple[float, float], ram_speed: float, tol: float) -> None:
@@ -243,8 +243,8 @@ def plot_speed_design(result, title: str = "",
                  else getattr(res, key))
             ax.plot(res.t, y, label=curve, **style)
         ax.set_ylabel(name)
-        if drawn.get(key):
-            draw_levels(ax, drawn[key])
+        if drawn.get(key):  # where the curves and levels leave room (impact spikes fill either end)
+            draw_levels(ax, drawn[key], loc="best")
     # the window's times are the optimum's (another speed crosses h/H at other times)
     ram_speed_error_axis(axes[-1], curves[1:2], (result.t1, result.t2), result.problem.ram_speed, result.problem.tol)
     for ax in axes:
