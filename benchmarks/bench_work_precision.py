@@ -10,11 +10,26 @@ Scenes (the default press, both clearances, T = 0.8 s):
 One cycle from the same start per model and scene: the periodic state of the rigid-rod clearance
 model (`periodic_state`, CVODES rtol 1e-9); for the flexible rod, those journal states with no
 elastic deformation, then one warm-up cycle (as `bench_simulation.py`). The reference is CVODES at
-rtol 1e-11 from the same start (``--reference-rtol`` sets another; every row records its
-``reference_rtol`` and the reference's wall time, and the figure names a panel's reference when it is not
-1e-11). ``--reference-timeout`` S runs the reference in a child process and stops it after S s: the pair
-then gets one row, method ``reference``, not ok, with how long it ran, and no method is run on it.
-Rows are kept per (scene, model, reference rtol).
+rtol 1e-11 from the same start (``--reference-method`` cvodes / idas / scipy-radau and
+``--reference-rtol`` set another; every row records its ``reference_method``, ``reference_rtol`` and the
+reference's wall time, and the figure names a panel's reference when it is not CVODES 1e-11).
+``--reference-check METHOD RTOL`` runs a second, independent reference and records in every row of the
+pair how far its torque is from the reference's (``reference_check``: peak and RMS difference, relative,
+as the errors below), so that a reference's own error can be told from the errors it measures.
+``--reference-timeout`` S runs the reference (and the check) in a child process and stops it after S s:
+the pair then gets one row, method ``reference``, not ok, with how long it ran, and no method is run on
+it. Rows are kept per (scene, model, reference method, reference rtol).
+
+Why not always CVODES 1e-11: on the 8-element rod (smooth scene) that reference did not finish in
+2937 s. From about 8 ms into the cycle CVODES at 1e-11 falls to order 1-2 and steps of 2e-8 to 5e-8 s
+(about 1 / the largest eigenvalue magnitude, 5.7e7 /s, of an overdamped rod mode), with an
+error-test failure every 40-60 steps: 1e7-4e7 steps per cycle at that rate. Limiting the BDF order to 2 does not
+change this; an absolute tolerance of 1e-9 instead of 1e-11 (rtol kept at 1e-11) does (steps of
+about 2.5e-5 s). The right-hand side carries round-off of about 4e-9 of its largest entries there
+(6e-10 on the 4-element rod; the scaled mass matrix's condition number is 6.5e8, 7.9e7 with 4
+elements), which is the likely floor the 1e-11 tolerance on the near-zero elastic states runs into.
+At rtol 1e-10 CVODES takes 109 315 steps (31 s); that pair is run with
+``--reference-rtol 1e-10 --reference-check scipy-radau 1e-10``.
 
 Methods: IDAS and CVODES (rtol 1e-4 ... 1e-8), scipy Radau and BDF (1e-4, 1e-6), CasADi's fixed-step
 ``rk`` (RK4) and ``collocation`` (Radau, 3 points) at N steps per cycle. A fixed-step run's outputs are
@@ -32,7 +47,8 @@ report its Newton iterations, so none). A method's tighter tolerances are skippe
 runs exceeds `BUDGET` s.
 
     python benchmarks/bench_work_precision.py [--models clearance flexible-2 ...] [--scenes smooth impacting]
-        [--reference-rtol 1e-11] [--reference-timeout S] [--replot]
+        [--reference-method cvodes] [--reference-rtol 1e-11] [--reference-check METHOD RTOL]
+        [--reference-timeout S] [--replot]
 
 Writes results/work_precision.json and work_precision.png.
 """
@@ -64,6 +80,11 @@ from bench_simulation import flexible_start  # noqa: E402
 OUT = Path(__file__).parent / "results"
 T = 0.8
 REF_RTOL = 1e-11
+REF_METHOD = "cvodes"
+#: Integrators a reference (or its check) may use: adaptive, with a relative tolerance.
+REF_METHODS = ("cvodes", "idas", "scipy-radau")
+#: Printed names of the methods in titles.
+NAMES = {"cvodes": "CVODES", "idas": "IDAS", "scipy-radau": "scipy Radau", "scipy-bdf": "scipy BDF"}
 REF_SAMPLES = 16001
 #: Goals: IDAS this many times faster than scipy Radau at equal accuracy, and one cycle of the
 #: 4-element rod within this many seconds.
@@ -117,33 +138,44 @@ def runs_of(model_name: str) -> list[tuple[str, float | int]]:
     return out
 
 
-def key(row: dict) -> tuple[str, str, float]:
-    """(scene, model, reference rtol) of a row; rows written before rows recorded it used `REF_RTOL`."""
-    return row["scene"], row["model"], row.get("reference_rtol", REF_RTOL)
+def key(row: dict) -> tuple[str, str, str, float]:
+    """(scene, model, reference method, reference rtol) of a row; rows written before rows recorded them
+    used `REF_METHOD` and `REF_RTOL`."""
+    return row["scene"], row["model"], row.get("reference_method", REF_METHOD), row.get("reference_rtol", REF_RTOL)
 
 
 def write(data: dict, path: Path) -> None:
-    """Write `data`, keeping the rows of (scene, model, reference rtol) triples it does not hold from the file."""
+    """Write `data`, keeping the rows of (scene, model, reference method, reference rtol) it does not hold
+    from the file."""
     rows = data["rows"]
     if path.exists():
         done = {key(r) for r in rows}
         old = json.loads(path.read_text())["rows"]
-        rows = [{**r, "reference_rtol": key(r)[2]} for r in old if key(r) not in done] + rows
+        rows = [{**r, "reference_method": key(r)[2], "reference_rtol": key(r)[3]} for r in old
+                if key(r) not in done] + rows
     path.write_text(json.dumps({**data, "rows": rows}, indent=1, default=float))
 
 
-def _reference_child(conn, model, speed, x0: np.ndarray, rtol: float) -> None:
-    """Child process of `reference`: sends ("ok", SimResult) or ("error", first line of the message)."""
+def _run_reference(model, speed, x0: np.ndarray, method: str, rtol: float) -> tuple:
+    """(SimResult, wall time s) of one reference run of one cycle, `REF_SAMPLES` outputs."""
+    t0 = time.perf_counter()
+    sim = simulate(model, speed, x0=x0, method=method, rtol=rtol, n_out=REF_SAMPLES)
+    return sim, time.perf_counter() - t0
+
+
+def _reference_child(conn, model, speed, x0: np.ndarray, runs: list[tuple[str, float]]) -> None:
+    """Child process of `reference`: sends ("ok", [(SimResult, wall s), ...]) or ("error", first line of the
+    message)."""
     try:
-        conn.send(("ok", simulate(model, speed, x0=x0, method="cvodes", rtol=rtol, n_out=REF_SAMPLES)))
+        conn.send(("ok", [_run_reference(model, speed, x0, m, r) for m, r in runs]))
     except SimulationError as err:
         conn.send(("error", str(err).splitlines()[0]))
     finally:
         conn.close()
 
 
-def reference(model, speed, x0: np.ndarray, rtol: float, timeout: float | None) -> tuple:
-    """The CVODES reference run of one cycle.
+def reference(model, speed, x0: np.ndarray, runs: list[tuple[str, float]], timeout: float | None) -> tuple:
+    """The reference run of one cycle, and its check when `runs` holds two.
 
     Parameters
     ----------
@@ -153,27 +185,30 @@ def reference(model, speed, x0: np.ndarray, rtol: float, timeout: float | None) 
         The crank speed of the scene.
     x0 : ndarray
         Scaled start state.
-    rtol : float
-        CVODES relative (and absolute, scaled) tolerance.
+    runs : list of (str, float)
+        (method, rtol) of the reference, then of the check if any; the absolute tolerance (scaled
+        states) is the rtol.
     timeout : float or None
-        Wall-time limit, s. None: run in this process, no limit; else in a forked child, killed after
-        `timeout` s.
+        Wall-time limit of all the runs together, s. None: run in this process, no limit; else in a
+        forked child, killed after `timeout` s.
 
     Returns
     -------
     tuple
-        (SimResult or None, wall time s, None or why there is no result).
+        (list of (SimResult, wall time s) per run, or None; wall time of all, s; None or why there is no
+        result).
     """
     t0 = time.perf_counter()
+    what = " and its check" if len(runs) > 1 else ""
     if timeout is None:
         try:
-            ref = simulate(model, speed, x0=x0, method="cvodes", rtol=rtol, n_out=REF_SAMPLES)
+            out = [_run_reference(model, speed, x0, m, r) for m, r in runs]
         except SimulationError as err:
             return None, time.perf_counter() - t0, str(err).splitlines()[0]
-        return ref, time.perf_counter() - t0, None
+        return out, time.perf_counter() - t0, None
     ctx = mp.get_context("fork")
     recv, send = ctx.Pipe(duplex=False)
-    child = ctx.Process(target=_reference_child, args=(send, model, speed, x0, rtol), daemon=True)
+    child = ctx.Process(target=_reference_child, args=(send, model, speed, x0, runs), daemon=True)
     child.start()
     send.close()
     try:
@@ -185,7 +220,9 @@ def reference(model, speed, x0: np.ndarray, rtol: float, timeout: float | None) 
             wall = time.perf_counter() - t0
             return (out, wall, None) if status == "ok" else (None, wall, out)
         wall = time.perf_counter() - t0
-        return None, wall, f"CVODES rtol {rtol:g} reference stopped unfinished after {wall:.0f} s (limit {timeout:g} s)"
+        method, rtol = runs[0]
+        return None, wall, (f"{NAMES[method]} rtol {rtol:g} reference{what} stopped unfinished after {wall:.0f} s "
+                            f"(limit {timeout:g} s)")
     finally:
         if child.is_alive():
             child.kill()
@@ -194,7 +231,8 @@ def reference(model, speed, x0: np.ndarray, rtol: float, timeout: float | None) 
 
 
 def measure(model_names: list[str], scene_names: list[str], path: Path, ref_rtol: float = REF_RTOL,
-            ref_timeout: float | None = None) -> dict:
+            ref_timeout: float | None = None, ref_method: str = REF_METHOD,
+            ref_check: tuple[str, float] | None = None) -> dict:
     """Every run; the JSON is written after each run, so a stopped run keeps what it did (a pair stopped
     part-way has rows only for the runs it finished).
 
@@ -205,15 +243,23 @@ def measure(model_names: list[str], scene_names: list[str], path: Path, ref_rtol
     path : Path
         The JSON to merge into.
     ref_rtol : float
-        CVODES rtol of the reference.
+        rtol of the reference.
     ref_timeout : float or None
-        Wall-time limit of the reference, s (see `reference`).
+        Wall-time limit of the reference and its check, s (see `reference`).
+    ref_method : str
+        Integrator of the reference, one of `REF_METHODS`.
+    ref_check : (str, float) or None
+        (method, rtol) of a second reference run; its peak and RMS torque differences from the reference
+        are recorded in every row of the pair as ``reference_check``.
     """
     press = PressParams()
     speeds = {"smooth": FourierSpeed.constant(T),
               "impacting": design_speed(SpeedProblem(press, period=T, ram_speed=-0.1)).speed}
     rows = []
-    meta = {**stamp(), "versions": versions(), "period_s": T, "reference_rtol": REF_RTOL}
+    meta = {**stamp(), "versions": versions(), "period_s": T, "reference_method": REF_METHOD,
+            "reference_rtol": REF_RTOL}
+    runs = [(ref_method, ref_rtol)] + ([tuple(ref_check)] if ref_check else [])
+    refname = f"{NAMES[ref_method]} rtol {ref_rtol:g}"
     for scene in scene_names:
         speed = speeds[scene]
         for mname in model_names:
@@ -221,21 +267,33 @@ def measure(model_names: list[str], scene_names: list[str], path: Path, ref_rtol
             t0 = time.perf_counter()
             x0 = start_of(model, speed)
             t1 = time.perf_counter()
-            ref, ref_wall, why = reference(model, speed, x0, ref_rtol, ref_timeout)
-            if ref is None:
+            done, all_wall, why = reference(model, speed, x0, runs, ref_timeout)
+            if done is None:
                 print(f"{scene} / {mname}: start {t1 - t0:.1f} s, no reference ({why})", flush=True)
                 rows.append({"scene": scene, "model": mname, "method": "reference", "nx": model.nx,
-                             "reference_rtol": ref_rtol, "ok": False, "error": why, "reference_wall_time_s": ref_wall})
+                             "reference_method": ref_method, "reference_rtol": ref_rtol, "ok": False, "error": why,
+                             "reference_wall_time_s": all_wall})
                 write({**meta, "rows": rows}, path)
                 continue
-            print(f"{scene} / {mname}: start {t1 - t0:.1f} s, reference (CVODES rtol {ref_rtol:g}) {ref_wall:.1f} s, "
+            (ref, ref_wall), check = done[0], None
+            print(f"{scene} / {mname}: start {t1 - t0:.1f} s, reference ({refname}) {ref_wall:.1f} s, "
                   f"peak {ref.peak('torque'):.4f} N m", flush=True)
+            if len(done) > 1:
+                (csim, cwall), (cmethod, crtol) = done[1], runs[1]
+                cpeak, crms = errors(csim, ref)
+                check = {"method": cmethod, "rtol": crtol, "wall_time_s": cwall, "peak_torque": csim.peak("torque"),
+                         "peak_torque_difference": cpeak, "rms_torque_difference": crms, "steps": csim.stats.get("steps")}
+                print(f"  check ({NAMES[cmethod]} rtol {crtol:g}) {cwall:.1f} s: peak {cpeak:.1e}, RMS {crms:.1e} from "
+                      f"the reference", flush=True)
             over = set()
             for method, setting in runs_of(mname):
                 write({**meta, "rows": rows}, path)  # every finished row, before the next run
                 row = {"scene": scene, "model": mname, "method": method, "nx": model.nx,
-                       "reference_peak_torque": ref.peak("torque"), "reference_rtol": ref_rtol,
-                       "reference_wall_time_s": ref_wall}
+                       "reference_peak_torque": ref.peak("torque"), "reference_method": ref_method,
+                       "reference_rtol": ref_rtol, "reference_wall_time_s": ref_wall,
+                       "reference_steps": ref.stats.get("steps")}
+                if check:
+                    row["reference_check"] = check
                 if method in ("rk", "collocation"):
                     row["steps_per_cycle"] = setting
                     row["step_s"] = T / setting
@@ -274,16 +332,22 @@ def measure(model_names: list[str], scene_names: list[str], path: Path, ref_rtol
 
 
 def plot(data: dict) -> plt.Figure:
-    """Error against wall time per (scene, model, reference rtol): for each scene a row of peak-torque
-    panels over a row of RMS panels, one column per model (rigid-rod clearance model first). A triple
-    without a reference (method ``reference`` not ok) gets the reason instead of curves."""
+    """Error against wall time per (scene, model, reference method, reference rtol): for each scene a row
+    of peak-torque panels over a row of RMS panels, one column per model (rigid-rod clearance model
+    first). A panel whose reference is not the default names it in its title, with its check's
+    differences when there was one. A pair without a reference (method ``reference`` not ok) gets the
+    reason instead of curves."""
     every = data["rows"]
-    rows = [r for r in every if r.get("ok")]
     default = data.get("reference_rtol", REF_RTOL)
+    default_method = data.get("reference_method", REF_METHOD)
+
+    def ref_of(r: dict) -> tuple[str, float]:
+        return r.get("reference_method", default_method), r.get("reference_rtol", default)
+
     scenes = sorted({r["scene"] for r in every}, key=lambda s: s != "smooth")
     order = ["clearance", "flexible-2", "flexible-4", "flexible-8"]
-    panels = {s: sorted({(r["model"], r.get("reference_rtol", default)) for r in every if r["scene"] == s},
-                        key=lambda k: (order.index(k[0]), -k[1])) for s in scenes}
+    panels = {s: sorted({(r["model"], *ref_of(r)) for r in every if r["scene"] == s},
+                        key=lambda k: (order.index(k[0]), k[1] != default_method, -k[2])) for s in scenes}
     ncol = max((len(p) for p in panels.values()), default=1)
     fig, axes = plt.subplots(2 * len(scenes), ncol, figsize=(4.2 * ncol, 3.75 * 2 * len(scenes)), squeeze=False)
     methods = ["idas", "cvodes", "scipy-radau", "scipy-bdf", "rk", "collocation"]
@@ -292,11 +356,11 @@ def plot(data: dict) -> plt.Figure:
         for j in range(len(panels[scene]), ncol):
             axes[2 * i0, j].axis("off")
             axes[2 * i0 + 1, j].axis("off")
-        for j, (mname, rtol) in enumerate(panels[scene]):
+        for j, (mname, rmethod, rtol) in enumerate(panels[scene]):
+            mine = [r for r in every if r["scene"] == scene and r["model"] == mname and ref_of(r) == (rmethod, rtol)]
             for method in methods:
-                pts = sorted(((r["wall_time_s"], r["peak_torque_error"], r["rms_torque_error"]) for r in rows
-                              if r["scene"] == scene and r["model"] == mname and r["method"] == method
-                              and r.get("reference_rtol", default) == rtol))
+                pts = sorted(((r["wall_time_s"], r["peak_torque_error"], r["rms_torque_error"]) for r in mine
+                              if r.get("ok") and r["method"] == method))
                 if not pts:
                     continue
                 x, yp, yr = (np.array(v) for v in zip(*pts))
@@ -307,9 +371,14 @@ def plot(data: dict) -> plt.Figure:
                     goal = {"color": style["color"], "ls": ":", "lw": 1, "label": "goal: Radau's time / 20"}
                     axes[2 * i0, j].loglog(x / GOAL_RADAU_RATIO, np.maximum(yp, 1e-12), **goal)
                     axes[2 * i0 + 1, j].loglog(x / GOAL_RADAU_RATIO, np.maximum(yr, 1e-12), **goal)
-            title = f"{scene}, {mname}" + ("" if rtol == default else f" (reference rtol {rtol:g})")
-            failed = [r for r in every if r["scene"] == scene and r["model"] == mname and r["method"] == "reference"
-                      and r.get("reference_rtol", default) == rtol and not r.get("ok")]
+            title = f"{scene}, {mname}"
+            if (rmethod, rtol) != (default_method, default):
+                title += f"\nreference {NAMES.get(rmethod, rmethod)} rtol {rtol:g}"
+            check = next((r["reference_check"] for r in mine if r.get("reference_check")), None)
+            if check:
+                title += (f"; check {NAMES.get(check['method'], check['method'])} {check['rtol']:g}: "
+                          f"{check['peak_torque_difference']:.0e} / {check['rms_torque_difference']:.0e}")
+            failed = [r for r in mine if r["method"] == "reference" and not r.get("ok")]
             if failed:
                 for i in range(2):
                     ax = axes[2 * i0 + i, j]
@@ -330,8 +399,14 @@ def plot(data: dict) -> plt.Figure:
                 ax.grid(alpha=0.3, which="both")
                 ax.xaxis.set_minor_formatter(NullFormatter())
             axes[2 * i0, j].legend(fontsize=7)
-    fig.suptitle(f"Work against precision, T = {data['period_s']} s, reference CVODES rtol {default:g} unless a panel "
-                 f"says otherwise ({data['date'][:10]}, {data['cpus']} CPUs)", fontsize=10)
+            dead = [m for m in methods if any(r["method"] == m and r.get("error") for r in mine)
+                    and not any(r["method"] == m and r.get("ok") for r in mine)]
+            if dead:  # methods that ran and failed at every setting leave no curve: say so
+                axes[2 * i0 + 1, j].text(0.02, 0.02, "failed at every setting: " + ", ".join(dead), fontsize=7,
+                                         transform=axes[2 * i0 + 1, j].transAxes, va="bottom")
+    fig.suptitle(f"Work against precision, T = {data['period_s']} s, reference {NAMES.get(default_method, default_method)} "
+                 f"rtol {default:g} unless a panel says otherwise (check: peak / RMS difference of a second "
+                 f"reference) ({data['date'][:10]}, {data['cpus']} CPUs)", fontsize=10)
     fig.tight_layout()
     return fig
 
@@ -341,10 +416,16 @@ def main() -> None:
     ap.add_argument("--models", nargs="+", default=["clearance", "flexible-2", "flexible-4", "flexible-8"],
                     choices=["clearance", "flexible-2", "flexible-4", "flexible-8"])
     ap.add_argument("--scenes", nargs="+", default=["smooth", "impacting"], choices=["smooth", "impacting"])
+    ap.add_argument("--reference-method", default=REF_METHOD, choices=REF_METHODS,
+                    help=f"integrator of the reference (default {REF_METHOD}); rows record it")
     ap.add_argument("--reference-rtol", type=float, default=REF_RTOL,
-                    help=f"CVODES rtol of the reference (default {REF_RTOL:g}); rows record it")
+                    help=f"rtol of the reference (default {REF_RTOL:g}); rows record it")
+    ap.add_argument("--reference-check", nargs=2, metavar=("METHOD", "RTOL"), default=None,
+                    help=f"a second reference ({', '.join(REF_METHODS)}) whose torque differences from the "
+                         "reference every row records as reference_check")
     ap.add_argument("--reference-timeout", type=float, default=None,
-                    help="stop the reference after this many s (wall) and record that; default no limit")
+                    help="stop the reference (and its check) after this many s (wall) and record that; "
+                         "default no limit")
     ap.add_argument("--replot", action="store_true", help="redraw the figure from the JSON")
     a = ap.parse_args()
     OUT.mkdir(exist_ok=True)
@@ -352,7 +433,12 @@ def main() -> None:
     if a.replot:
         data = json.loads(path.read_text())
     else:
-        measure(a.models, a.scenes, path, a.reference_rtol, a.reference_timeout)
+        check = None
+        if a.reference_check:
+            if a.reference_check[0] not in REF_METHODS:
+                ap.error(f"--reference-check METHOD must be one of {', '.join(REF_METHODS)}")
+            check = (a.reference_check[0], float(a.reference_check[1]))
+        measure(a.models, a.scenes, path, a.reference_rtol, a.reference_timeout, a.reference_method, check)
         data = json.loads(path.read_text())
     save(plot(data), OUT / "work_precision.png")
 
