@@ -24,12 +24,14 @@ Why not always CVODES 1e-11: on the 8-element rod (smooth scene) that reference 
 2937 s. From about 8 ms into the cycle CVODES at 1e-11 falls to order 1-2 and steps of 2e-8 to 5e-8 s
 (about 1 / the largest eigenvalue magnitude, 5.7e7 /s, of an overdamped rod mode), with an
 error-test failure every 40-60 steps: 1e7-4e7 steps per cycle at that rate. Limiting the BDF order to 2 does not
-change this; an absolute tolerance of 1e-9 instead of 1e-11 (rtol kept at 1e-11) does (steps of
-about 2.5e-5 s). The right-hand side carries round-off of about 4e-9 of its largest entries there
-(6e-10 on the 4-element rod; the scaled mass matrix's condition number is 6.5e8, 7.9e7 with 4
-elements), which is the likely floor the 1e-11 tolerance on the near-zero elastic states runs into.
-At rtol 1e-10 CVODES takes 109 315 steps (31 s); that pair is run with
-``--reference-rtol 1e-10 --reference-check scipy-radau 1e-10``.
+change this; an absolute tolerance of 1e-9 instead of 1e-11 (rtol kept at 1e-11) does (20 623 steps,
+5.6 s), but its torque is then only as good as at rtol 1e-9 (3e-5 off): the absolute tolerance on
+the near-zero elastic states sets the accuracy. The right-hand side carries round-off of about 4e-9
+of its largest entries there (6e-10 on the 4-element rod; the scaled mass matrix's condition number
+is 6.5e8, 7.9e7 with 4 elements), the likely floor a 1e-11 tolerance runs into. At rtol 1e-10
+CVODES takes 109 315 steps (31-34 s); that pair is run with ``--reference-rtol 1e-10
+--reference-check scipy-radau 1e-10`` (Radau: 56 200 steps, 143 s, 2.2e-6 / 4.0e-6 from CVODES on
+the peak / RMS; on the 4-element rod CVODES 1e-10 is 2.0e-6 / 2.3e-6 from 1e-11).
 
 Methods: IDAS and CVODES (rtol 1e-4 ... 1e-8), scipy Radau and BDF (1e-4, 1e-6), CasADi's fixed-step
 ``rk`` (RK4) and ``collocation`` (Radau, 3 points) at N steps per cycle. A fixed-step run's outputs are
@@ -282,7 +284,8 @@ def measure(model_names: list[str], scene_names: list[str], path: Path, ref_rtol
                 (csim, cwall), (cmethod, crtol) = done[1], runs[1]
                 cpeak, crms = errors(csim, ref)
                 check = {"method": cmethod, "rtol": crtol, "wall_time_s": cwall, "peak_torque": csim.peak("torque"),
-                         "peak_torque_difference": cpeak, "rms_torque_difference": crms, "steps": csim.stats.get("steps")}
+                         "peak_torque_difference": cpeak, "rms_torque_difference": crms,
+                         "steps": csim.stats.get("steps")}
                 print(f"  check ({NAMES[cmethod]} rtol {crtol:g}) {cwall:.1f} s: peak {cpeak:.1e}, RMS {crms:.1e} from "
                       f"the reference", flush=True)
             over = set()
@@ -404,7 +407,8 @@ def plot(data: dict) -> plt.Figure:
             if dead:  # methods that ran and failed at every setting leave no curve: say so
                 axes[2 * i0 + 1, j].text(0.02, 0.02, "failed at every setting: " + ", ".join(dead), fontsize=7,
                                          transform=axes[2 * i0 + 1, j].transAxes, va="bottom")
-    fig.suptitle(f"Work against precision, T = {data['period_s']} s, reference {NAMES.get(default_method, default_method)} "
+    fig.suptitle(f"Work against precision, T = {data['period_s']} s, "
+                 f"reference {NAMES.get(default_method, default_method)} "
                  f"rtol {default:g} unless a panel says otherwise (check: peak / RMS difference of a second "
                  f"reference) ({data['date'][:10]}, {data['cpus']} CPUs)", fontsize=10)
     fig.tight_layout()
