@@ -393,7 +393,7 @@ def plot(data: dict) -> plt.Figure:
                 continue
             for i, what in enumerate(("peak-torque error", "RMS torque error")):
                 ax = axes[2 * i0 + i, j]
-                ax.axhline(1e-3, color="k", ls="--", lw=0.8, label="1e-3")
+                ax.axhline(1e-3, color="k", ls="--", lw=0.8, label="error 1e-3")
                 if mname == GOAL_CYCLE_MODEL:
                     ax.axvline(GOAL_CYCLE_S, color="tab:red", ls="--", lw=0.8, label="goal: 1 s per cycle")
                 ax.set_title(title, fontsize=9)
@@ -401,7 +401,6 @@ def plot(data: dict) -> plt.Figure:
                 ax.set_xlabel("wall time of one cycle, s")
                 ax.grid(alpha=0.3, which="both")
                 ax.xaxis.set_minor_formatter(NullFormatter())
-            axes[2 * i0, j].legend(fontsize=7)
             dead = [m for m in methods if any(r["method"] == m and r.get("error") for r in mine)
                     and not any(r["method"] == m and r.get("ok") for r in mine)]
             if dead:  # methods that ran and failed at every setting leave no curve: say so
@@ -410,8 +409,15 @@ def plot(data: dict) -> plt.Figure:
     fig.suptitle(f"Work against precision, T = {data['period_s']} s, "
                  f"reference {NAMES.get(default_method, default_method)} "
                  f"rtol {default:g} unless a panel says otherwise (check: peak / RMS difference of a second "
-                 f"reference) ({data['date'][:10]}, {data['cpus']} CPUs)", fontsize=10)
-    fig.tight_layout()
+                 f"reference) ({data['date'][:10]}, {data['cpus']} CPUs)", fontsize=10, y=0.997)
+    # one legend for every panel, under the title (per-panel legends covered points)
+    handles: dict = {}
+    for ax in axes.flat:
+        for handle, label in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(label, handle)
+    fig.legend(handles.values(), handles.keys(), loc="upper center", ncol=len(handles), fontsize=9,
+               bbox_to_anchor=(0.5, 0.985), frameon=False)
+    fig.tight_layout(rect=(0, 0, 1, 0.965))
     return fig
 
 
