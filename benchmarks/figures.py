@@ -8,6 +8,7 @@
     python benchmarks/figures.py
 """
 
+import argparse
 import shutil
 import tempfile
 from pathlib import Path
@@ -59,4 +60,5 @@ def main() -> None:
 
 
 if __name__ == "__main__":
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args()
     main()

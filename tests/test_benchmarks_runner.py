@@ -3,8 +3,12 @@ table in benchmarks/README.md (and nothing else there), and reports failures wit
 
 import importlib.util
 import json
+import os
+import subprocess
 import sys
 from pathlib import Path
+
+import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 _spec = importlib.util.spec_from_file_location("benchmarks_runner", ROOT / "benchmarks" / "__main__.py")
@@ -42,3 +46,14 @@ def test_runs_are_recorded_and_the_table_rewritten(tmp_path, monkeypatch):
     assert runner.main(["--only", "ok"]) == 0  # rewritten in place, the failed run still listed
     again = readme.read_text()
     assert again.count(runner.BEGIN) == 1 and "**failed (3)**" in again
+
+
+@pytest.mark.parametrize("job", runner.JOBS, ids=lambda job: job.name)
+def test_every_benchmark_command_parses(job):
+    """Each job's script imports and accepts the job's arguments (``--help`` after them: argparse checks
+    what comes before it, then exits), so a renamed function or option fails here, not hours into
+    ``python -m benchmarks``."""
+    done = subprocess.run([*job.command(), "--help"], capture_output=True, text=True, timeout=120,
+                          env={**os.environ, "MPLBACKEND": "Agg"})
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert "usage:" in done.stdout
