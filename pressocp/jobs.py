@@ -15,7 +15,7 @@ from .io import atomic_write, write_json
 from .objectives import get as get_objective
 from .ocp.result import PEAK_SERIES, OcpResult, versions
 from .ocp.verify import is_periodic, ram_speed_error, rigid_reference, verify_speed, window_times
-from .plots import plot_impact_study, plot_responses, save
+from .plots import plot_impact_study, plot_responses, rigid_torque_level, save
 from .problem import SpeedProblem
 from .report import describe_problem, format_table, load_table, peak_summary, stamp, write_cycle_table
 from .result import SimResult
@@ -90,10 +90,10 @@ def _problem_summary(problem: SpeedProblem) -> dict:
 def _figures(out: Path, responses: list[tuple[str, SimResult]], problem: SpeedProblem,
              window: tuple[float, float], title: str, journals: bool, floor: float | None = None) -> list[Path]:
     """The `FIGURES`, with the ram speed tolerance, the pin-force cap (when the problem has one) and
-    the rigid-press floor of the peak torque (`floor`, N·m, for an optimum) drawn."""
+    the rigid-press optimum's peak torque (`floor`, N·m, for an optimum) drawn."""
     levels: dict[str, list[tuple[float, str]]] = {}
     if floor is not None:
-        levels["torque"] = [(floor, f"rigid-press floor ±{floor:.1f} N·m")]
+        levels["torque"] = [rigid_torque_level(problem.objective, floor)]
     if problem.max_pin_force is not None:
         for pin in ("crank_pin_force", "wrist_pin_force"):
             levels[pin] = [(problem.max_pin_force, f"cap {problem.max_pin_force:.0f} N")]

@@ -48,6 +48,13 @@ def draw_levels(ax, levels: Sequence[tuple[float, str]], legend: bool = True, lo
         ax.legend(handles=handles, fontsize=7, loc=loc)
 
 
+def rigid_torque_level(objective: str, peak: float) -> tuple[float, str]:
+    """The level (N m, label) of the rigid-press optimum's peak torque: the floor of the peak torque
+    when that is the objective, else only the rigid optimum's peak (it minimised something else)."""
+    name = "rigid-press floor" if objective == "peak_torque" else "rigid-press optimum's peak"
+    return peak, f"{name} ±{peak:.1f} N·m"
+
+
 def ram_speed_error_axis(ax, curves, window: tuple[float, float], ram_speed: float, tol: float) -> None:
     """Draw the ram speed in the working window relative to the one asked for (%), with the tolerance
     dashed: `curves` are (label, SimResult, plot keywords), each against its time from its first
@@ -203,7 +210,8 @@ def plot_speed_design(result, title: str = "",
     force and ram velocity on the target model, with the rigid optimum on the rigid model dashed and
     the working window shaded (Figs. 9-11 of the source paper).
 
-    The torque axis shows the rigid-press floor (±, the least peak torque a rigid press allows). When
+    The torque axis shows the rigid-press optimum's peak (±; the floor, the least peak a rigid press
+    allows, when the objective is the peak torque). When
     the problem caps the pin forces, an axis shows the larger pin force against the cap. A last axis
     shows the optimum's ram speed error in its window against the tolerance (dashed).
 
@@ -232,8 +240,7 @@ def plot_speed_design(result, title: str = "",
     curves = [("initial (rigid design), target model", si, {"lw": 0.8, "color": "tab:red"}),
               (f"{label}, target model", so, {"lw": 1.0, "color": "tab:blue"}),
               ("rigid optimum, rigid press", rr, {"lw": 0.8, "ls": "--", "color": "k"})]
-    floor = result.rigid_peak_torque
-    drawn = {"torque": [(floor, f"rigid-press floor ±{floor:.1f} N·m")],
+    drawn = {"torque": [rigid_torque_level(result.problem.objective, result.rigid_peak_torque)],
              "pin_force": [] if cap is None else [(cap, f"pin-force cap {cap:.0f} N")]}
     for key, extra in (levels or {}).items():
         drawn.setdefault(key, []).extend(extra)

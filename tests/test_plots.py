@@ -57,3 +57,10 @@ def test_an_overridden_scenario_names_its_changes():
     assert sc.name.endswith("problem.stroke_rate_spm = 60")
     named = po.Scenario.load("press75").with_overrides({"name": "mine", "problem.stroke_rate_spm": 60})
     assert named.name == "mine"
+
+
+def test_the_rigid_optimum_is_a_floor_only_for_the_peak_torque():
+    from pressocp.plots import rigid_torque_level
+
+    assert rigid_torque_level("peak_torque", 108.5) == (108.5, "rigid-press floor ±108.5 N·m")
+    assert rigid_torque_level("rms_torque", 106.0)[1].startswith("rigid-press optimum's peak")
