@@ -8,8 +8,8 @@
 Each benchmark runs as its own process (`sys.executable`), one after the other, so that no two
 share the cores and each timing is its own. Its output goes to ``results/logs/<name>.log``. After
 each run, ``results/runs.json`` records the command, date, machine, wall time, exit status and the
-result files it wrote, and the table between the ``runs`` markers in ``benchmarks/README.md`` is
-rewritten from it. The other tables of that README are measurements with their discussion, written
+result files it created or changed (by content; a file rewritten unchanged is not listed), and the
+table between the ``runs`` markers in ``benchmarks/README.md`` is rewritten from it. The other tables of that README are measurements with their discussion, written
 by hand from the JSON files; the table says which files each run refreshed and when.
 
 A failing benchmark is recorded with its exit status and the next one runs; the command exits with
@@ -19,6 +19,7 @@ status 1 if any failed. Ctrl-C stops the running benchmark and the command.
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import subprocess
 import sys
@@ -62,7 +63,8 @@ JOBS = (
         "75 spm, every stage, collocation compiled"),
     Job("ocp_pin_cap_7000", "bench_ocp.py", ("pin_cap", "--cap-N", "7000"), 8, "pin-force cap 7 kN"),
     Job("ocp_pin_cap_6000", "bench_ocp.py", ("pin_cap", "--cap-N", "6000"), 8, "pin-force cap 6 kN"),
-    Job("ocp_flexible", "bench_ocp.py", ("flexible",), 10, "75 spm default call on the flexible rod"),
+    Job("ocp_flexible", "bench_ocp.py", ("flexible",), 150,
+        "75 spm default call on the flexible rod (its flexible stage alone took 42 min)"),
     Job("ocp_slender", "bench_ocp.py", ("slender",), 12, "slender rod: the flexible stage runs"),
     Job("model_levels", "bench_model_levels.py", (), 25, "error and cost of each model level across scenes"),
     Job("ocp_slsqp", "bench_ocp.py", ("slsqp", "--ref", "seed"), 30, "SLSQP single-shooting baseline"),
@@ -89,10 +91,16 @@ JOBS = (
 )
 
 
-def result_files(since: float) -> list[str]:
-    """Files under results/ (logs and runs.json left out) modified at or after `since`."""
-    return sorted(str(p.relative_to(RESULTS)) for p in RESULTS.rglob("*")
-                  if p.is_file() and p.stat().st_mtime >= since and p.parent.name != "logs" and p != RUNS)
+def result_contents() -> dict[str, str]:
+    """SHA-1 of each file under results/ (logs and runs.json left out), by path relative to results/."""
+    return {str(p.relative_to(RESULTS)): hashlib.sha1(p.read_bytes()).hexdigest() for p in RESULTS.rglob("*")
+            if p.is_file() and p.parent.name != "logs" and p != RUNS}
+
+
+def result_files(before: dict[str, str]) -> list[str]:
+    """Files under results/ that are new or changed since `before` (`result_contents`). A file that
+    another process wrote meanwhile is listed too: run the benchmarks alone for a clean record."""
+    return sorted(name for name, digest in result_contents().items() if before.get(name) != digest)
 
 
 def load_runs() -> dict:
@@ -131,11 +139,11 @@ def run(job: Job) -> dict:
     """Run one job; its record for runs.json (`stamp` of its start: date, machine, CPUs, Python)."""
     logs = RESULTS / "logs"
     logs.mkdir(parents=True, exist_ok=True)
-    started, t0, wall0 = stamp(), time.time(), time.perf_counter()
+    started, before, wall0 = stamp(), result_contents(), time.perf_counter()
     with open(logs / f"{job.name}.log", "w") as log:
         status = subprocess.run(job.command(), stdout=log, stderr=subprocess.STDOUT, cwd=HERE.parent).returncode
     return {"command": " ".join([job.script, *job.args]), **started,
-            "wall_time_s": time.perf_counter() - wall0, "exit_status": status, "files": result_files(t0)}
+            "wall_time_s": time.perf_counter() - wall0, "exit_status": status, "files": result_files(before)}
 
 
 def main(argv: list[str] | None = None) -> int:

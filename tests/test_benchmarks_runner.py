@@ -30,13 +30,18 @@ def test_runs_are_recorded_and_the_table_rewritten(tmp_path, monkeypatch):
     (tmp_path / "ok.py").write_text("from pathlib import Path\n"
                                     "(Path(__file__).parent / 'results' / 'x.json').write_text('{}')\n")
     (tmp_path / "bad.py").write_text("raise SystemExit(3)\n")
+    (results / "same.json").write_text("[1]")
+    (tmp_path / "same.py").write_text("from pathlib import Path\n"
+                                      "(Path(__file__).parent / 'results' / 'same.json').write_text('[1]')\n")
     for name, value in (("HERE", tmp_path), ("RESULTS", results), ("README", readme), ("RUNS", results / "runs.json"),
                         ("JOBS", (runner.Job("ok", "ok.py", (), 0.1, "writes x.json"),
-                                  runner.Job("bad", "bad.py", ("--flag",), 0.1, "fails")))):
+                                  runner.Job("bad", "bad.py", ("--flag",), 0.1, "fails"),
+                                  runner.Job("same", "same.py", (), 0.1, "rewrites a file unchanged")))):
         monkeypatch.setattr(runner, name, value)
     assert runner.main([]) == 1  # a failure is reported, after every job ran
     runs = json.loads((results / "runs.json").read_text())
     assert runs["ok"]["exit_status"] == 0 and runs["ok"]["files"] == ["x.json"]
+    assert runs["same"]["exit_status"] == 0 and runs["same"]["files"] == []  # rewritten, unchanged
     assert runs["bad"]["exit_status"] == 3 and runs["bad"]["command"] == "bad.py --flag"
     assert {"date", "machine", "cpus", "wall_time_s"} <= set(runs["ok"])
     text = readme.read_text()
