@@ -9,8 +9,10 @@ Each benchmark runs as its own process (`sys.executable`), one after the other, 
 share the cores and each timing is its own. Its output goes to ``results/logs/<name>.log``. After
 each run, ``results/runs.json`` records the command, date, machine, wall time, exit status and the
 result files it created or changed (by content; a file rewritten unchanged is not listed), and the
-table between the ``runs`` markers in ``benchmarks/README.md`` is rewritten from it. The other tables of that README are measurements with their discussion, written
-by hand from the JSON files; the table says which files each run refreshed and when.
+table between the ``runs`` markers in ``benchmarks/README.md`` is rewritten from it (a ``note``
+added by hand to a record of runs.json is shown with its status). The other tables of that README
+are measurements with their discussion, written by hand from the JSON files; the table says which
+files each run refreshed and when.
 
 A failing benchmark is recorded with its exit status and the next one runs; the command exits with
 status 1 if any failed. Ctrl-C stops the running benchmark and the command.
@@ -117,6 +119,8 @@ def table(runs: dict) -> str:
             lines.append(f"| {job.name} | `{' '.join([job.script, *job.args])}` | not run by this command yet | | | | |")
             continue
         status = "ok" if r["exit_status"] == 0 else f"**failed ({r['exit_status']})**"
+        if r.get("note"):  # written by hand in runs.json: what the record alone does not say
+            status += f": {r['note']}"
         files = ", ".join(f"`{f}`" for f in r["files"]) or "none"
         lines.append(f"| {job.name} | `{' '.join([job.script, *job.args])}` | {r['date']} | {r['machine']} "
                      f"({r['cpus']}) | {r['wall_time_s'] / 60:.1f} min | {status} | {files} |")

@@ -51,6 +51,9 @@ def test_runs_are_recorded_and_the_table_rewritten(tmp_path, monkeypatch):
     assert runner.main(["--only", "ok"]) == 0  # rewritten in place, the failed run still listed
     again = readme.read_text()
     assert again.count(runner.BEGIN) == 1 and "**failed (3)**" in again
+    runs = json.loads((results / "runs.json").read_text())
+    runs["bad"]["note"] = "stopped by hand"
+    assert "**failed (3)**: stopped by hand |" in runner.table(runs)
 
 
 @pytest.mark.parametrize("job", runner.JOBS, ids=lambda job: job.name)
