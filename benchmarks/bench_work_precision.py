@@ -20,18 +20,9 @@ as the errors below), so that a reference's own error can be told from the error
 the pair then gets one row, method ``reference``, not ok, with how long it ran, and no method is run on
 it. Rows are kept per (scene, model, reference method, reference rtol).
 
-Why not always CVODES 1e-11: on the 8-element rod (smooth scene) that reference did not finish in
-2937 s. From about 8 ms into the cycle CVODES at 1e-11 falls to order 1-2 and steps of 2e-8 to 5e-8 s
-(about 1 / the largest eigenvalue magnitude, 5.7e7 /s, of an overdamped rod mode), with an
-error-test failure every 40-60 steps: 1e7-4e7 steps per cycle at that rate. Limiting the BDF order to 2 does not
-change this; an absolute tolerance of 1e-9 instead of 1e-11 (rtol kept at 1e-11) does (20 623 steps,
-5.6 s), but its torque is then only as good as at rtol 1e-9 (3e-5 off): the absolute tolerance on
-the near-zero elastic states sets the accuracy. The right-hand side carries round-off of about 4e-9
-of its largest entries there (6e-10 on the 4-element rod; the scaled mass matrix's condition number
-is 6.5e8, 7.9e7 with 4 elements), the likely floor a 1e-11 tolerance runs into. At rtol 1e-10
-CVODES takes 109 315 steps (31-34 s); that pair is run with ``--reference-rtol 1e-10
---reference-check scipy-radau 1e-10`` (Radau: 56 200 steps, 143 s, 2.2e-6 / 4.0e-6 from CVODES on
-the peak / RMS; on the 4-element rod CVODES 1e-10 is 2.0e-6 / 2.3e-6 from 1e-11).
+Why not always CVODES 1e-11: on the 8-element rod its steps collapse to about 2e-8 s (1e7 and more
+per cycle; `benchmarks/README.md` says why), so that pair (smooth scene) is run with
+``--reference-rtol 1e-10 --reference-check scipy-radau 1e-10``.
 
 Methods: IDAS and CVODES (rtol 1e-4 ... 1e-8), scipy Radau and BDF (1e-4, 1e-6), CasADi's fixed-step
 ``rk`` (RK4) and ``collocation`` (Radau, 3 points) at N steps per cycle. A fixed-step run's outputs are
