@@ -53,7 +53,7 @@ from pathlib import Path
 from pressocp import (Collocation, FourierSpeed, MultipleShooting, PressParams, Scenario, SpeedProblem, build_model,
                       design_speed, optimize_speed, simulate)
 from pressocp.ocp.strategy import max_relative_change
-from pressocp.plots import plot_speed_design, save
+from pressocp.plots import draw_levels, plot_speed_design, rigid_torque_level, save
 
 from goals import GOAL_FLOOR_RATIO, GOAL_PEAK_NM, GOAL_WALL_S
 
@@ -120,10 +120,7 @@ def slender_figure(row: dict) -> "plt.Figure":
         sim = simulate(model, speed, periodic=True, method="cvodes", rtol=1e-9, n_out=8001)
         ax[0].plot(sim.t * 1e3, sim.torque, color=color, label=f"{label}: peak {sim.peak('torque'):.1f} N·m")
         ax[1].plot(sim.t * 1e3, sim.rod_midspan_deflection * 1e3, color=color, label=label)
-    floor = row["rigid_peak_torque"]
-    for sign in (1, -1):
-        ax[0].axhline(sign * floor, color="k", ls="--", lw=0.8,
-                      label=f"rigid-press floor ±{floor:.1f} N·m" if sign > 0 else None)
+    draw_levels(ax[0], [rigid_torque_level(problem.objective, row["rigid_peak_torque"])], legend=False)
     ax[0].set_ylabel("motor torque, N·m")
     ax[1].set_ylabel("rod midspan deflection, mm")
     ax[1].set_xlabel("time, ms")

@@ -240,8 +240,9 @@ def plot_speed_design(result, title: str = "",
     curves = [("initial (rigid design), target model", si, {"lw": 0.8, "color": "tab:red"}),
               (f"{label}, target model", so, {"lw": 1.0, "color": "tab:blue"}),
               ("rigid optimum, rigid press", rr, {"lw": 0.8, "ls": "--", "color": "k"})]
-    drawn = {"torque": [rigid_torque_level(result.problem.objective, result.rigid_peak_torque)],
-             "pin_force": [] if cap is None else [(cap, f"pin-force cap {cap:.0f} N")]}
+    drawn = {"torque": [rigid_torque_level(result.problem.objective, result.rigid_peak_torque)]}
+    if cap is not None:
+        drawn["pin_force"] = [(cap, f"pin-force cap {cap:.0f} N")]
     for key, extra in (levels or {}).items():
         drawn.setdefault(key, []).extend(extra)
     for ax, (key, name) in zip(axes, rows):
