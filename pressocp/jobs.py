@@ -133,9 +133,24 @@ def optimum_summary(scenario: Scenario, result: OcpResult, ideal: SimResult | No
         "max_ram_speed_violation_m_s": result.max_ram_speed_violation, "window_t_s": [result.t1, result.t2],
         "min_omega_rad_s": result.min_omega, "iterations": result.iterations, "wall_time_s": result.wall_time,
         "stages": [{"name": s.name, "model": s.model, "status": s.status, "success": s.success,
-                    "superseded": s.superseded, "iterations": s.iterations, "wall_time_s": s.wall_time, "objective": s.objective}
-                   for s in result.stages],
+                    "superseded": s.superseded, "iterations": s.iterations, "wall_time_s": s.wall_time,
+                    "objective": s.objective, "timing_s": s.timing} for s in result.stages],
+        "time_table_s": result.time_table(),
     }
+
+
+#: Columns of the time table in the report: `OcpResult.time_table` key -> heading.
+TIME_COLUMNS = {"wall": "wall", "build": "build+compile", "functions": "functions", "linear_solver": "linear solver",
+                "start": "warm start", "checks": "checks"}
+
+
+def time_table_text(result: OcpResult) -> str:
+    """`OcpResult.time_table` as a plain-text table (s), with a total row."""
+    rows = result.time_table()
+    total = {k: sum(r[k] for r in rows) for k in TIME_COLUMNS}
+    return format_table([["stage", "iterations", *TIME_COLUMNS.values()],
+                         *([r["stage"], str(r["iterations"]), *(f"{r[k]:.1f}" for k in TIME_COLUMNS)] for r in rows),
+                         ["total", str(sum(r["iterations"] for r in rows)), *(f"{total[k]:.1f}" for k in TIME_COLUMNS)]])
 
 
 def simulation_summary(scenario: Scenario, sim: SimResult, ideal: SimResult, source: str) -> dict:
@@ -195,7 +210,8 @@ def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobRep
                               str(s.iterations), f"{s.wall_time:.1f}", f"{s.objective:.4g}"]
                              for s in result.stages)])
     details = "\n".join([f"transcription: {result.transcription}", f"strategy: {result.strategy}",
-                         f"verification: periodic CVODES re-simulation, rtol {result.verify_rtol:g}", "", stages])
+                         f"verification: periodic CVODES re-simulation, rtol {result.verify_rtol:g}", "", stages,
+                         "", "where the time went, s:", time_table_text(result)])
     return _finish("optimize", out, summary, text, details, files, result.success and result.verified)
 
 

@@ -18,18 +18,16 @@ simulation of the model, and its optimum means nothing. `collocation_defect` tel
 
 from __future__ import annotations
 
-import os
-import shutil
-import tempfile
+import time
 import warnings
-from dataclasses import dataclass, field
-from functools import lru_cache
+from dataclasses import dataclass, field, replace
 from typing import ClassVar
 
 import casadi as ca
 import numpy as np
 
 from .. import checks as chk
+from ..compile_cache import compiler_available, jit_options
 from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
 from ..speed import FourierSpeed
@@ -37,27 +35,23 @@ from .nlp import Constraints, UniformPartition, crank_motion, crank_scale, scale
 from .stage import StageResult, WarmStart
 from .states import StateSettings, check_states, keep_contact, sample_outputs, solve_states, states_at, warm_state
 
-#: Default elements per second of period (0.5 ms elements): on the 75 spm case the optimum
-#: re-simulates within 0.02 % at 1600 elements (see benchmarks/README.md).
-ELEMENTS_PER_SECOND = 2000
+#: Elements per second of period of the first grid (2 ms elements; at least `MIN_ELEMENTS`). On the
+#: 75 spm case (400 elements) the optimum re-simulates within 0.7 % of the NLP's peak, at 0.27 x the
+#: cost per iteration of 1600 elements; the strategy refines a grid whose re-simulation disagrees.
+ELEMENTS_PER_SECOND = 500
+#: Fewest elements of a default grid.
+MIN_ELEMENTS = 100
+#: Elements per second of period of the finest grid a refinement reaches (0.5 ms elements: on the
+#: 75 spm case the optimum re-simulates within 0.02 % at 1600 elements).
+MAX_ELEMENTS_PER_SECOND = 2000
 #: IPOPT options of the collocation NLP on top of `IPOPT_WARM`: the exact Hessian, zero initial
 #: constraint multipliers instead of IPOPT's least-squares estimate (an extra linear solve that
 #: changed nothing), and no MUMPS scaling (its automatic choice made every linear solve dearer).
 IPOPT_OPTIONS = {"ipopt.hessian_approximation": "exact", "ipopt.constr_mult_init_max": 0.0, "ipopt.mumps_scaling": 0}
-#: CasADi JIT of the point function and its derivatives, through the system C compiler at -O1 (its
-#: temporary files in the system's temporary folder, not the working directory).
-JIT_OPTIONS = {"jit": True, "compiler": "shell",
-               "jit_options": {"flags": ["-O1"], "verbose": False, "directory": os.path.join(tempfile.gettempdir(), "")}}
 #: Directions per derivative sweep of the NLP functions when the point function is compiled (the
 #: oracle's ``max_num_dir``; CasADi's default 64 puts all 9 Hessian colours into one large function
 #: that takes ~35 s to compile; 3 compile in ~5 s and evaluate as fast).
 JIT_DIRECTIONS = 3
-
-
-@lru_cache(maxsize=1)
-def compiler_available() -> bool:
-    """Whether a C compiler (``cc``, else ``gcc``) is on the PATH (checked once)."""
-    return shutil.which("cc") is not None or shutil.which("gcc") is not None
 
 
 def nlp_options(jit: bool) -> dict:
@@ -144,7 +138,8 @@ class CollocationGrid(UniformPartition):
 def point_function(model: PressModel, names: tuple[str, ...], jit: bool = False) -> ca.Function:
     """The model at one collocation point: ``(x [nx], crank [3], q) -> (dx/dt [nx], y [len(names)])``,
     the outputs `names` and ``q`` the carried press parameters (`PressModel.at_crank`). With `jit`, it
-    and its derivatives are compiled by the system C compiler (`JIT_OPTIONS`). Kept in
+    and its derivatives are compiled by the system C compiler (`pressocp.compile_cache.jit_options`, whose
+    on-disk cache serves any process that compiled the same code before). Kept in
     ``model.functions``, with the last compiled solve's solver (which holds the compiled derivatives
     alive): the next solve on the same model (a polish round) compiles nothing again."""
     key = ("collocation_point", tuple(names), bool(jit))
@@ -152,7 +147,8 @@ def point_function(model: PressModel, names: tuple[str, ...], jit: bool = False)
         x, crank, q = ca.SX.sym("x", model.nx), ca.SX.sym("crank", 3), ca.SX.sym("q", len(model.symbols))
         out = model.at_crank(x, crank, q)
         y = ca.vertcat(*[out[1 + OUTPUT_NAMES.index(n)] for n in names])
-        opts = {**JIT_OPTIONS, "der_options": JIT_OPTIONS} if jit else {}
+        jit_opts = jit_options() if jit else {}
+        opts = {**jit_opts, "der_options": jit_opts} if jit else {}
         model.functions[key] = ca.Function("point", [x, crank, q], [out[0], y], ["x", "crank", "q"], ["ode", "y"],
                                            opts)
     return model.functions[key]
@@ -211,8 +207,8 @@ class Collocation(StateSettings):
     Attributes
     ----------
     elements : int or None
-        Elements per period, 10..100 000; None: `ELEMENTS_PER_SECOND` x T (0.5 ms elements).
-        Fewer are faster and less accurate (measured in benchmarks/README.md).
+        Elements per period, 10..100 000; None: `ELEMENTS_PER_SECOND` x T (2 ms elements), at least
+        `MIN_ELEMENTS`. Fewer are faster and less accurate; `refined` doubles them.
     degree : int
         Radau degree d, 1..9 (3: order 5).
     jit : bool or "auto"
@@ -222,7 +218,11 @@ class Collocation(StateSettings):
     min_eccentricity : float or None
         Keyword-only (`StateSettings`), default 1: contact kept at every Radau point. With free flight
         allowed the elements must resolve the impacts, and 1 ms elements do not.
-    periodic, backoff, omega_samples, ipopt
+    backoff : float
+        Keyword-only (`StateSettings`), default 0.95: the share of the ram-speed tolerance held at the
+        Radau points (on 2 ms elements the re-simulated ram strayed up to 4.5 % of the tolerance past
+        the held value).
+    periodic, omega_samples, ipopt
         Keyword-only, as in `StateSettings` (``ipopt`` on top of `IPOPT_OPTIONS` too).
     """
 
@@ -230,6 +230,7 @@ class Collocation(StateSettings):
     degree: int = 3
     jit: bool | str = "auto"
     min_eccentricity: float | None = field(default=1.0, kw_only=True)
+    backoff: float = field(default=0.95, kw_only=True)
 
     needs_soft_start: ClassVar[bool] = False
 
@@ -243,8 +244,15 @@ class Collocation(StateSettings):
 
     def grid(self, period: float) -> CollocationGrid:
         """The element grid for a period."""
-        K = round(ELEMENTS_PER_SECOND * period) if self.elements is None else self.elements
+        K = max(round(ELEMENTS_PER_SECOND * period), MIN_ELEMENTS) if self.elements is None else self.elements
         return CollocationGrid(period, chk.integer("elements", max(K, 10), 10, 100_000), self.degree)
+
+    def refined(self, period: float) -> "Collocation | None":
+        """Twice the elements, at most ``MAX_ELEMENTS_PER_SECOND`` x period (and `MIN_ELEMENTS`); None
+        when the grid has that many already."""
+        K = self.grid(period).elements
+        finest = max(round(MAX_ELEMENTS_PER_SECOND * period), MIN_ELEMENTS)
+        return None if K >= finest else replace(self, elements=min(2 * K, finest))
 
     def use_jit(self) -> bool:
         """Whether this solve compiles (``jit``, or "auto" and a C compiler is present)."""
@@ -265,6 +273,7 @@ class Collocation(StateSettings):
         grid = self.grid(problem.period)
         K, d, n, T = grid.elements, grid.degree, problem.n_harmonics, problem.period
         jit = self.use_jit()
+        t0 = time.perf_counter()
         x0, warm = warm_state(model, start, 1e-8)
         states = states_at(model, start.speed, x0, grid.points, 1e-9)
         names = sample_outputs(problem, model, self.min_eccentricity)
@@ -274,7 +283,9 @@ class Collocation(StateSettings):
         Z, Wv = X[zi.ravel(order="F").tolist()].reshape(zi.shape), X[wi.ravel(order="F").tolist()].reshape(wi.shape)
         W = Wv * ca.DM(crank_scale(T))
         q = ca.MX.sym("q", len(model.symbols)) if model.symbols else None
+        t1 = time.perf_counter()  # the point function is built, and compiled, here
         defect, Xf, Y = collocation_residuals(model, grid, names, Z, W, jit, q)
+        t_build = time.perf_counter() - t1
         W0 = crank_motion(start.speed.padded(n), grid.times)
         y0 = np.asarray(collocation_residuals(model, grid, names, states, W0)[2])
         X0 = np.zeros(X.numel())
@@ -291,6 +302,7 @@ class Collocation(StateSettings):
         details = {"elements": K, "degree": d, "min_eccentricity": self.min_eccentricity, "jit": jit,
                    "periodic": self.periodic, "backoff": self.backoff, "omega_samples": self.omega_samples,
                    "defect_start": collocation_defect(model, start.speed, states, grid), **warm}
+        t_start = time.perf_counter() - t0 - t_build
         r = solve_states(
             problem, model, start.speed, c, X, X0, y, {k: y0[i : i + 1, :] for i, k in enumerate(names)}, grid.times,
             cons, name=name, transcription=repr(self), desc=f"{name} ({K}x{d} radau{', jit' if jit else ''})",
@@ -299,4 +311,7 @@ class Collocation(StateSettings):
             fixed=None if self.periodic else zi[:, 0], details=details,
             parameters=None if q is None else (q, model.nominal), keep=model.functions if jit else None)
         r.states = r.states[zi]
+        r.timing.update(start=t_start, build=r.timing.get("build", 0.0) + t_build,
+                        total=r.timing.get("total", 0.0) + t_start + t_build)
+        r.wall_time = r.timing["total"]
         return r

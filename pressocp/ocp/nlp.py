@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import casadi as ca
 import numpy as np
@@ -249,6 +249,7 @@ class IterationRecord(ca.Callback):
         self.history: list[float] = []
         self.times: list[float] = []  # time.perf_counter() at each iteration
         self.best: tuple[float, float, np.ndarray] | None = None
+        self.seconds = 0.0  # spent in this callback
         self.construct("iterations", {})
 
     def get_n_in(self):
@@ -276,6 +277,13 @@ class IterationRecord(ca.Callback):
         return ca.Sparsity(0, 0)
 
     def eval(self, arg):
+        t0 = time.perf_counter()
+        try:
+            return self.record(arg)
+        finally:
+            self.seconds += time.perf_counter() - t0
+
+    def record(self, arg):
         f = unscaled(self.objective, float(arg[1]), self.scale)
         g = np.asarray(arg[2]).ravel()
         viol = float(np.max(violation(g, self.lbg, self.ubg), initial=0.0))
@@ -345,6 +353,8 @@ class NlpOutcome:
         s.
     point : ParametricPoint or None
         The NLP at IPOPT's solution, when it has parameters and IPOPT succeeded.
+    timing : dict
+        Where the wall time went (`timing_split`), s.
     """
 
     w: np.ndarray
@@ -359,6 +369,23 @@ class NlpOutcome:
     iteration_log: dict
     wall_time: float
     point: ParametricPoint | None = None
+    timing: dict = field(default_factory=dict)
+
+
+#: CasADi's per-function wall-time counters of an nlpsol, by the name a timing record gives them.
+EVALUATIONS = {"objective": ("nlp_f", "nlp_grad_f"), "constraints": ("nlp_g",), "jacobian": ("nlp_jac_g",),
+               "hessian": ("nlp_hess_l",)}
+
+
+def timing_split(stats: dict, build: float, wall: float, callback: float) -> dict:
+    """Where an IPOPT solve's wall time went, s: ``build`` (nlpsol construction, with any compile of
+    its functions), the function and derivative evaluations (`EVALUATIONS`, from CasADi's
+    ``t_wall_*`` counters), ``callback`` (the iteration record and progress bar), ``solver`` (the rest
+    of IPOPT's own time: the linear solver, MUMPS, above all) and ``total``."""
+    evals = {k: float(sum(stats.get(f"t_wall_{n}", 0.0) for n in names)) for k, names in EVALUATIONS.items()}
+    solve = float(stats.get("t_wall_total", wall - build))
+    return {"build": build, **evals, "callback": callback,
+            "solver": max(solve - sum(evals.values()) - callback, 0.0), "total": wall}
 
 
 def parameter_symbols(q) -> tuple:
@@ -387,9 +414,11 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
 
         bar = tqdm(desc=desc or name, unit="it", leave=True)
     q, q0 = parameter_symbols(parameters)
+    stats: dict = {}
     cb = IterationRecord(w.numel(), cons, objective, scale, bar, q0.size)
     gall = cons.g
     solver = ca.nlpsol(name, "ipopt", {"x": w, "p": q, "f": f, "g": gall}, {**options, "iteration_callback": cb})
+    build = time.perf_counter() - t0
     if keep is not None:
         keep["solver"] = solver
     g_fun = ca.Function("constraints", [w, q], [gall])
@@ -400,6 +429,7 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
             try:
                 sol = solver(x0=w0, p=q0, lbx=lbw, ubx=ubw, lbg=cons.lbg, ubg=cons.ubg)
                 st = solver.stats()
+                stats = st
                 wo, success, status = np.asarray(sol["x"]).ravel(), bool(st["success"]), str(st["return_status"])
                 iters = int(st.get("iter_count", len(cb.history)))
                 its = st.get("iterations", {})
@@ -431,4 +461,5 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
     return NlpOutcome(w=wo, last_w=last, success=success, status=status, iterations=iters, history=list(cb.history),
                       barrier=barrier, violations_start=viol_start, violations=viol_end,
                       iteration_log={"time_s": [t - t0 for t in cb.times], **log},
-                      wall_time=time.perf_counter() - t0, point=point)
+                      wall_time=time.perf_counter() - t0, point=point,
+                      timing=timing_split(stats, build, time.perf_counter() - t0, cb.seconds))

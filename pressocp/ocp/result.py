@@ -89,6 +89,9 @@ class OcpResult:
         Package versions that produced it.
     simulation, initial_simulation : SimResult or None
         The verification responses (not saved in JSON; `resimulate` recomputes).
+    timing : dict
+        Wall time outside the stages, s: ``verification`` (the answer's and the initial speed's
+        re-simulations) and ``other`` (set-up, the initial design); `time_table` adds the stages.
     """
 
     problem: SpeedProblem
@@ -116,6 +119,7 @@ class OcpResult:
     versions: dict = field(default_factory=versions)
     simulation: SimResult | None = field(default=None, repr=False)
     initial_simulation: SimResult | None = field(default=None, repr=False)
+    timing: dict = field(default_factory=dict)
 
     # Views -------------------------------------------------------------------------------------
     @property
@@ -165,6 +169,27 @@ class OcpResult:
                 return s
         raise KeyError(f"no stage {name!r}; stages: {[s.name for s in self.stages]}")
 
+    def time_table(self) -> list[dict]:
+        """Where the wall time went, a row per stage and one for the verification, each with
+        ``wall`` and its parts (s): ``build`` (the NLP built and its functions compiled), ``functions``
+        (objective, constraints and their derivatives), ``linear_solver`` (IPOPT's own time, MUMPS
+        above all), ``start`` (the warm start's simulations), ``checks`` (re-simulations of the
+        stage's answer), and ``iterations``."""
+        rows = []
+        for s in self.stages:
+            t = s.timing
+            rows.append({"stage": s.name, "iterations": s.iterations, "wall": s.wall_time,
+                         "build": t.get("build", 0.0),
+                         "functions": sum(t.get(k, 0.0) for k in ("objective", "constraints", "jacobian", "hessian")),
+                         "linear_solver": t.get("solver", 0.0), "start": t.get("start", 0.0),
+                         "checks": t.get("checks", 0.0)})
+        for key in ("verification", "other"):
+            if key in self.timing:
+                rows.append({"stage": key, "iterations": 0, "wall": self.timing[key], "build": 0.0, "functions": 0.0,
+                             "linear_solver": 0.0, "start": 0.0, "checks": self.timing[key] if key == "verification"
+                             else 0.0})
+        return rows
+
     def resimulate(self, rtol: float | None = None) -> SimResult:
         """The answer re-simulated (periodic, CVODES) on the target model, at `verify_rtol` by default."""
         model = self.model.build(self.problem.press, self.problem.n_harmonics)
@@ -183,7 +208,7 @@ class OcpResult:
             "verification": {"periodic": self.periodic, "max_ram_speed_violation": self.max_ram_speed_violation,
                              "rtol": self.verify_rtol},
             "min_omega": self.min_omega, "iterations": self.iterations, "wall_time": self.wall_time,
-            "stages": [s.to_dict() for s in self.stages],
+            "timing": self.timing, "stages": [s.to_dict() for s in self.stages],
         }
 
     def to_json(self, path: str | Path) -> Path:

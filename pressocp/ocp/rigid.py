@@ -69,6 +69,10 @@ class Rigid:
     def __repr__(self) -> str:
         return settings_repr(self)
 
+    def refined(self, period: float) -> None:
+        """No finer grid: the rigid press is evaluated in closed form at its samples."""
+        return None
+
     def solve(self, problem: SpeedProblem, model: PressModel | None = None, start: WarmStart | None = None,
               name: str = "rigid", progress: bool = False) -> StageResult:
         """Solve `problem` on the ideal press.
@@ -146,4 +150,5 @@ class Rigid:
             t1=float(out.w[2 * n + 1]), history=out.history, barrier=out.barrier, iteration_log=out.iteration_log,
             violations_start=out.violations_start, violations=out.violations,
             details={"window_extension_m": drop, "min_tension_N": P.min_tension, "samples": N,
-                     "window_samples": self.window_samples, "backoff": self.backoff}, point=out.point)
+                     "window_samples": self.window_samples, "backoff": self.backoff}, timing=dict(out.timing),
+            point=out.point)

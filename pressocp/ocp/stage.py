@@ -16,6 +16,7 @@ import numpy as np
 
 from ..model import PressModel
 from ..problem import SpeedProblem
+from ..result import SimResult
 from ..speed import FourierSpeed
 from .nlp import ParametricPoint
 
@@ -108,6 +109,9 @@ class StageResult:
         Largest violation per constraint group at the start and at ``speed``.
     details : dict
         Transcription-specific plain data (grid, warm-start facts, collocation defect, ...).
+    timing : dict
+        Where the stage's wall time went, s: IPOPT's split (`pressocp.ocp.nlp.timing_split`) and the
+        stage's own work around it (``start``: warm start; ``checks``: re-simulations of its answer).
     check : Check or None
         The answer re-simulated on the target model (rigid stages of a chain).
     states : ndarray or None
@@ -117,6 +121,9 @@ class StageResult:
         (`pressocp.optimum_sensitivities`); not saved.
     superseded : str
         Why a failed stage does not fail the result (the chain went on another way), else empty.
+    simulation : SimResult or None
+        The answer's periodic re-simulation on the stage's model at the strategy's ``verify_rtol``,
+        when the strategy ran one (`Strategy.verify_stage`); not saved.
     """
 
     name: str
@@ -136,10 +143,12 @@ class StageResult:
     violations_start: dict = field(default_factory=dict)
     violations: dict = field(default_factory=dict)
     details: dict = field(default_factory=dict)
+    timing: dict = field(default_factory=dict)
     check: Check | None = None
     states: np.ndarray | None = field(default=None, repr=False)
     point: ParametricPoint | None = field(default=None, repr=False)
     superseded: str = ""
+    simulation: SimResult | None = field(default=None, repr=False)
 
     @classmethod
     def skipped(cls, name: str, reason: str, model: str, start: "StageResult") -> "StageResult":
@@ -154,8 +163,8 @@ class StageResult:
 
     def to_dict(self) -> dict:
         """Plain data (JSON-safe); ``states`` and ``point`` are left out."""
-        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ("states", "point", "speed",
-                                                                                     "last_speed", "check")}
+        d = {f.name: getattr(self, f.name) for f in fields(self)
+             if f.name not in ("states", "point", "speed", "last_speed", "check", "simulation")}
         d.update(speed=self.speed.to_dict(), last_speed=self.last_speed.to_dict(),
                  check=None if self.check is None else asdict(self.check))
         return d
@@ -173,6 +182,11 @@ class Transcription(Protocol):
 
     #: Whether the transcription solves models with states (else only the rigid press).
     has_states: bool
+
+    def refined(self, period: float) -> "Transcription | None":
+        """The same transcription on a finer grid, or None when it has none (the strategy refines
+        while a stage's re-simulation disagrees with the NLP). Optional: a transcription without it
+        is not refined."""
 
     def solve(self, problem: SpeedProblem, model: PressModel, start: WarmStart, name: str = ...,
               progress: bool = ...) -> StageResult: ...

@@ -140,6 +140,10 @@ class StateSettings:
     def __repr__(self) -> str:
         return settings_repr(self)
 
+    def refined(self, period: float) -> "StateSettings | None":
+        """The same transcription on a finer grid: None here (a transcription with a grid overrides it)."""
+        return None
+
 
 def check_states(problem: SpeedProblem, model: PressModel) -> None:
     """Checks shared by the state transcriptions, before any solve."""
@@ -212,5 +216,5 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
         iterations=out.iterations, wall_time=out.wall_time, objective=value, speed=speed,
         last_speed=FourierSpeed.from_coefficients(T, out.last_w[: 2 * n]), t1=float(times[inside[0]]),
         history=out.history, barrier=out.barrier, iteration_log=out.iteration_log,
-        violations_start=out.violations_start, violations=out.violations, details=details,
+        violations_start=out.violations_start, violations=out.violations, details=details, timing=dict(out.timing),
         states=out.w[2 * n + 1 :], point=out.point)

@@ -35,6 +35,7 @@ from ..model import PressModel, build_model
 from ..objectives import get as get_objective
 from ..params import PressParams
 from ..problem import SpeedProblem
+from ..result import SimResult
 from ..rigid import rigid_inverse_dynamics
 from ..simulate import SimulationError
 from ..speed import FourierSpeed
@@ -92,6 +93,10 @@ class Strategy:
         Initial trust region of the refinement, rad/s on every Fourier coefficient.
     verify_rtol : float
         Tolerance of the final periodic re-simulation.
+    grid_tol : float
+        A stage on a model with states is re-simulated (at `verify_rtol`) and, while its objective
+        there differs from the NLP's by more than this share or the ram speed leaves its tolerance,
+        solved again from its answer on a finer grid (`refined`), in (0, 1).
     """
 
     mode: str = "auto"
@@ -103,6 +108,7 @@ class Strategy:
     refine_rounds: int = 0
     refine_step: float = 0.2
     verify_rtol: float = 1e-9
+    grid_tol: float = 0.01
 
     def __post_init__(self) -> None:
         chk.choice("mode", self.mode, MODES)
@@ -117,6 +123,7 @@ class Strategy:
         chk.integer("refine_rounds", self.refine_rounds, 0, 100)
         chk.positive("refine_step", self.refine_step, "rad/s")
         chk.positive("verify_rtol", self.verify_rtol)
+        chk.in_open_interval("grid_tol", self.grid_tol, 0.0, 1.0)
 
     def __repr__(self) -> str:
         return settings_repr(self)
@@ -191,10 +198,10 @@ class Strategy:
                 chain.append(("flexible", model))
         speed = start.speed if neighbour is None else neighbour
         for name, m in chain:
-            st = transcription.solve(problem, m, WarmStart(speed), name, progress)
-            stages.append(st)
-            speed = st.speed
-            if not st.success:
+            solved, transcription = self.solve_refined(problem, m, transcription, WarmStart(speed), name, progress)
+            stages += solved
+            speed = solved[-1].speed
+            if not solved[-1].success:
                 return stages
         return stages + self.rounds(problem, chain[-1][1] if chain else None, base, [rigid, *stages], transcription,
                                     progress)
@@ -208,8 +215,11 @@ class Strategy:
         if self.mode in ("auto", "continue") and rigid.check.verified:
             reason = self.verified_reason
             return [StageResult.skipped("flexible", reason, model.spec.describe(), rigid)]
-        st = transcription.solve(problem, model, WarmStart(rigid.speed), "flexible", progress)
-        return [st, *self.rounds(problem, model, model, [st], transcription, progress)] if st.success else [st]
+        solved, transcription = self.solve_refined(problem, model, transcription, WarmStart(rigid.speed), "flexible",
+                                                   progress)
+        if not solved[-1].success:
+            return solved
+        return [*solved, *self.rounds(problem, model, model, solved, transcription, progress)]
 
     def rounds(self, problem: SpeedProblem, polish_model: PressModel | None, refine_model: PressModel,
                stages: list[StageResult], transcription: Transcription, progress: bool) -> list[StageResult]:
@@ -241,12 +251,68 @@ class Strategy:
         sim, ratio = screen(model, speed, get_objective(problem.objective).value(dense), problem.objective, rtol)
         return sim, float(ratio), dense
 
+    def verify_stage(self, model: PressModel, stage: StageResult) -> SimResult:
+        """``stage.simulation``: the stage's answer re-simulated on `model` (`verify_speed` at
+        `verify_rtol`), its periodic search started from the stage's own state at t = 0 when the
+        transcription has one (a collocation grid's first column: one or two cycles settle it). Run
+        once per stage; its time goes to the stage's ``timing["checks"]``."""
+        if stage.simulation is None:
+            t0 = time.perf_counter()
+            states = stage.states
+            x0 = states[:, 0] if states is not None and states.ndim == 2 and states.shape[0] == model.nx else None
+            stage.simulation = verify_speed(model, stage.speed, self.verify_rtol, x0=x0)
+            add_time(stage, "checks", time.perf_counter() - t0)
+        return stage.simulation
+
+    def grid_error(self, stage: StageResult, problem: SpeedProblem) -> str:
+        """Why `stage`'s re-simulation (`verify_stage`, run before) does not confirm its NLP, or "" when
+        it does: not periodic, the ram speed out of tolerance, or the objective more than `grid_tol`
+        from the NLP's."""
+        sim = stage.simulation
+        periodic = is_periodic(sim)
+        if periodic is not True:
+            return f"its re-simulation is not periodic ({periodic})"
+        viol = ram_speed_violation(sim, problem)
+        if viol > 0.0:
+            return f"the re-simulated ram speed leaves its tolerance by {viol:.2g} m/s"
+        value = get_objective(problem.objective).value(sim)
+        if abs(value - stage.objective) > self.grid_tol * abs(value):
+            return f"re-simulated {value:.6g} against the NLP's {stage.objective:.6g}"
+        return ""
+
+    def solve_refined(self, problem: SpeedProblem, model: PressModel, transcription: Transcription, start: WarmStart,
+                      name: str, progress: bool) -> tuple[list[StageResult], Transcription]:
+        """`transcription` on `model` from `start`; while the answer's re-simulation does not confirm it
+        (`grid_error`) and the transcription has a finer grid (`refined`), solved again there from the
+        answer and its periodic state (stage ``{name}_refined_k``). Returns the stages and the
+        transcription of the last one."""
+        stages = [transcription.solve(problem, model, start, name, progress)]
+        while stages[-1].success:
+            refine = getattr(transcription, "refined", None)  # an optional hook of the protocol
+            finer = None if refine is None else refine(problem.period)
+            if finer is None:
+                break
+            last = stages[-1]
+            sim = self.verify_stage(model, last)
+            why = self.grid_error(last, problem)
+            if not why:
+                break
+            last.details["refined"] = why
+            transcription = finer
+            x0 = sim.states[:, 0] / model.x_scale if is_periodic(sim) is True else None
+            stages.append(transcription.solve(problem, model, WarmStart(last.speed, x0), f"{name}_refined_{len(stages)}",
+                                              progress))
+        return stages, transcription
+
     def check(self, model: PressModel, stage: StageResult, problem: SpeedProblem) -> Check:
-        """Re-simulate a rigid-press stage's answer on `model` (`screen`, `CHECK_RTOL`)."""
+        """Re-simulate a rigid-press stage's answer on `model` (`screen`, `CHECK_RTOL`); its time goes
+        to the stage's ``timing["checks"]``."""
+        t0 = time.perf_counter()
         sim, ratio, dense = self.screened(model, stage.speed, problem)
         viol = max(ram_speed_violation(sim, problem), 0.0)
         periodic = is_periodic(sim)
         ne = rigid_inverse_dynamics(problem.press, *stage.speed.evaluate(dense.t))
+        add_time(stage, "checks", time.perf_counter() - t0)
         return Check(model=model.spec.describe(), objective=get_objective(problem.objective).value(sim), ratio=ratio,
                      periodic=periodic, ram_speed_violation=viol, peak_torque=sim.peak("torque"),
                      verified=bool(periodic is True and ratio <= self.verified_ratio and viol <= 0.0),
@@ -261,12 +327,12 @@ class Strategy:
         value = get_objective(problem.objective).value
         # both re-simulated alike, at the final verification's tolerance: an optimum holds the ram
         # speed to within a few 1e-5 m/s of its tolerance, about the error of a check at rtol 1e-7
-        best = value(self.screened(model, last.speed, problem, self.verify_rtol)[0])
+        best = value(self.verify_stage(model, last))
         rounds = []
         for k in range(self.polish_rounds):
             name = f"polish_{k + 1}"
             st = transcription.solve(problem, model, WarmStart(last.speed), name, progress)
-            cand = self.screened(model, st.speed, problem, self.verify_rtol)[0]
+            cand = self.verify_stage(model, st)
             viol = max(ram_speed_violation(cand, problem), 0.0)
             new = value(cand)
             if st.success and is_periodic(cand) is True and new < best and viol <= 0.0:
@@ -279,8 +345,9 @@ class Strategy:
                    else "its re-simulation is not periodic with the ram speed in tolerance")
             kept = replace(StageResult.skipped(name, "", model.spec.describe(), last),
                            status=f"not kept ({st.iterations} iterations: {why}); the previous answer stands",
-                           iterations=st.iterations, wall_time=st.wall_time,
-                           details={"verified_value": new, "previous_verified_value": best})
+                           iterations=st.iterations, wall_time=st.wall_time, timing=st.timing,
+                           details={"verified_value": new, "previous_verified_value": best},
+                           simulation=last.simulation)
             rounds.append(kept)
             break
         return rounds
@@ -322,6 +389,13 @@ class Strategy:
                 step *= REFINE_SHRINK
             rounds.append(st)
         return rounds
+
+
+def add_time(stage: StageResult, key: str, seconds: float) -> None:
+    """Add `seconds` to ``stage.timing[key]`` and to the stage's wall time."""
+    stage.timing[key] = stage.timing.get(key, 0.0) + seconds
+    stage.timing["total"] = stage.timing.get("total", stage.wall_time) + seconds
+    stage.wall_time += seconds
 
 
 def max_relative_change(speed: FourierSpeed, other: FourierSpeed, samples: int = 4001) -> float:
