@@ -60,7 +60,7 @@ def main() -> None:
     t0 = time.perf_counter()
     strategy = Strategy()
     rigid = strategy.rigid.solve(problem, model, WarmStart(design_speed(problem).speed), "rigid")
-    start = strategy.rigid.solve(problem.replace(min_tension=strategy.tension_margin * problem.hanging_weight),
+    start = strategy.rigid.solve(problem.replace(min_tension=strategy.margins[0] * problem.hanging_weight),
                                  model, WarmStart(rigid.speed), "no_reversal")
     start_time = time.perf_counter() - t0
     x0, _ = periodic_state(model, start.speed, method="cvodes", rtol=1e-9)

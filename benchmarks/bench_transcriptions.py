@@ -158,7 +158,7 @@ def no_reversal_start(problem):
     window, then the no-reversal optimum (rod tension >= 5 % of the hanging weight)."""
     target = po.build_model(problem.press, n_harmonics=problem.n_harmonics)
     r = po.Rigid().solve(problem, target, WarmStart(po.design_speed(problem).speed), "rigid")
-    margin = po.Strategy().tension_margin * problem.hanging_weight
+    margin = po.Strategy().margins[0] * problem.hanging_weight
     return r, po.Rigid().solve(problem.replace(min_tension=margin), target, WarmStart(r.speed), "no_reversal")
 
 

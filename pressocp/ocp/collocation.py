@@ -274,11 +274,15 @@ class Collocation(StateSettings):
         K, d, n, T = grid.elements, grid.degree, problem.n_harmonics, problem.period
         jit = self.use_jit()
         t0 = time.perf_counter()
-        x0, warm = warm_state(model, start, 1e-8)
-        states = states_at(model, start.speed, x0, grid.points, 1e-9)
         names = sample_outputs(problem, model, self.min_eccentricity)
         c = ca.MX.sym("c", 2 * n)
         zi, wi = grid.layout(model.nx, 3)
+        point = start.point if start.point is not None and start.point.grid == (K, d) else None
+        if point is None:
+            x0, warm = warm_state(model, start, 1e-8)
+            states = states_at(model, start.speed, x0, grid.points, 1e-9)
+        else:  # the same NLP's solution: its states, and no simulation
+            states, warm = point.w[2 * n + 1 :][zi], {"primal_dual_warm_start": True}
         X = ca.MX.sym("X", zi.size + wi.size)
         Z, Wv = X[zi.ravel(order="F").tolist()].reshape(zi.shape), X[wi.ravel(order="F").tolist()].reshape(wi.shape)
         W = Wv * ca.DM(crank_scale(T))
@@ -309,7 +313,8 @@ class Collocation(StateSettings):
             options={**nlp_options(jit), **self.ipopt}, progress=progress, backoff=self.backoff,
             omega_samples=self.omega_samples, coefficient_step=None,
             fixed=None if self.periodic else zi[:, 0], details=details,
-            parameters=None if q is None else (q, model.nominal), keep=model.functions if jit else None)
+            parameters=None if q is None else (q, model.nominal), keep=model.functions if jit else None,
+            grid=(K, d), warm=point)
         r.states = r.states[zi]
         r.timing.update(start=t_start, build=r.timing.get("build", 0.0) + t_build,
                         total=r.timing.get("total", 0.0) + t_start + t_build)

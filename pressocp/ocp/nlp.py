@@ -355,6 +355,8 @@ class NlpOutcome:
         The NLP at IPOPT's solution, when it has parameters and IPOPT succeeded.
     timing : dict
         Where the wall time went (`timing_split`), s.
+    lam_x, lam_g : ndarray or None
+        IPOPT's multipliers at its final iterate (None when IPOPT raised).
     """
 
     w: np.ndarray
@@ -370,6 +372,16 @@ class NlpOutcome:
     wall_time: float
     point: ParametricPoint | None = None
     timing: dict = field(default_factory=dict)
+    lam_x: np.ndarray | None = None
+    lam_g: np.ndarray | None = None
+
+
+#: IPOPT options of a primal-dual warm start (`solve_nlp` with multipliers): IPOPT starts at the given
+#: point and multipliers, with a small barrier parameter, and pushes the bounds only slightly, so a
+#: re-solve from an optimum with slightly changed bounds stays at that optimum.
+IPOPT_WARM_START = {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-7, "ipopt.warm_start_bound_push": 1e-9,
+                    "ipopt.warm_start_bound_frac": 1e-9, "ipopt.warm_start_slack_bound_push": 1e-9,
+                    "ipopt.warm_start_slack_bound_frac": 1e-9, "ipopt.warm_start_mult_bound_push": 1e-9}
 
 
 #: CasADi's per-function wall-time counters of an nlpsol, by the name a timing record gives them.
@@ -396,7 +408,8 @@ def parameter_symbols(q) -> tuple:
 
 def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarray, ubw: np.ndarray,
               options: dict, objective: Objective, scale: float, desc: str = "", progress: bool = False,
-              parameters: tuple | None = None, keep: dict | None = None) -> NlpOutcome:
+              parameters: tuple | None = None, keep: dict | None = None,
+              multipliers: tuple[np.ndarray, np.ndarray] | None = None) -> NlpOutcome:
     """IPOPT on ``min f(w, q) s.t. cons, lbw <= w <= ubw`` from ``w0``.
 
     ``options`` are complete nlpsol options (e.g. `IPOPT_RIGID` or `IPOPT_WARM` plus overrides).
@@ -406,6 +419,8 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
     it builds of a function weakly, so a compiled model function's derivatives (built and compiled
     with the solver) live only as long as a solver using them: kept, the next NLP on the same function
     (a polish round) reuses them instead of compiling them again.
+    ``multipliers``: ``(lam_x0, lam_g0)``, IPOPT's multipliers at ``w0`` from a solve of the same NLP
+    (other bounds allowed): a primal-dual warm start with `IPOPT_WARM_START` on top of ``options``.
     Ctrl-C raises `KeyboardInterrupt` (with ``best`` holding the least-infeasible iterate)."""
     t0 = time.perf_counter()
     bar = None
@@ -417,7 +432,9 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
     stats: dict = {}
     cb = IterationRecord(w.numel(), cons, objective, scale, bar, q0.size)
     gall = cons.g
-    solver = ca.nlpsol(name, "ipopt", {"x": w, "p": q, "f": f, "g": gall}, {**options, "iteration_callback": cb})
+    warm = {} if multipliers is None else {"lam_x0": multipliers[0], "lam_g0": multipliers[1]}
+    solver = ca.nlpsol(name, "ipopt", {"x": w, "p": q, "f": f, "g": gall},
+                       {**options, **(IPOPT_WARM_START if warm else {}), "iteration_callback": cb})
     build = time.perf_counter() - t0
     if keep is not None:
         keep["solver"] = solver
@@ -427,7 +444,8 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
     try:
         with interruptible() as hit:
             try:
-                sol = solver(x0=w0, p=q0, lbx=lbw, ubx=ubw, lbg=cons.lbg, ubg=cons.ubg)
+                sol = solver(x0=w0, p=q0, lbx=lbw, ubx=ubw, lbg=cons.lbg, ubg=cons.ubg, **warm)
+                lam = (np.asarray(sol["lam_x"]).ravel(), np.asarray(sol["lam_g"]).ravel())
                 st = solver.stats()
                 stats = st
                 wo, success, status = np.asarray(sol["x"]).ravel(), bool(st["success"]), str(st["return_status"])
@@ -444,7 +462,7 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
                 if hit:
                     raise
                 wo, success, status, iters = (cb.best[2] if cb.best else w0), False, first_line(err), len(cb.history)
-                barrier, log = [], {"inf_pr": [], "inf_du": []}
+                barrier, log, lam = [], {"inf_pr": [], "inf_du": []}, (None, None)
     except KeyboardInterrupt as stop:
         stop.best = None if cb.best is None else cb.best[2]
         raise
@@ -462,4 +480,5 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
                       barrier=barrier, violations_start=viol_start, violations=viol_end,
                       iteration_log={"time_s": [t - t0 for t in cb.times], **log},
                       wall_time=time.perf_counter() - t0, point=point,
-                      timing=timing_split(stats, build, time.perf_counter() - t0, cb.seconds))
+                      timing=timing_split(stats, build, time.perf_counter() - t0, cb.seconds),
+                      lam_x=lam[0], lam_g=lam[1])

@@ -8,10 +8,11 @@ import time
 import numpy as np
 
 from ..design import design_speed
-from ..model import PressModel, build_model
+from ..model import ModelSpec, PressModel, build_model
 from ..objectives import get as get_objective
 from ..problem import SpeedProblem
 from ..speed import FourierSpeed
+from ..workers import process_pool
 from .collocation import Collocation
 from .result import OcpResult, peaks_of
 from .stage import StageResult, Transcription
@@ -85,8 +86,20 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
                          f"{problem.n_harmonics}")
 
     t_chain = time.perf_counter()
-    stages = strat.run(problem, model, tr, initial, progress)
-    t_verify = time.perf_counter()
+    # candidate chains run in worker processes, started now so that they import while the rigid stage
+    # runs here; the initial speed's response is simulated there meanwhile
+    pool = process_pool(min(strat.workers, len(strat.margins))) \
+        if strat.workers > 1 and len(strat.margins) > 1 and model.clearance else None
+    try:
+        init_job = None if pool is None else pool.submit(initial_response, model.spec, problem, initial,
+                                                          strat.verify_rtol)
+        stages = strat.run(problem, model, tr, initial, progress, pool)
+        t_verify = time.perf_counter()
+        init_sim = initial_response(model, problem, initial, strat.verify_rtol) if init_job is None \
+            else init_job.result()
+    finally:
+        if pool is not None:
+            pool.shutdown(wait=False, cancel_futures=True)
     last = next(s for s in reversed(stages) if not s.was_skipped)
     answer = stages[-1]
     failed = [s for s in stages if not s.success and not s.superseded]
@@ -94,7 +107,6 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     # the last stage's own verification (same model, same tolerance) when the strategy ran one
     reuse = answer.simulation is not None and answer.model == model.spec.describe()
     sim = answer.simulation if reuse else verify_speed(model, answer.speed, strat.verify_rtol)
-    init_sim = _initial_response(model, problem, initial, strat.verify_rtol)
     t1, t2 = window_times(sim, problem)
     wall = time.perf_counter() - t_start
     timing = {"verification": time.perf_counter() - t_verify, "other": t_chain - t_start}
@@ -115,9 +127,11 @@ def _rigid_peak(rigid: StageResult, problem: SpeedProblem) -> float:
     return rigid_reference(problem, rigid.speed).peak("torque")
 
 
-def _initial_response(model: PressModel, problem: SpeedProblem, initial: FourierSpeed, rtol: float):
-    """The initial speed's response on the target model: periodic when it does not impact, else its 4th
-    cycle from rest (`screen`)."""
+def initial_response(model: PressModel | ModelSpec, problem: SpeedProblem, initial: FourierSpeed, rtol: float):
+    """The initial speed's response on the target model (built from its spec when given one, as in a
+    worker process): periodic when it does not impact, else its 4th cycle from rest (`screen`)."""
+    if isinstance(model, ModelSpec):
+        model = model.build(problem.press, problem.n_harmonics)
     if model.is_rigid:
         return verify_speed(model, initial, rtol)
     reference = get_objective(problem.objective).value(rigid_reference(problem, initial))

@@ -22,6 +22,31 @@ from .nlp import ParametricPoint
 
 
 @dataclass
+class NlpPoint:
+    """A state transcription's NLP solution, to start the same NLP (same grid, same window samples;
+    other bounds allowed) from it with its multipliers.
+
+    Attributes
+    ----------
+    w, lam_x, lam_g : ndarray
+        The NLP's variables and IPOPT's multipliers.
+    band : ndarray of int
+        The samples the ram speed was held at (`pressocp.ocp.states.window_band`).
+    scale : float
+        The objective's scale in that NLP.
+    grid : tuple
+        The transcription's grid it belongs to (e.g. elements and degree).
+    """
+
+    w: np.ndarray
+    lam_x: np.ndarray
+    lam_g: np.ndarray
+    band: np.ndarray
+    scale: float
+    grid: tuple
+
+
+@dataclass
 class WarmStart:
     """Where a stage starts.
 
@@ -31,10 +56,14 @@ class WarmStart:
         Start speed (period = the problem's).
     x0 : ndarray, optional
         Its periodic scaled state on the stage's model, if known (saves a search).
+    point : NlpPoint, optional
+        A solution of the same NLP with its multipliers: a transcription on the same grid starts
+        there, primal and dual (no simulation, and IPOPT stays at that optimum when nothing moved).
     """
 
     speed: FourierSpeed
     x0: np.ndarray | None = None
+    point: NlpPoint | None = None
 
 
 @dataclass
@@ -124,6 +153,9 @@ class StageResult:
     simulation : SimResult or None
         The answer's periodic re-simulation on the stage's model at the strategy's ``verify_rtol``,
         when the strategy ran one (`Strategy.verify_stage`); not saved.
+    nlp : NlpPoint or None
+        The NLP's solution with its multipliers, for a primal-dual warm start on the same grid
+        (transcriptions that give one); not saved.
     """
 
     name: str
@@ -149,6 +181,7 @@ class StageResult:
     point: ParametricPoint | None = field(default=None, repr=False)
     superseded: str = ""
     simulation: SimResult | None = field(default=None, repr=False)
+    nlp: NlpPoint | None = field(default=None, repr=False)
 
     @classmethod
     def skipped(cls, name: str, reason: str, model: str, start: "StageResult") -> "StageResult":
@@ -164,7 +197,7 @@ class StageResult:
     def to_dict(self) -> dict:
         """Plain data (JSON-safe); ``states`` and ``point`` are left out."""
         d = {f.name: getattr(self, f.name) for f in fields(self)
-             if f.name not in ("states", "point", "speed", "last_speed", "check", "simulation")}
+             if f.name not in ("states", "point", "speed", "last_speed", "check", "simulation", "nlp")}
         d.update(speed=self.speed.to_dict(), last_speed=self.last_speed.to_dict(),
                  check=None if self.check is None else asdict(self.check))
         return d

@@ -6,7 +6,7 @@ into a `StageResult`."""
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import ClassVar
 
 import casadi as ca
@@ -20,7 +20,7 @@ from ..simulate import SimulationError, integrate, periodic_state
 from ..speed import FourierSpeed
 from .nlp import (IPOPT_WARM, Constraints, add_dense_speed_bounds, add_objective, add_pin_cap, needed_outputs,
                   parameter_symbols, solve_nlp)
-from .stage import StageResult, WarmStart, settings_repr
+from .stage import NlpPoint, StageResult, WarmStart, settings_repr
 from .verify import settled_state
 
 #: Outputs every state transcription samples besides the objective's: the ram's own motion.
@@ -144,6 +144,11 @@ class StateSettings:
         """The same transcription on a finer grid: None here (a transcription with a grid overrides it)."""
         return None
 
+    def tightened(self, share: float) -> "StateSettings":
+        """The same transcription holding `share` less of the ram-speed tolerance (``backoff``), down
+        to a tenth of it at least."""
+        return replace(self, backoff=max(self.backoff - share, 0.1))
+
 
 def check_states(problem: SpeedProblem, model: PressModel) -> None:
     """Checks shared by the state transcriptions, before any solve."""
@@ -159,7 +164,8 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
                  y0: dict, times: np.ndarray, cons: Constraints, *, name: str, transcription: str, desc: str,
                  options: dict, progress: bool, backoff: float, omega_samples: int,
                  coefficient_step: float | None, fixed: np.ndarray | None, details: dict,
-                 parameters: tuple | None = None, keep: dict | None = None) -> StageResult:
+                 parameters: tuple | None = None, keep: dict | None = None, grid: tuple = (),
+                 warm: NlpPoint | None = None) -> StageResult:
     """The NLP of a state transcription from its pieces, solved.
 
     Parameters
@@ -181,13 +187,18 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
         the NLP at its solution (``StageResult.point``).
     keep : dict, optional
         Holds the solver afterwards (`solve_nlp`).
+    grid : tuple
+        The transcription's grid, recorded in the stage's `NlpPoint` (``StageResult.nlp``).
+    warm : NlpPoint, optional
+        A solution of this NLP (same grid): its variables, multipliers, window samples and objective
+        scale are taken instead of ``X0``'s, a primal-dual warm start.
     """
     P, T, n = problem, problem.period, problem.n_harmonics
     objective = get_objective(P.objective)
     s = ca.MX.sym("s")
-    scale = objective.value(y0)
+    scale = objective.value(y0) if warm is None else warm.scale
     f = add_objective(cons, objective, y, s, scale)
-    inside = window_band(P, start, y0["ram_height"].ravel(), times)
+    inside = window_band(P, start, y0["ram_height"].ravel(), times) if warm is None else warm.band
     add_window_samples(cons, P, y, inside, backoff)
     add_dense_speed_bounds(cons, P, c, omega_samples)
     add_pin_cap(cons, P, y)
@@ -201,8 +212,10 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
     if fixed is not None:
         k = 2 * n + 1 + np.asarray(fixed)
         lbw[k] = ubw[k] = w0[k]
+    if warm is not None:
+        w0 = np.asarray(warm.w, float)
     out = solve_nlp(name, w, f, cons, w0, lbw, ubw, {**IPOPT_WARM, **options}, objective, scale, desc, progress,
-                    parameters, keep)
+                    parameters, keep, None if warm is None else (warm.lam_x, warm.lam_g))
     speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
     q, q0 = parameter_symbols(parameters)
     try:
@@ -217,4 +230,6 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
         last_speed=FourierSpeed.from_coefficients(T, out.last_w[: 2 * n]), t1=float(times[inside[0]]),
         history=out.history, barrier=out.barrier, iteration_log=out.iteration_log,
         violations_start=out.violations_start, violations=out.violations, details=details, timing=dict(out.timing),
-        states=out.w[2 * n + 1 :], point=out.point)
+        states=out.w[2 * n + 1 :], point=out.point,
+        nlp=None if out.lam_x is None or not out.success else NlpPoint(out.w, out.lam_x, out.lam_g, inside, scale,
+                                                                         grid))

@@ -26,6 +26,7 @@ own optimum (journals kept on their walls) is lower.
 from __future__ import annotations
 
 import time
+from concurrent.futures import Executor
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -39,6 +40,7 @@ from ..result import SimResult
 from ..rigid import rigid_inverse_dynamics
 from ..simulate import SimulationError
 from ..speed import FourierSpeed
+from .candidates import run_candidates
 from .rigid import Rigid
 from .shooting import MultipleShooting
 from .stage import Check, StageResult, Transcription, WarmStart, settings_repr
@@ -50,6 +52,9 @@ CHECK_RTOL = 1e-7
 #: IPOPT iterations per refinement round, and the trust region's growth and shrink factors.
 REFINE_ITERATIONS = 6
 REFINE_GROW, REFINE_SHRINK = 1.5, 0.4
+#: Share of the ram-speed tolerance given up, beyond the measured excess, when a stage is re-solved
+#: with the held share lowered (`Strategy.solve_refined`), and how many times that is done.
+TIGHTEN_MARGIN, MAX_TIGHTEN = 0.02, 3
 
 
 def soft_params(params: PressParams, factor: float) -> PressParams:
@@ -74,10 +79,14 @@ class Strategy:
         cold chain runs after it; the failed stage stays in the record, marked ``superseded``.
     rigid : Rigid
         Transcription of the rigid and no-reversal stages.
-    tension_margin : float or None
+    tension_margin : float, tuple of float, or None
         Rod tension kept at both pins by the no-reversal stage, as a fraction of the weight of rod and
-        slider, in [0, 1); None skips that stage. It runs only when the rigid optimum is not verified
-        on the target model and the press has no process force.
+        slider, each in [0, 1); None skips that stage. It runs only when the rigid optimum is not
+        verified on the target model and the press has no process force. Several margins: each starts
+        a candidate chain (no-reversal, target and polish stages, named ``stage@margin``), run side by
+        side in `workers` processes, and the lowest verified answer is kept (`pressocp.ocp.candidates`).
+    workers : int
+        Processes for the candidate chains, 1..64 (1: one after the other in this process).
     verified_ratio : float
         A rigid-press answer is verified on a model when its objective there is within this factor
         of its rigid-press value (and it is periodic with the ram speed in tolerance).
@@ -101,21 +110,25 @@ class Strategy:
 
     mode: str = "auto"
     rigid: Rigid = field(default_factory=Rigid)
-    tension_margin: float | None = 0.05
+    tension_margin: float | tuple[float, ...] | None = (0.05, 0.02)
+    workers: int = 2
     verified_ratio: float = 1.02
     soft_factor: float | None = 100.0
     polish_rounds: int = 1
     refine_rounds: int = 0
     refine_step: float = 0.2
     verify_rtol: float = 1e-9
-    grid_tol: float = 0.01
+    grid_tol: float = 0.02
 
     def __post_init__(self) -> None:
         chk.choice("mode", self.mode, MODES)
         if not isinstance(self.rigid, Rigid):
             raise ValueError(f"rigid must be a Rigid transcription, got {type(self.rigid).__name__}")
-        if self.tension_margin is not None:
-            chk.in_half_open_interval("tension_margin", self.tension_margin, 0.0, 1.0)
+        for m in self.margins:
+            chk.in_half_open_interval("tension_margin", m, 0.0, 1.0)
+        if isinstance(self.tension_margin, tuple) and len(set(self.margins)) != len(self.margins):
+            raise ValueError(f"tension_margin lists a margin twice: {self.tension_margin}")
+        chk.integer("workers", self.workers, 1, 64)
         chk.in_open_interval("verified_ratio", self.verified_ratio, 1.0, 10.0)
         if self.soft_factor is not None:
             chk.in_open_interval("soft_factor", self.soft_factor, 1.0, 1e8)
@@ -128,6 +141,12 @@ class Strategy:
     def __repr__(self) -> str:
         return settings_repr(self)
 
+    @property
+    def margins(self) -> tuple[float, ...]:
+        """The no-reversal stages' tension margins (empty when that stage is skipped)."""
+        m = self.tension_margin
+        return () if m is None else tuple(m) if isinstance(m, (tuple, list)) else (m,)
+
     @classmethod
     def of(cls, strategy: "Strategy | str") -> "Strategy":
         """A `Strategy` from itself or a mode name."""
@@ -138,8 +157,9 @@ class Strategy:
 
     # The chain ---------------------------------------------------------------------------------
     def run(self, problem: SpeedProblem, model: PressModel, transcription: Transcription, initial: FourierSpeed,
-            progress: bool) -> list[StageResult]:
-        """Every stage in order; the last one's speed is the answer."""
+            progress: bool, pool: Executor | None = None) -> list[StageResult]:
+        """Every stage in order; the last one's speed is the answer. `pool`: worker processes for the
+        candidate chains (default: started when needed, `workers` of them)."""
         rigid = self.rigid.solve(problem, model, WarmStart(initial), "rigid", progress)
         stages = [rigid]
         if model.is_rigid:
@@ -157,20 +177,26 @@ class Strategy:
                 if not st.success:
                     st.superseded = "the chain from the neighbour's optimum failed here; it restarted as a cold chain"
             stages += tried
-        return stages + self.clearance_chain(problem, model, base, rigid, transcription, None, progress)
+        margins = self.margins
+        if len(margins) > 1 and not rigid.check.verified and problem.press.process_force.force == 0.0:
+            return stages + run_candidates(self, problem, model.spec, base.spec, rigid, transcription, margins,
+                                           progress, pool)
+        return stages + self.clearance_chain(problem, model, base, rigid, transcription, None, progress,
+                                             margins[0] if margins else None)
 
     def clearance_chain(self, problem: SpeedProblem, model: PressModel, base: PressModel, rigid: StageResult,
                         transcription: Transcription, neighbour: FourierSpeed | None,
-                        progress: bool) -> list[StageResult]:
+                        progress: bool, margin: float | None = None) -> list[StageResult]:
         """The stages after the rigid one on a model with clearance, to the polish and refinement
         rounds; it stops at a failed stage. ``neighbour``: a non-impacting start (a neighbouring
         optimum in a continuation) that the stages on models with states take as it is, with no
-        no-reversal or soft stage; None: the cold chain from the rigid optimum."""
+        no-reversal or soft stage; None: the cold chain from the rigid optimum, through the
+        no-reversal stage at tension `margin` (None: none)."""
         stages: list[StageResult] = []
         start = rigid
-        if neighbour is None and not rigid.check.verified and self.tension_margin is not None \
+        if neighbour is None and not rigid.check.verified and margin is not None \
                 and problem.press.process_force.force == 0.0:
-            bound = self.tension_margin * problem.hanging_weight
+            bound = margin * problem.hanging_weight
             nr = self.rigid.solve(problem.replace(min_tension=bound), model, WarmStart(rigid.speed), "no_reversal",
                                   progress)
             stages.append(nr)
@@ -264,44 +290,61 @@ class Strategy:
             add_time(stage, "checks", time.perf_counter() - t0)
         return stage.simulation
 
-    def grid_error(self, stage: StageResult, problem: SpeedProblem) -> str:
-        """Why `stage`'s re-simulation (`verify_stage`, run before) does not confirm its NLP, or "" when
-        it does: not periodic, the ram speed out of tolerance, or the objective more than `grid_tol`
-        from the NLP's."""
+    def grid_error(self, stage: StageResult, problem: SpeedProblem) -> tuple[str, float]:
+        """Why `stage`'s re-simulation (`verify_stage`, run before) does not confirm its NLP ("" when it
+        does), and by how much the re-simulated ram speed leaves its tolerance (m/s, 0 when it does
+        not). Not confirmed: not periodic, the ram speed out of tolerance, or the objective more than
+        `grid_tol` from the NLP's."""
         sim = stage.simulation
         periodic = is_periodic(sim)
         if periodic is not True:
-            return f"its re-simulation is not periodic ({periodic})"
-        viol = ram_speed_violation(sim, problem)
-        if viol > 0.0:
-            return f"the re-simulated ram speed leaves its tolerance by {viol:.2g} m/s"
+            return f"its re-simulation is not periodic ({periodic})", 0.0
         value = get_objective(problem.objective).value(sim)
         if abs(value - stage.objective) > self.grid_tol * abs(value):
-            return f"re-simulated {value:.6g} against the NLP's {stage.objective:.6g}"
-        return ""
+            return f"re-simulated {value:.6g} against the NLP's {stage.objective:.6g}", 0.0
+        viol = ram_speed_violation(sim, problem)
+        if viol > 0.0:
+            return f"the re-simulated ram speed leaves its tolerance by {viol:.2g} m/s", viol
+        return "", 0.0
 
     def solve_refined(self, problem: SpeedProblem, model: PressModel, transcription: Transcription, start: WarmStart,
                       name: str, progress: bool) -> tuple[list[StageResult], Transcription]:
-        """`transcription` on `model` from `start`; while the answer's re-simulation does not confirm it
-        (`grid_error`) and the transcription has a finer grid (`refined`), solved again there from the
-        answer and its periodic state (stage ``{name}_refined_k``). Returns the stages and the
-        transcription of the last one."""
+        """`transcription` on `model` from `start`, then while the answer's re-simulation does not
+        confirm it (`grid_error`):
+
+        * when only the ram speed strays (by v m/s over its tolerance tol), the same NLP again with
+          the held share of the tolerance lowered by v/tol + `TIGHTEN_MARGIN` (``tightened``), started
+          from the answer with its multipliers, so IPOPT moves only as far as the bounds did (stage
+          ``{name}_tightened_k``; at most `MAX_TIGHTEN` times);
+        * otherwise, on a finer grid (``refined``) from the answer and its periodic state (stage
+          ``{name}_refined_k``), while the transcription has one.
+
+        Returns the stages and the transcription of the last one."""
         stages = [transcription.solve(problem, model, start, name, progress)]
+        tightened = 0
         while stages[-1].success:
-            refine = getattr(transcription, "refined", None)  # an optional hook of the protocol
-            finer = None if refine is None else refine(problem.period)
-            if finer is None:
+            refine = getattr(transcription, "refined", None)  # optional hooks of the protocol
+            tighten = getattr(transcription, "tightened", None)
+            if refine is None and tighten is None:
                 break
             last = stages[-1]
             sim = self.verify_stage(model, last)
-            why = self.grid_error(last, problem)
+            why, viol = self.grid_error(last, problem)
             if not why:
                 break
-            last.details["refined"] = why
-            transcription = finer
-            x0 = sim.states[:, 0] / model.x_scale if is_periodic(sim) is True else None
-            stages.append(transcription.solve(problem, model, WarmStart(last.speed, x0), f"{name}_refined_{len(stages)}",
-                                              progress))
+            if viol > 0.0 and tighten is not None and last.nlp is not None and tightened < MAX_TIGHTEN:
+                tightened += 1
+                transcription = tighten(viol / problem.tol + TIGHTEN_MARGIN)
+                label, warm = f"{name}_tightened_{tightened}", WarmStart(last.speed, point=last.nlp)
+            else:
+                finer = None if refine is None else refine(problem.period)
+                if finer is None:
+                    break
+                transcription = finer
+                x0 = sim.states[:, 0] / model.x_scale if is_periodic(sim) is True else None
+                label, warm = f"{name}_refined_{len(stages)}", WarmStart(last.speed, x0)
+            last.details["followed_by"] = f"{label}: {why}"
+            stages.append(transcription.solve(problem, model, warm, label, progress))
         return stages, transcription
 
     def check(self, model: PressModel, stage: StageResult, problem: SpeedProblem) -> Check:

@@ -1,0 +1,123 @@
+"""Candidate chains: the clearance chain from several starts, side by side, the best verified kept.
+
+Where the clearance model's local optimum lands depends on its start, and no one start is best
+everywhere (75 spm seed, `docs/decisions/2026-11-25-candidate-starts.md`). So the chain is run from each
+no-reversal start (`Strategy.tension_margin`, one margin per candidate), each candidate's answer is
+re-simulated at the strategy's tolerance, and the lowest verified objective (periodic, ram speed in
+tolerance) wins. Candidates run in spawned worker processes (`pressocp.workers`), two at a time on
+two cores; IPOPT is not safe in threads.
+"""
+
+from __future__ import annotations
+
+import warnings
+from concurrent.futures import Executor
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..model import ModelSpec
+from ..objectives import get as get_objective
+from ..problem import SpeedProblem
+from ..workers import process_pool
+from .stage import StageResult, Transcription
+from .verify import is_periodic, ram_speed_violation
+
+if TYPE_CHECKING:
+    from .strategy import Strategy
+
+
+def candidate_chain(strategy: "Strategy", problem: SpeedProblem, spec: ModelSpec, base: ModelSpec,
+                    rigid: StageResult, transcription: Transcription, margin: float, suffix: str,
+                    progress: bool = False) -> list[StageResult]:
+    """One candidate: `Strategy.clearance_chain` from the no-reversal start at `margin`, its answer
+    verified (`Strategy.verify_stage`), its stages named with `suffix`. Runs in a worker process too
+    (the models are built from their specs there), so its stages carry no solver objects."""
+    n = problem.n_harmonics
+    model = spec.build(problem.press, n)
+    base_model = model if base == spec else base.build(problem.press, n)
+    stages = strategy.clearance_chain(problem, model, base_model, rigid, transcription, None, progress, margin)
+    last = stages[-1]
+    if last.success and not last.was_skipped:
+        strategy.verify_stage(model if last.model == spec.describe() else base_model, last)
+    return [replace(s, name=s.name + suffix, point=None) for s in stages]
+
+
+def verified_value(stage: StageResult, problem: SpeedProblem) -> float:
+    """The objective of a candidate's answer on its re-simulation when that is periodic with the ram
+    speed in tolerance and the stage converged; +inf otherwise."""
+    sim = stage.simulation
+    if not stage.success or sim is None or is_periodic(sim) is not True or ram_speed_violation(sim, problem) > 0.0:
+        return float("inf")
+    return float(get_objective(problem.objective).value(sim))
+
+
+def run_candidates(strategy: "Strategy", problem: SpeedProblem, spec: ModelSpec, base: ModelSpec,
+                   rigid: StageResult, transcription: Transcription, margins: tuple[float, ...],
+                   progress: bool, pool: Executor | None = None) -> list[StageResult]:
+    """Every candidate chain (`candidate_chain`), in `pool` (default: ``strategy.workers`` new processes;
+    here, one after the other, with one worker or when the pool breaks), then their stages: the
+    candidates not kept first (marked ``superseded`` with their verified value), the best last. Each
+    candidate's last stage records ``details["candidate_value"]``; the best one's also
+    ``details["candidates"]``, every margin's verified value."""
+    suffixes = [f"@{m:g}" for m in margins]
+    rigid = replace(rigid, point=None)  # no solver objects into the workers
+    args = [(strategy, problem, spec, base, rigid, transcription, m, sfx) for m, sfx in zip(margins, suffixes)]
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=len(args), desc=f"candidates (tension margins {', '.join(f'{m:g}' for m in margins)})",
+                   unit="chain", leave=True)
+    try:
+        chains = _run(args, min(strategy.workers, len(args)), bar, pool)
+    finally:
+        if bar is not None:
+            bar.close()
+    values = [verified_value(c[-1], problem) for c in chains]
+    best = int(np.argmin(values)) if np.isfinite(values).any() else _least_failed(chains)
+    summary = {f"{m:g}": v for m, v in zip(margins, values)}
+    out: list[StageResult] = []
+    for k, chain in enumerate(chains):
+        chain[-1].details["candidate_value"] = values[k]
+        if k == best:
+            continue
+        note = (f"candidate not kept: its answer re-simulates at {values[k]:.6g} against {values[best]:.6g}"
+                if np.isfinite(values[k]) else "candidate not kept: its answer is not verified")
+        out += [replace(s, superseded=s.superseded or note) for s in chain]
+    chains[best][-1].details["candidates"] = summary
+    return out + chains[best]
+
+
+def _least_failed(chains: list[list[StageResult]]) -> int:
+    """With no verified candidate: the one whose chain went furthest (most stages), else the first."""
+    return int(np.argmax([len(c) for c in chains]))
+
+
+def _run(args: list[tuple], workers: int, bar, pool: Executor | None) -> list[list[StageResult]]:
+    """`candidate_chain` over `args`, in order; in `pool`, or a new process pool when ``workers > 1``
+    (shut down afterwards; a given pool is the caller's)."""
+    def done(chain):
+        if bar is not None:
+            bar.update(1)
+        return chain
+
+    if pool is not None:
+        return [done(f.result()) for f in [pool.submit(candidate_chain, *a) for a in args]]
+    if workers > 1:
+        pool = process_pool(workers)
+        try:
+            futures = [pool.submit(candidate_chain, *a) for a in args]
+            return [done(f.result()) for f in futures]
+        except BrokenProcessPool as err:  # e.g. a script that starts solving on import, with no main guard
+            warnings.warn(f"the candidate chains' worker processes stopped ({err}); running them here one after "
+                          "the other. A script that optimises should do so under `if __name__ == '__main__':`",
+                          RuntimeWarning, stacklevel=4)
+        except BaseException:
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
+        finally:
+            pool.shutdown(wait=False, cancel_futures=True)
+    return [done(candidate_chain(*a)) for a in args]
