@@ -127,3 +127,36 @@ def test_compiled_hessian_with_few_directions_agrees_with_the_virtual_machine():
         hessians.append(np.asarray(ca.densify(H)))
     assert np.abs(hessians[0]).max() > 0.0
     np.testing.assert_allclose(hessians[1], hessians[0], rtol=1e-9, atol=1e-9 * np.abs(hessians[0]).max())
+
+
+def test_primal_dual_warm_start_stays_at_the_optimum_and_follows_tightened_bounds():
+    """The same NLP started from its solution with its multipliers (`StageResult.nlp`) stays there in a
+    few iterations; with the ram-speed share lowered (`tightened`) it moves to meet the new bounds.
+    The stage's time record adds up."""
+    model = build_model(SMOOTH.press, n_harmonics=4)
+    rig = Rigid(samples=200).solve(SMOOTH, model)
+    tr = Collocation(elements=60, jit=False)
+    sol = tr.solve(SMOOTH, model, WarmStart(rig.speed))
+    assert sol.success and sol.nlp is not None and sol.nlp.grid == (60, 3)
+    parts = sum(sol.timing[k] for k in ("build", "objective", "constraints", "jacobian", "hessian", "callback",
+                                        "solver", "start"))
+    assert sol.timing["total"] == pytest.approx(sol.wall_time) and parts <= sol.wall_time * 1.001
+    again = tr.solve(SMOOTH, model, WarmStart(sol.speed, point=sol.nlp))
+    assert again.success and again.iterations <= 5, again.iterations
+    assert again.details.get("primal_dual_warm_start") is True
+    np.testing.assert_allclose(again.speed.coefficients, sol.speed.coefficients, rtol=0, atol=1e-6)
+    tight = tr.tightened(0.3)
+    assert tight.backoff == pytest.approx(tr.backoff - 0.3)
+    moved = tight.solve(SMOOTH, model, WarmStart(sol.speed, point=sol.nlp))
+    assert moved.success and max(moved.violations.values()) < 1e-6
+    band = sol.nlp.band
+    v = np.asarray(collocation_residuals(model, tight.grid(SMOOTH.period), ("ram_velocity",),
+                                         moved.states, crank_motion(moved.speed, tight.grid(1.0).times))[2]).ravel()
+    assert np.max(np.abs(v[band] - SMOOTH.ram_speed)) <= tight.backoff * SMOOTH.tol * (1 + 1e-6)
+
+
+def test_a_grid_is_refined_twice_up_to_the_finest():
+    tr = Collocation()
+    assert tr.grid(0.8).elements == 400 and tr.refined(0.8).elements == 800
+    assert tr.refined(0.8).refined(0.8).elements == 1600 and tr.refined(0.8).refined(0.8).refined(0.8) is None
+    assert Collocation().grid(0.05).elements == 100 and Collocation().refined(0.05) is None

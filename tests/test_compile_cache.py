@@ -1,0 +1,111 @@
+"""The on-disk cache of compiled objects: `pressocp.jitcc` (the caching compiler) against a compiler
+that logs its calls, and `pressocp.compile_cache.jit_options` through CasADi in two processes."""
+
+import os
+import stat
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+from pressocp import compile_cache
+from pressocp.jitcc import compile_cached
+
+needs_cc = pytest.mark.skipif(not compile_cache.compiler_available(), reason="no C compiler")
+
+
+def logging_compiler(folder, name="cc"):
+    """A compiler that appends its arguments to ``calls.log`` beside it, then runs the real one."""
+    real = compile_cache.c_compiler()
+    path = folder / name
+    path.write_text(f'#!/bin/sh\necho "$@" >> "{folder}/calls.log"\nexec "{real}" "$@"\n')
+    path.chmod(path.stat().st_mode | stat.S_IEXEC)
+    return path
+
+
+def compiles(folder):
+    """The logged compiler calls that compiled a source (``-c``)."""
+    log = folder / "calls.log"
+    return [line for line in log.read_text().splitlines() if " -c " in f" {line} "] if log.exists() else []
+
+
+@needs_cc
+def test_an_object_is_compiled_once_and_a_corrupt_entry_is_rebuilt(tmp_path):
+    cc = logging_compiler(tmp_path)
+    cache = tmp_path / "cache"
+    src = tmp_path / "f.c"
+    src.write_text("double f(double x) { return 2.0 * x; }\n")
+
+    def build(out, flag="-O1"):
+        assert compile_cached(str(cache), str(cc), [flag, "-fPIC", "-c", str(src), "-o", str(tmp_path / out)]) == 0
+        return (tmp_path / out).read_bytes()
+
+    first = build("a.o")
+    assert len(compiles(tmp_path)) == 1
+    assert build("b.o") == first and len(compiles(tmp_path)) == 1  # a hit: the compiler did not run
+    (entry,) = cache.glob("*/*.o")
+    data = bytearray(entry.read_bytes())
+    data[-1] ^= 0xFF  # corrupt the object code
+    entry.write_bytes(bytes(data))
+    assert build("c.o") == first and len(compiles(tmp_path)) == 2  # rebuilt, not trusted
+    assert build("d.o") == first and len(compiles(tmp_path)) == 2  # and cached again
+    build("e.o", "-O0")  # other flags: another key
+    src.write_text("double f(double x) { return 3.0 * x; }\n")
+    build("f.o")  # another source: another key
+    assert len(compiles(tmp_path)) == 4 and len(list(cache.glob("*/*.o"))) == 3
+
+
+@needs_cc
+def test_a_link_or_a_failing_compile_passes_through_uncached(tmp_path):
+    cc = logging_compiler(tmp_path)
+    cache = tmp_path / "cache"
+    bad = tmp_path / "bad.c"
+    bad.write_text("this is not C\n")
+    assert compile_cached(str(cache), str(cc), ["-c", str(bad), "-o", str(tmp_path / "bad.o")]) != 0
+    assert not list(cache.glob("*/*.o"))
+
+
+SNIPPET = textwrap.dedent("""
+    import casadi as ca
+    from pressocp.compile_cache import jit_options
+    x = ca.SX.sym("x", 3)
+    f = ca.Function("f", [x], [ca.sin(x[0]) * x[1] ** 2 + ca.exp(x[2]) * x[0]], {**jit_options(), "der_options": jit_options()})
+    J = ca.Function("J", [x], [ca.jacobian(f(x), x)])
+    print(float(f([0.3, 0.5, 0.7])), [float(v) for v in ca.DM(J([0.3, 0.5, 0.7])).full().ravel()])
+""")
+
+
+@needs_cc
+def test_a_second_process_with_the_same_function_compiles_nothing(tmp_path):
+    """Two processes compile the same function: the first runs the compiler, the second only links,
+    and both evaluate what CasADi's virtual machine does."""
+    logging_compiler(tmp_path)
+    env = {**os.environ, "PATH": f"{tmp_path}{os.pathsep}{os.environ['PATH']}",
+           compile_cache.CACHE_ENV: str(tmp_path / "cache")}
+    run = lambda: subprocess.run([sys.executable, "-c", SNIPPET], env=env, capture_output=True, text=True,  # noqa: E731
+                                 check=True, cwd=tmp_path).stdout
+    first = run()
+    n = len(compiles(tmp_path))
+    assert n >= 1
+    assert run() == first and len(compiles(tmp_path)) == n
+    import casadi as ca
+    x = ca.SX.sym("x", 3)
+    e = ca.sin(x[0]) * x[1] ** 2 + ca.exp(x[2]) * x[0]
+    vm = ca.Function("vm", [x], [e, ca.jacobian(e, x)])([0.3, 0.5, 0.7])
+    expected = f"{float(vm[0])} {[float(v) for v in ca.DM(vm[1]).full().ravel()]}\n"
+    assert first == expected
+
+
+def test_the_cache_folder_is_configurable_and_can_be_off(monkeypatch, tmp_path):
+    monkeypatch.setenv(compile_cache.CACHE_ENV, str(tmp_path / "here"))
+    assert compile_cache.cache_dir() == tmp_path / "here"
+    monkeypatch.setenv(compile_cache.CACHE_ENV, "off")
+    assert compile_cache.cache_dir() is None
+    if compile_cache.compiler_available():
+        assert "jitcc" not in compile_cache.jit_options()["jit_options"]["compiler"]
+    monkeypatch.delenv(compile_cache.CACHE_ENV)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert compile_cache.cache_dir() == tmp_path / "xdg" / "pressocp" / "jit"
+    compile_cache.set_cache_dir(tmp_path / "set")
+    assert os.environ[compile_cache.CACHE_ENV] == str(tmp_path / "set")
