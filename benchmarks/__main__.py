@@ -73,6 +73,8 @@ JOBS = (
     Job("stability", "bench_stability.py", (), 60, "stability maps of the fixed-step integrators"),
     Job("ocp_default", "bench_ocp.py", ("default", "--repeat", "3"), 5, "default call, 60 spm scene"),
     Job("ocp_seed", "bench_ocp.py", ("seed", "--repeat", "3"), 20, "default call, 75 spm scene"),
+    Job("speed", "bench_speed.py", ("--repeat", "3", "--cold-first"), 20,
+        "the bundled scenarios' default calls, each in a fresh process, compile cache empty then filled"),
     Job("ocp_seed_collocation", "bench_ocp.py", ("seed_collocation", "--repeat", "3"), 15,
         "75 spm, every stage, collocation on CasADi's virtual machine"),
     Job("ocp_seed_collocation_jit", "bench_ocp.py", ("seed_collocation_jit", "--repeat", "3"), 6,

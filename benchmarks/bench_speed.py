@@ -1,0 +1,179 @@
+"""The bundled scenarios' default calls, each run in a fresh process, timed from the parent.
+
+    python benchmarks/bench_speed.py [--scenarios press75 press60 ...] [--repeat 3] [--label after]
+                                     [--python EXE] [--cold-first]
+
+Every run is ``Scenario.load(name).optimize(progress=False)`` in a new Python process (import and
+set-up included, as a user starts it). ``--cold-first``: the first run of each scenario uses an empty
+compile cache (``PRESSOCP_CACHE_DIR`` in a fresh folder: the compile paid), the others the cache it
+left (a second process with the same model). ``--python EXE`` runs another interpreter, e.g. a
+virtual environment with an earlier version of the package installed (the "before" rows; it must
+accept the same call). Each run records its wall time, peak
+torque, verification, stages with iterations and times, and (when the package has it) the time
+table (`OcpResult.time_table`). Rows are appended to ``results/speed.jsonl`` with the label, date and
+machine; ``results/speed.png`` is drawn from the newest row of each (scenario, label): medians with
+every run, the goals, and for press75 the stage times of the newest "before" and "after" rows.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from pressocp.report import stamp
+
+OUT = Path(__file__).parent / "results"
+ROWS = OUT / "speed.jsonl"
+SCENARIOS = ("press75", "press60", "large_press", "slender_rod")
+#: The fast-optimiser goals: the seed call in 45 s (20 s the moonshot) at <= 146.0 N m verified, the
+#: other scenarios 2 x faster than before.
+GOAL_SEED_S, MOONSHOT_S, GOAL_SEED_NM, GOAL_SPEEDUP = 45.0, 20.0, 146.0, 2.0
+
+CHILD = """
+import json, sys, time
+t0 = time.perf_counter()
+import pressocp as po
+r = po.Scenario.load(sys.argv[1]).optimize(progress=False)
+table = r.time_table() if hasattr(r, "time_table") else []
+print("RESULT" + json.dumps({
+    "inside_s": time.perf_counter() - t0, "peak_torque": r.peak_torque, "verified": bool(r.verified),
+    "success": bool(r.success), "objective_value": r.objective_value, "verified_objective": r.verified_objective,
+    "max_ram_speed_violation": r.max_ram_speed_violation, "rigid_peak_torque": r.rigid_peak_torque,
+    "stages": [{"name": s.name, "iterations": s.iterations, "wall_time": s.wall_time, "objective": s.objective,
+                "status": s.status, "superseded": s.superseded,
+                "verified_value": s.details.get("verified_value", s.details.get("candidate_value"))}
+               for s in r.stages],
+    "time_table": table}))
+"""
+
+
+def run_once(name: str, env: dict, python: str) -> dict:
+    """One default call in a new process; wall time measured here."""
+    t0 = time.perf_counter()
+    out = subprocess.run([python, "-c", CHILD, name], env=env, capture_output=True, text=True)
+    wall = time.perf_counter() - t0
+    line = [x for x in out.stdout.splitlines() if x.startswith("RESULT")]
+    if out.returncode != 0 or not line:
+        return {"wall_s": wall, "error": (out.stderr or out.stdout)[-2000:]}
+    return {"wall_s": wall, **json.loads(line[0][len("RESULT"):])}
+
+
+def measure(name: str, repeat: int, label: str, python: str, cold_first: bool) -> dict:
+    env = dict(os.environ)
+    runs = []
+    with tempfile.TemporaryDirectory(prefix="pressocp-cache-") as cache:
+        for k in range(repeat):
+            if cold_first:
+                env["PRESSOCP_CACHE_DIR"] = cache  # empty for the first run, filled by it for the others
+            r = run_once(name, env, python)
+            r["compile_cache"] = "empty" if cold_first and k == 0 else ("filled" if cold_first else "user's")
+            runs.append(r)
+            print(f"{name} [{label}] run {k + 1}: {r['wall_s']:.1f} s, peak "
+                  f"{r.get('peak_torque', float('nan')):.4f} N m, verified {r.get('verified')}", flush=True)
+    ok = [r for r in runs if "error" not in r]
+    return {"scenario": name, "label": label, "run": stamp(), "python": python, "repeat": repeat,
+            "median_wall_s": statistics.median(r["wall_s"] for r in runs),
+            "wall_s": [r["wall_s"] for r in runs],
+            "peaks": [r.get("peak_torque") for r in runs], "all_verified": bool(ok) and all(r["verified"] for r in ok),
+            "answers_agree": bool(ok) and max(r["peak_torque"] for r in ok) - min(r["peak_torque"] for r in ok)
+            <= 1e-3 * min(r["peak_torque"] for r in ok), "runs": runs}
+
+
+def newest(rows: list[dict]) -> dict:
+    out = {}
+    for r in rows:
+        out[(r["scenario"], r["label"])] = r
+    return out
+
+
+def stage_times(row: dict) -> list[tuple[str, float]]:
+    """(stage, s) of the run nearest the row's median; the verification and set-up when recorded."""
+    runs = [r for r in row["runs"] if "error" not in r]
+    run = min(runs, key=lambda r: abs(r["wall_s"] - row["median_wall_s"]))
+    if run.get("time_table"):
+        return [(t["stage"], t["wall"]) for t in run["time_table"]]
+    parts = [(s["name"], s["wall_time"]) for s in run["stages"]]
+    return parts + [("rest", run["wall_s"] - sum(w for _, w in parts))]
+
+
+def plot(rows: list[dict]) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    last = newest(rows)
+    scen = [s for s in SCENARIOS if any(k[0] == s for k in last)]
+    labels = sorted({k[1] for k in last}, key=lambda x: (x != "before", x))
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(13, 5), gridspec_kw={"width_ratios": [1.2, 1]})
+    width = 0.8 / max(len(labels), 1)
+    for j, lab in enumerate(labels):
+        for i, s in enumerate(scen):
+            row = last.get((s, lab))
+            if row is None:
+                continue
+            x = i + (j - (len(labels) - 1) / 2) * width
+            a1.bar(x, row["median_wall_s"], width, color=f"C{j}", label=lab if i == 0 else None)
+            a1.plot([x] * len(row["wall_s"]), row["wall_s"], "k.", ms=4)
+            pk = [p for p in row["peaks"] if p is not None]
+            a1.annotate(f"{row['median_wall_s']:.0f} s\n{min(pk):.1f} N·m" if pk else "failed",
+                        (x, row["median_wall_s"]), ha="center", va="bottom", fontsize=7)
+    a1.axhline(GOAL_SEED_S, color="g", ls="--", lw=1, label=f"press75 goal {GOAL_SEED_S:.0f} s")
+    a1.axhline(MOONSHOT_S, color="g", ls=":", lw=1, label=f"moonshot {MOONSHOT_S:.0f} s")
+    a1.set_xticks(range(len(scen)), scen)
+    a1.set_ylabel("wall time of the default call, s (median; dots: every run)")
+    a1.set_yscale("log")
+    a1.legend(fontsize=8)
+    a1.set_title("Scenario.load(name).optimize(), fresh process each run")
+    for j, lab in enumerate(labels):
+        row = last.get(("press75", lab))
+        if row is None:
+            continue
+        left = 0.0
+        for k, (name, t) in enumerate(stage_times(row)):
+            a2.barh(j, t, left=left, color=f"C{k % 10}", edgecolor="w")
+            if t > 2.5:
+                a2.text(left + t / 2, j, f"{name}\n{t:.0f}", ha="center", va="center", fontsize=6)
+            left += t
+    a2.axvline(GOAL_SEED_S, color="g", ls="--", lw=1)
+    a2.set_yticks(range(len(labels)), labels)
+    a2.set_xlabel("s (the run nearest the median)")
+    a2.set_title("press75: where the time went, stage by stage")
+    machine = rows[-1]["run"]
+    fig.suptitle(f"{machine['date'][:10]}, {machine['machine']} ({machine['cpus']} CPUs)", fontsize=9)
+    fig.tight_layout()
+    path = OUT / "speed.png"
+    fig.savefig(path, dpi=130)
+    return path
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--scenarios", nargs="+", default=list(SCENARIOS), choices=SCENARIOS)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--label", default="after")
+    ap.add_argument("--python", default=sys.executable, help="the interpreter that runs the calls")
+    ap.add_argument("--cold-first", action="store_true", help="the first run of each scenario with an empty "
+                    "compile cache, the others with what it left")
+    ap.add_argument("--plot-only", action="store_true")
+    a = ap.parse_args(argv)
+    OUT.mkdir(exist_ok=True)
+    if not a.plot_only:
+        for name in a.scenarios:
+            row = measure(name, a.repeat, a.label, a.python, a.cold_first)
+            with ROWS.open("a") as f:
+                f.write(json.dumps(row) + "\n")
+    rows = [json.loads(x) for x in ROWS.read_text().splitlines() if x.strip()]
+    print(plot(rows))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
