@@ -57,7 +57,8 @@ print("RESULT" + json.dumps({
 def run_once(name: str, env: dict, python: str) -> dict:
     """One default call in a new process; wall time measured here."""
     t0 = time.perf_counter()
-    out = subprocess.run([python, "-c", CHILD, name], env=env, capture_output=True, text=True)
+    with tempfile.TemporaryDirectory() as cwd:  # not this checkout's folder: `python -c` imports from its cwd
+        out = subprocess.run([python, "-c", CHILD, name], env=env, capture_output=True, text=True, cwd=cwd)
     wall = time.perf_counter() - t0
     line = [x for x in out.stdout.splitlines() if x.startswith("RESULT")]
     if out.returncode != 0 or not line:

@@ -18,6 +18,7 @@ import shlex
 import shutil
 import sys
 import tempfile
+import warnings
 from functools import lru_cache
 from pathlib import Path
 
@@ -25,6 +26,10 @@ from pathlib import Path
 CACHE_ENV = "PRESSOCP_CACHE_DIR"
 #: Optimisation flags of the compiled functions (-O3 was no faster and compiled 3 x longer).
 FLAGS = ("-O1",)
+#: Directions per derivative sweep of an NLP whose functions are compiled (the oracle's
+#: ``max_num_dir``; CasADi's default 64 put all 9 Hessian colours of the collocation point function
+#: into one large function that took ~35 s to compile; 3 compile in ~5 s and evaluate as fast).
+JIT_DIRECTIONS = 3
 
 
 @lru_cache(maxsize=1)
@@ -36,6 +41,34 @@ def c_compiler() -> str | None:
 def compiler_available() -> bool:
     """Whether a C compiler is on the PATH."""
     return c_compiler() is not None
+
+
+def use_jit(setting: bool | str, what: str) -> bool:
+    """Whether to compile: `setting` True or False, or "auto" (when a C compiler is found; a warning
+    names `what` runs on CasADi's virtual machine when none is)."""
+    if setting not in (True, False, "auto"):
+        raise ValueError(f"jit must be True, False or 'auto', got {setting!r}")
+    if setting == "auto":
+        if not compiler_available():
+            warnings.warn(f"no C compiler (cc) found: {what} runs on CasADi's virtual machine, several times "
+                          "slower; install one (e.g. gcc) to compile", RuntimeWarning, stacklevel=3)
+            return False
+        return True
+    return bool(setting)
+
+
+def function_options(jit: bool) -> dict:
+    """Options of a CasADi Function compiled with its derivatives (`jit_options`), or none."""
+    if not jit:
+        return {}
+    opts = jit_options()
+    return {**opts, "der_options": opts}
+
+
+def oracle_options(jit: bool) -> dict:
+    """nlpsol options for an NLP whose functions are compiled: at most `JIT_DIRECTIONS` directions per
+    derivative sweep."""
+    return {"oracle_options": {"max_num_dir": JIT_DIRECTIONS}} if jit else {}
 
 
 def cache_dir() -> Path | None:

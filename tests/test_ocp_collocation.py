@@ -160,3 +160,4 @@ def test_a_grid_is_refined_twice_up_to_the_finest():
     assert tr.grid(0.8).elements == 400 and tr.refined(0.8).elements == 800
     assert tr.refined(0.8).refined(0.8).elements == 1600 and tr.refined(0.8).refined(0.8).refined(0.8) is None
     assert Collocation().grid(0.05).elements == 100 and Collocation().refined(0.05) is None
+    assert Collocation().grid(0.8, "flexible").elements == 1600 and Collocation().refined(0.8, "flexible") is None

@@ -27,7 +27,7 @@ import casadi as ca
 import numpy as np
 
 from .. import checks as chk
-from ..compile_cache import compiler_available, jit_options
+from ..compile_cache import function_options, oracle_options, use_jit
 from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
 from ..speed import FourierSpeed
@@ -35,10 +35,12 @@ from .nlp import Constraints, UniformPartition, crank_motion, crank_scale, scale
 from .stage import StageResult, WarmStart
 from .states import StateSettings, check_states, keep_contact, sample_outputs, solve_states, states_at, warm_state
 
-#: Elements per second of period of the first grid (2 ms elements; at least `MIN_ELEMENTS`). On the
-#: 75 spm case (400 elements) the optimum re-simulates within 0.7 % of the NLP's peak, at 0.27 x the
-#: cost per iteration of 1600 elements; the strategy refines a grid whose re-simulation disagrees.
-ELEMENTS_PER_SECOND = 500
+#: Elements per second of period of the first grid, by rod (at least `MIN_ELEMENTS`). Rigid rod: 2 ms
+#: elements; on the 75 spm case (400 elements) the optimum re-simulates within 0.7 % of the NLP's peak,
+#: at 0.27 x the cost per iteration of 1600 elements. Flexible rod: 0.5 ms, as fine as a refinement
+#: goes; on the slender-rod scene the 0.63 ms grid (100 elements) re-simulated within 0.4 % of its NLP,
+#: yet its optimum was 10 % higher (79.0 against 71.7 N m).
+ELEMENTS_PER_SECOND = {"rigid": 500, "flexible": 2000}
 #: Fewest elements of a default grid.
 MIN_ELEMENTS = 100
 #: Elements per second of period of the finest grid a refinement reaches (0.5 ms elements: on the
@@ -48,16 +50,10 @@ MAX_ELEMENTS_PER_SECOND = 2000
 #: constraint multipliers instead of IPOPT's least-squares estimate (an extra linear solve that
 #: changed nothing), and no MUMPS scaling (its automatic choice made every linear solve dearer).
 IPOPT_OPTIONS = {"ipopt.hessian_approximation": "exact", "ipopt.constr_mult_init_max": 0.0, "ipopt.mumps_scaling": 0}
-#: Directions per derivative sweep of the NLP functions when the point function is compiled (the
-#: oracle's ``max_num_dir``; CasADi's default 64 puts all 9 Hessian colours into one large function
-#: that takes ~35 s to compile; 3 compile in ~5 s and evaluate as fast).
-JIT_DIRECTIONS = 3
-
-
 def nlp_options(jit: bool) -> dict:
-    """nlpsol options of the collocation NLP: `IPOPT_OPTIONS`, and with `jit` at most `JIT_DIRECTIONS`
-    directions per derivative sweep (the oracle's ``max_num_dir``)."""
-    return {**IPOPT_OPTIONS, **({"oracle_options": {"max_num_dir": JIT_DIRECTIONS}} if jit else {})}
+    """nlpsol options of the collocation NLP: `IPOPT_OPTIONS`, and with `jit` few directions per
+    derivative sweep (`pressocp.compile_cache.oracle_options`)."""
+    return {**IPOPT_OPTIONS, **oracle_options(jit)}
 
 
 def radau_matrices(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -147,10 +143,8 @@ def point_function(model: PressModel, names: tuple[str, ...], jit: bool = False)
         x, crank, q = ca.SX.sym("x", model.nx), ca.SX.sym("crank", 3), ca.SX.sym("q", len(model.symbols))
         out = model.at_crank(x, crank, q)
         y = ca.vertcat(*[out[1 + OUTPUT_NAMES.index(n)] for n in names])
-        jit_opts = jit_options() if jit else {}
-        opts = {**jit_opts, "der_options": jit_opts} if jit else {}
         model.functions[key] = ca.Function("point", [x, crank, q], [out[0], y], ["x", "crank", "q"], ["ode", "y"],
-                                           opts)
+                                           function_options(jit))
     return model.functions[key]
 
 
@@ -207,8 +201,9 @@ class Collocation(StateSettings):
     Attributes
     ----------
     elements : int or None
-        Elements per period, 10..100 000; None: `ELEMENTS_PER_SECOND` x T (2 ms elements), at least
-        `MIN_ELEMENTS`. Fewer are faster and less accurate; `refined` doubles them.
+        Elements per period, 10..100 000; None: `ELEMENTS_PER_SECOND` x T (2 ms elements on a rigid
+        rod, 0.5 ms on a flexible one), at least `MIN_ELEMENTS`. Fewer are faster and less accurate;
+        `refined` doubles them.
     degree : int
         Radau degree d, 1..9 (3: order 5).
     jit : bool or "auto"
@@ -242,27 +237,22 @@ class Collocation(StateSettings):
         if self.jit not in (True, False, "auto"):
             raise ValueError(f"jit must be True, False or 'auto', got {self.jit!r}")
 
-    def grid(self, period: float) -> CollocationGrid:
-        """The element grid for a period."""
-        K = max(round(ELEMENTS_PER_SECOND * period), MIN_ELEMENTS) if self.elements is None else self.elements
+    def grid(self, period: float, rod: str = "rigid") -> CollocationGrid:
+        """The element grid for a period and a model's rod ("rigid" or "flexible")."""
+        per_second = ELEMENTS_PER_SECOND.get(rod, MAX_ELEMENTS_PER_SECOND)
+        K = max(round(per_second * period), MIN_ELEMENTS) if self.elements is None else self.elements
         return CollocationGrid(period, chk.integer("elements", max(K, 10), 10, 100_000), self.degree)
 
-    def refined(self, period: float) -> "Collocation | None":
+    def refined(self, period: float, rod: str = "rigid") -> "Collocation | None":
         """Twice the elements, at most ``MAX_ELEMENTS_PER_SECOND`` x period (and `MIN_ELEMENTS`); None
         when the grid has that many already."""
-        K = self.grid(period).elements
+        K = self.grid(period, rod).elements
         finest = max(round(MAX_ELEMENTS_PER_SECOND * period), MIN_ELEMENTS)
         return None if K >= finest else replace(self, elements=min(2 * K, finest))
 
     def use_jit(self) -> bool:
         """Whether this solve compiles (``jit``, or "auto" and a C compiler is present)."""
-        if self.jit == "auto":
-            if not compiler_available():
-                warnings.warn("no C compiler (cc) found: collocation runs on CasADi's virtual machine, about 3x "
-                              "slower per iteration; install one (e.g. gcc) to compile", RuntimeWarning, stacklevel=3)
-                return False
-            return True
-        return bool(self.jit)
+        return use_jit(self.jit, "collocation")
 
     def solve(self, problem: SpeedProblem, model: PressModel, start: WarmStart, name: str = "target",
               progress: bool = False) -> StageResult:
@@ -270,7 +260,7 @@ class Collocation(StateSettings):
         model that carries press parameters (``build_model(..., parameters=...)``) puts them into the
         NLP's p, and the stage holds the NLP at its solution (``StageResult.point``)."""
         check_states(problem, model)
-        grid = self.grid(problem.period)
+        grid = self.grid(problem.period, model.rod)
         K, d, n, T = grid.elements, grid.degree, problem.n_harmonics, problem.period
         jit = self.use_jit()
         t0 = time.perf_counter()

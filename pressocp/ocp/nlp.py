@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
+from ..compile_cache import function_options
 from ..interrupt import interruptible
 from ..objectives import Objective
 from ..problem import SpeedProblem
@@ -157,21 +158,22 @@ def scaled_crank_start(speed: FourierSpeed, times: np.ndarray) -> np.ndarray:
     return crank_motion(speed, times) / crank_scale(speed.period)[:, None]
 
 
-def ram_function(problem: SpeedProblem) -> ca.Function:
+def ram_function(problem: SpeedProblem, jit: bool = False) -> ca.Function:
     """(t, c) -> (ram height, ram velocity, theta) of the ideal press driven by the Fourier speed with
-    coefficients c (SX)."""
+    coefficients c (SX); compiled with its derivatives with `jit` (`pressocp.compile_cache`)."""
     n, T = problem.n_harmonics, problem.period
     t, c = ca.SX.sym("t"), ca.SX.sym("c", 2 * n)
     th, om, al = series(t, c[:n], c[n:], T)
     kin = kinematics_function(problem.press)(theta=th, omega=om, alpha=al)
-    return ca.Function("ram", [t, c], [kin["ram_height"], kin["ram_velocity"], th])
+    return ca.Function("ram", [t, c], [kin["ram_height"], kin["ram_velocity"], th], function_options(jit))
 
 
 def add_kinematic_window(cons: Constraints, problem: SpeedProblem, c, t1, duration: float, samples: int,
-                         backoff: float, h_start: float | None = None) -> None:
+                         backoff: float, h_start: float | None = None, jit: bool = False) -> None:
     """The ideal press's ram speed within ``backoff`` x tol at `samples` points of [t1, t1 + duration]
-    (``t1`` a number or a symbol); with `h_start` (m) also h(t1) = h_start on the downstroke."""
-    f = ram_function(problem)
+    (``t1`` a number or a symbol); with `h_start` (m) also h(t1) = h_start on the downstroke. `jit`:
+    the ram function compiled (`ram_function`)."""
+    f = ram_function(problem, jit)
     tw = t1 + duration * ca.DM(np.linspace(0.0, 1.0, samples)).T
     _, vw, _ = f.map(samples)(tw, ca.repmat(c, 1, samples))
     cons.add((vw - problem.ram_speed) / problem.tol, -backoff, backoff, "ram_speed_kinematic")

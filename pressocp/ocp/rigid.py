@@ -19,6 +19,7 @@ from ..objectives import get as get_objective
 from ..problem import SpeedProblem
 from ..rigid import crank_angle_at_height, inverse_dynamics, rigid_response
 from ..speed import FourierSpeed
+from ..compile_cache import function_options, oracle_options, use_jit
 from .nlp import (IPOPT_RIGID, Constraints, add_kinematic_window, add_objective, add_pin_cap, add_speed_bounds,
                   lifted_crank, scaled_crank_start, solve_nlp)
 from .stage import StageResult, WarmStart, settings_repr
@@ -28,13 +29,15 @@ LOAD_OUTPUTS = ("torque", "slider_normal_force", "crank_pin_force", "wrist_pin_f
                 "wrist_pin_tension")
 
 
-def loads_function(problem: SpeedProblem, symbols: tuple[str, ...] = ()) -> ca.Function:
+def loads_function(problem: SpeedProblem, symbols: tuple[str, ...] = (), jit: bool = False) -> ca.Function:
     """(theta, omega, alpha, q) -> `LOAD_OUTPUTS` of the ideal press (inverse dynamics), SX, one
-    sample; ``q`` holds the press parameters `symbols` (dotted names), empty without them."""
+    sample; ``q`` holds the press parameters `symbols` (dotted names), empty without them. With
+    `jit`, it and its derivatives are compiled (`pressocp.compile_cache`)."""
     th, om, al = ca.SX.sym("theta"), ca.SX.sym("omega"), ca.SX.sym("alpha")
     press, q = problem.press.with_symbols(tuple(symbols)) if symbols else (problem.press, [])
     dyn = inverse_dynamics(press, th, om, al)
-    return ca.Function("loads", [th, om, al, ca.vertcat(*q) if q else ca.SX(0, 1)], [dyn[k] for k in LOAD_OUTPUTS])
+    return ca.Function("loads", [th, om, al, ca.vertcat(*q) if q else ca.SX(0, 1)], [dyn[k] for k in LOAD_OUTPUTS],
+                       function_options(jit))
 
 
 @dataclass(frozen=True)
@@ -52,12 +55,17 @@ class Rigid:
         whole window, and a clearance model adds the journals' motion to the ram velocity.
     ipopt : dict
         Extra nlpsol options (e.g. ``{"ipopt.max_iter": 50}``) on top of `IPOPT_RIGID`.
+    jit : bool or "auto"
+        Compile the loads and the ram's kinematics with their derivatives (`pressocp.compile_cache`;
+        the function evaluations were 60-75 % of a rigid stage on CasADi's virtual machine). "auto":
+        when a C compiler is found.
     """
 
     samples: int = 1000
     window_samples: int = 200
     backoff: float = 0.9
     ipopt: dict = field(default_factory=dict)
+    jit: bool | str = "auto"
 
     has_states: ClassVar[bool] = False
 
@@ -65,11 +73,13 @@ class Rigid:
         chk.integer("samples", self.samples, 50, 20000)
         chk.integer("window_samples", self.window_samples, 10, 5000)
         chk.in_closed_interval("backoff", self.backoff, 1e-3, 1.0)
+        if self.jit not in (True, False, "auto"):
+            raise ValueError(f"jit must be True, False or 'auto', got {self.jit!r}")
 
     def __repr__(self) -> str:
         return settings_repr(self)
 
-    def refined(self, period: float) -> None:
+    def refined(self, period: float, rod: str = "rigid") -> None:
         """No finer grid: the rigid press is evaluated in closed form at its samples."""
         return None
 
@@ -123,11 +133,12 @@ class Rigid:
         ts = np.linspace(0.0, T, N, endpoint=False)
         cons = Constraints()
         Wv, W = lifted_crank(cons, c, T, ts)
-        y = dict(zip(LOAD_OUTPUTS, loads_function(P, symbols).map(N)(W[0, :], W[1, :], W[2, :], q)))
+        jit = use_jit(self.jit, "the rigid stage")
+        y = dict(zip(LOAD_OUTPUTS, loads_function(P, symbols, jit).map(N)(W[0, :], W[1, :], W[2, :], q)))
         y.update(theta=W[0, :], omega=W[1, :])
         scale = objective.value(rigid_response(P.press, initial, ts))
         f = add_objective(cons, objective, y, s, scale)
-        add_kinematic_window(cons, P, c, t1, duration, self.window_samples, self.backoff, h_start)
+        add_kinematic_window(cons, P, c, t1, duration, self.window_samples, self.backoff, h_start, jit)
         add_speed_bounds(cons, P, W[1, :], W[2, :])
         if P.min_tension is not None:  # no joint-force reversal
             cons.add((ca.vertcat(y["crank_pin_tension"], y["wrist_pin_tension"]) - P.min_tension) / P.hanging_weight,
@@ -138,7 +149,8 @@ class Rigid:
         w0 = np.concatenate([initial.coefficients, [scale, t1_0], W0])
         lbw = np.concatenate([np.full(2 * n, -np.inf), [0.0, 0.0], np.full(W0.size, -np.inf)])
         ubw = np.concatenate([np.full(2 * n, np.inf), [np.inf, T - duration], np.full(W0.size, np.inf)])
-        out = solve_nlp(f"rigid_{name}", w, f, cons, w0, lbw, ubw, {**IPOPT_RIGID, **self.ipopt}, objective, scale,
+        out = solve_nlp(f"rigid_{name}", w, f, cons, w0, lbw, ubw, {**IPOPT_RIGID, **oracle_options(jit), **self.ipopt},
+                        objective, scale,
                         desc=f"{name} (rigid press, {N} samples)", progress=progress,
                         parameters=(q, model.nominal) if symbols else None)
         speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])

@@ -216,8 +216,9 @@ class Transcription(Protocol):
     #: Whether the transcription solves models with states (else only the rigid press).
     has_states: bool
 
-    def refined(self, period: float) -> "Transcription | None":
-        """The same transcription on a finer grid, or None when it has none (the strategy refines
+    def refined(self, period: float, rod: str = "rigid") -> "Transcription | None":
+        """The same transcription on a finer grid for a period and a model's rod ("rigid" or
+        "flexible"), or None when it has none (the strategy refines
         while a stage's re-simulation disagrees with the NLP). Optional: a transcription without it
         is not refined."""
 

@@ -140,7 +140,7 @@ class StateSettings:
     def __repr__(self) -> str:
         return settings_repr(self)
 
-    def refined(self, period: float) -> "StateSettings | None":
+    def refined(self, period: float, rod: str = "rigid") -> "StateSettings | None":
         """The same transcription on a finer grid: None here (a transcription with a grid overrides it)."""
         return None
 

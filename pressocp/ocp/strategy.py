@@ -337,7 +337,7 @@ class Strategy:
                 transcription = tighten(viol / problem.tol + TIGHTEN_MARGIN)
                 label, warm = f"{name}_tightened_{tightened}", WarmStart(last.speed, point=last.nlp)
             else:
-                finer = None if refine is None else refine(problem.period)
+                finer = None if refine is None else refine(problem.period, model.rod)
                 if finer is None:
                     break
                 transcription = finer
@@ -363,10 +363,11 @@ class Strategy:
 
     def polish(self, problem: SpeedProblem, model: PressModel, last: StageResult, transcription: Transcription,
                progress: bool) -> list[StageResult]:
-        """`polish_rounds` re-solves of `last`'s NLP (`transcription` on `model`) from its answer. A
-        round that does not lower the periodic re-simulation's objective (at `verify_rtol`), or fails,
-        or leaves the ram speed out of tolerance, is recorded as not kept, its answer being `last`'s,
-        and ends the polishing."""
+        """`polish_rounds` re-solves of `last`'s NLP (`transcription` on `model`) from its answer, each
+        followed by its own tightened or refined re-solves (`solve_refined`). A round that does not
+        lower the periodic re-simulation's objective (at `verify_rtol`), or fails, or leaves the ram
+        speed out of tolerance, is recorded as not kept, its answer being `last`'s, and ends the
+        polishing."""
         value = get_objective(problem.objective).value
         # both re-simulated alike, at the final verification's tolerance: an optimum holds the ram
         # speed to within a few 1e-5 m/s of its tolerance, about the error of a check at rtol 1e-7
@@ -374,19 +375,21 @@ class Strategy:
         rounds = []
         for k in range(self.polish_rounds):
             name = f"polish_{k + 1}"
-            st = transcription.solve(problem, model, WarmStart(last.speed), name, progress)
+            solved, _ = self.solve_refined(problem, model, transcription, WarmStart(last.speed), name, progress)
+            st = solved[-1]
             cand = self.verify_stage(model, st)
             viol = max(ram_speed_violation(cand, problem), 0.0)
             new = value(cand)
             if st.success and is_periodic(cand) is True and new < best and viol <= 0.0:
                 st.details.update(verified_value=new, previous_verified_value=best)
-                rounds.append(st)
+                rounds += solved
                 last, best = st, new
                 continue
             why = (f"{st.status}" if not st.success else
                    f"re-simulated {new:.6g} against {best:.6g}" if is_periodic(cand) is True and viol <= 0.0
                    else "its re-simulation is not periodic with the ram speed in tolerance")
-            kept = replace(StageResult.skipped(name, "", model.spec.describe(), last),
+            rounds += [replace(s, superseded=f"the polish round ending in {st.name} was not kept") for s in solved[:-1]]
+            kept = replace(StageResult.skipped(st.name, "", model.spec.describe(), last),
                            status=f"not kept ({st.iterations} iterations: {why}); the previous answer stands",
                            iterations=st.iterations, wall_time=st.wall_time, timing=st.timing,
                            details={"verified_value": new, "previous_verified_value": best},
