@@ -104,6 +104,25 @@ def stage_times(row: dict) -> list[tuple[str, float]]:
     return parts + [("rest", run["wall_s"] - sum(w for _, w in parts))]
 
 
+def timeline(parts: list[tuple[str, float]]) -> list[tuple[int, str, float, float]]:
+    """(lane, stage, start, length) of each stage: a candidate's stages (``name@margin``) one after the
+    other on a lane of their own from the end of the stages before them (they ran side by side), the
+    others on lane 0 after everything before them."""
+    lanes: dict[str, int] = {}
+    out, t_common, ends = [], 0.0, {}
+    for name, t in parts:
+        if "@" in name:
+            m = name.split("@", 1)[1]
+            lane = lanes.setdefault(m, len(lanes))
+            start = ends.get(m, t_common)
+            ends[m] = start + t
+        else:
+            lane, start = 0, max([t_common, *ends.values()])
+            t_common = start + t
+        out.append((lane, name, start, t))
+    return out
+
+
 def plot(rows: list[dict]) -> Path:
     import matplotlib
 
@@ -133,19 +152,20 @@ def plot(rows: list[dict]) -> Path:
     a1.set_yscale("log")
     a1.legend(fontsize=8)
     a1.set_title("Scenario.load(name).optimize(), fresh process each run")
+    ticks = []
     for j, lab in enumerate(labels):
         row = last.get(("press75", lab))
         if row is None:
             continue
-        left = 0.0
-        for k, (name, t) in enumerate(stage_times(row)):
-            a2.barh(j, t, left=left, color=f"C{k % 10}", edgecolor="w")
-            if t > 2.5:
-                a2.text(left + t / 2, j, f"{name}\n{t:.0f}", ha="center", va="center", fontsize=6)
-            left += t
+        for k, (lane, name, t0, t) in enumerate(timeline(stage_times(row))):
+            y = j + 0.3 * lane
+            a2.barh(y, t, left=t0, height=0.25, color=f"C{k % 10}", edgecolor="w")
+            if t > 6:
+                a2.text(t0 + t / 2, y, f"{name}\n{t:.0f}", ha="center", va="center", fontsize=6)
+        ticks.append((j, lab))
     a2.axvline(GOAL_SEED_S, color="g", ls="--", lw=1)
-    a2.set_yticks(range(len(labels)), labels)
-    a2.set_xlabel("s (the run nearest the median)")
+    a2.set_yticks([j for j, _ in ticks], [lab for _, lab in ticks])
+    a2.set_xlabel("s (the run nearest the median; candidate chains side by side, one lane each)")
     a2.set_title("press75: where the time went, stage by stage")
     machine = rows[-1]["run"]
     fig.suptitle(f"{machine['date'][:10]}, {machine['machine']} ({machine['cpus']} CPUs)", fontsize=9)

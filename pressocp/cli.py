@@ -245,12 +245,10 @@ def parse_vary(items: list[str], path: bool) -> dict | list:
 
 def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
     """Check a sweep's input (every point) and return the job that runs it."""
-    from concurrent.futures import ProcessPoolExecutor
-    import multiprocessing
-
     from . import jobs, plots
     from .io import atomic_write
     from .sweeps import points_of, sweep
+    from .workers import process_pool
 
     vary = parse_vary(args.vary, args.path)
     points, _ = points_of(vary)
@@ -267,8 +265,7 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
     keys = list(points[0])
 
     def run() -> int:
-        pool = None if args.workers is None else ProcessPoolExecutor(
-            args.workers, mp_context=multiprocessing.get_context("spawn"))
+        pool = None if args.workers is None else process_pool(args.workers)
         try:
             table = sweep(scenario, vary, args.task, speed, pool, progress=not args.quiet, csv=csv)
         finally:

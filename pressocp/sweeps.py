@@ -18,11 +18,10 @@ from __future__ import annotations
 
 import itertools
 import json
-import multiprocessing
 import os
 import time
 from collections.abc import Mapping, Sequence
-from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
+from concurrent.futures import Executor, as_completed
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -36,6 +35,7 @@ from .problem import SpeedProblem
 from .scenario import Scenario
 from .speed import FourierSpeed
 from .studies import impact_study
+from .workers import process_pool
 
 #: What a sweep can run at each point.
 TASKS = ("optimize", "simulate", "impacts")
@@ -119,8 +119,8 @@ def rescale(speed: FourierSpeed, period: float) -> FourierSpeed:
 
 
 def _default_executor(n: int) -> Executor:
-    workers = max(1, min(n, os.cpu_count() or 1))
-    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+    """`process_pool` of min(n, CPUs) workers: one native thread each, so n workers use n cores."""
+    return process_pool(max(1, min(n, os.cpu_count() or 1)))
 
 
 def _norm(v: Any) -> Any:
