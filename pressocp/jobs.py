@@ -145,12 +145,13 @@ TIME_COLUMNS = {"wall": "wall", "build": "build+compile", "functions": "function
 
 
 def time_table_text(result: OcpResult) -> str:
-    """`OcpResult.time_table` as a plain-text table (s), with a total row."""
+    """`OcpResult.time_table` as a plain-text table (s), with a row of the column sums (more than the
+    call's wall time when candidate chains ran side by side)."""
     rows = result.time_table()
     total = {k: sum(r[k] for r in rows) for k in TIME_COLUMNS}
     return format_table([["stage", "iterations", *TIME_COLUMNS.values()],
                          *([r["stage"], str(r["iterations"]), *(f"{r[k]:.1f}" for k in TIME_COLUMNS)] for r in rows),
-                         ["total", str(sum(r["iterations"] for r in rows)), *(f"{total[k]:.1f}" for k in TIME_COLUMNS)]])
+                         ["sum", str(sum(r["iterations"] for r in rows)), *(f"{total[k]:.1f}" for k in TIME_COLUMNS)]])
 
 
 def simulation_summary(scenario: Scenario, sim: SimResult, ideal: SimResult, source: str) -> dict:
@@ -211,7 +212,8 @@ def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobRep
                              for s in result.stages)])
     details = "\n".join([f"transcription: {result.transcription}", f"strategy: {result.strategy}",
                          f"verification: periodic CVODES re-simulation, rtol {result.verify_rtol:g}", "", stages,
-                         "", "where the time went, s:", time_table_text(result)])
+                         "", "where the time went, s (stages named stage@margin are candidate chains that ran side by "
+                         f"side; the call took {result.wall_time:.0f} s):", time_table_text(result)])
     return _finish("optimize", out, summary, text, details, files, result.success and result.verified)
 
 
