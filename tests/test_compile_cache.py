@@ -30,12 +30,17 @@ def compiles(folder):
     return [line for line in log.read_text().splitlines() if " -c " in f" {line} "] if log.exists() else []
 
 
-@needs_cc
-def test_an_object_is_compiled_once_and_a_corrupt_entry_is_rebuilt(tmp_path):
-    cc = logging_compiler(tmp_path)
-    cache = tmp_path / "cache"
+@pytest.fixture
+def setup(tmp_path):
+    """(logging compiler, cache folder, a C source) in a temporary folder."""
     src = tmp_path / "f.c"
     src.write_text("double f(double x) { return 2.0 * x; }\n")
+    return logging_compiler(tmp_path), tmp_path / "cache", src
+
+
+@needs_cc
+def test_an_object_is_compiled_once_and_a_corrupt_entry_is_rebuilt(tmp_path, setup):
+    cc, cache, src = setup
 
     def build(out, flag="-O1"):
         assert compile_cached(str(cache), str(cc), [flag, "-fPIC", "-c", str(src), "-o", str(tmp_path / out)]) == 0
@@ -57,13 +62,17 @@ def test_an_object_is_compiled_once_and_a_corrupt_entry_is_rebuilt(tmp_path):
 
 
 @needs_cc
-def test_a_link_or_a_failing_compile_passes_through_uncached(tmp_path):
-    cc = logging_compiler(tmp_path)
-    cache = tmp_path / "cache"
-    bad = tmp_path / "bad.c"
-    bad.write_text("this is not C\n")
-    assert compile_cached(str(cache), str(cc), ["-c", str(bad), "-o", str(tmp_path / "bad.o")]) != 0
+def test_a_link_or_a_failing_compile_passes_through_uncached(tmp_path, setup):
+    cc, cache, src = setup
+    src.write_text("this is not C\n")
+    assert compile_cached(str(cache), str(cc), ["-c", str(src), "-o", str(tmp_path / "bad.o")]) != 0
     assert not list(cache.glob("*/*.o"))
+    src.write_text("double f(double x) { return 2.0 * x; }\n")
+    assert compile_cached(str(cache), str(cc), ["-fPIC", "-c", str(src), "-o", str(tmp_path / "f.o")]) == 0
+    lib = tmp_path / "f.so"
+    assert compile_cached(str(cache), str(cc), ["-shared", str(tmp_path / "f.o"), "-o", str(lib)]) == 0
+    assert lib.exists() and len(list(cache.glob("*/*.o"))) == 1  # the link ran, uncached
+    assert (tmp_path / "calls.log").read_text().count("-shared") == 1
 
 
 SNIPPET = textwrap.dedent("""
