@@ -2,17 +2,22 @@
 
 1. ``rigid``: the ideal press (`Rigid`), exact Hessian, seconds. Its optimum is the floor. It is
    re-simulated on the target model (rigid rod); when it impacts there (the joint forces reverse):
-2. ``no_reversal``: the ideal press again, with the rod tension at both pins kept above
-   ``tension_margin`` x the hanging weight, warm-started from the rigid optimum. Without a force
-   reversal the journals stay on their bearings; it is re-simulated on the target model too.
+2. ``no_reversal``: the ideal press again, with the rod tension at both pins kept above a margin x
+   the hanging weight, warm-started from the rigid optimum. Without a force reversal the journals
+   stay on their bearings; it is re-simulated on the target model too. With several margins
+   (``tension_margin``, default 0.05 and 0.02), stages 2-6 run once per margin, side by side in
+   worker processes, and the lowest verified answer is kept (`pressocp.ocp.candidates`).
 3. ``soft`` (transcriptions that need it, i.e. multiple shooting): the clearance model with a
    softer contact, when the start impacts.
 4. ``target``: the clearance model (rigid rod) by the given transcription.
 5. ``flexible``: when the target model's rod is flexible, the same problem on it.
-6. ``polish_k``: the last stage's NLP solved again from its own answer. IPOPT's barrier restarts
-   there and can leave the local optimum the first pass stopped at (75 spm seed: 147.8 -> 145.4 N·m
-   verified). A round is kept only when its periodic re-simulation lowers the objective with the
-   ram speed in tolerance; the first round that does not ends the polishing.
+   Stages 4 and 5 are re-simulated (`verify_stage`) and, while that does not confirm the NLP,
+   re-solved with the ram-speed bounds moved from their primal-dual solution (``_tightened_k``) or
+   on a finer grid (``_refined_k``): `solve_refined`.
+6. ``polish_k``: the last stage's NLP solved again from its own answer, without multipliers. IPOPT's
+   barrier restarts there and can leave the local optimum the first pass stopped at. A round is kept
+   only when its periodic re-simulation lowers the objective with the ram speed in tolerance; the
+   first round that does not ends the polishing.
 7. ``refine_k`` (opt-in): trust-region rounds of multiple shooting, each kept only when its
    periodic re-simulation lowers the objective with the ram speed in tolerance.
 
