@@ -470,6 +470,10 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
         raise
     finally:
         if bar is not None:
+            split = timing_split(stats, build, time.perf_counter() - t0, cb.seconds)
+            bar.set_postfix_str(f"{bar.postfix + '; ' if bar.postfix else ''}{split['build']:.1f} s build, "
+                                f"{sum(split[k] for k in EVALUATIONS):.1f} s functions, "
+                                f"{split['solver']:.1f} s linear solver", refresh=False)
             bar.close()
     last = wo
     if not success and cb.best is not None:
