@@ -16,16 +16,30 @@ from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager
 
+#: Set (to "1") in every worker of `process_pool`: a worker owns one core and starts no pool of its own.
+WORKER_ENV = "PRESSOCP_WORKER"
 #: Environment variables that cap the native thread pools of a worker.
 THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS",
                     "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
 
 
+def in_worker() -> bool:
+    """Whether this process is a worker of `process_pool` (it then runs its tasks one at a time)."""
+    return os.environ.get(WORKER_ENV) == "1"
+
+
+def parallel_workers(requested: int) -> int:
+    """How many worker processes a task here may start: `requested`, or 1 (none: run here) inside a
+    worker, whose pool already gives every core a process."""
+    return 1 if in_worker() else requested
+
+
 @contextmanager
 def single_threaded_children() -> Iterator[None]:
     """Within the block, processes started inherit one native thread each (`THREAD_VARIABLES` = 1 where
-    the user has not set them); the parent's environment is restored afterwards."""
-    added = [k for k in THREAD_VARIABLES if k not in os.environ]
+    the user has not set them) and are marked as workers (`WORKER_ENV`); the parent's environment is
+    restored afterwards."""
+    added = [k for k in (*THREAD_VARIABLES, WORKER_ENV) if k not in os.environ]
     os.environ.update({k: "1" for k in added})
     try:
         yield

@@ -6,24 +6,32 @@ import subprocess
 import sys
 import textwrap
 
-from pressocp.workers import THREAD_VARIABLES, process_pool
+from pressocp.workers import THREAD_VARIABLES, WORKER_ENV, parallel_workers, process_pool
 
 
 def thread_settings():
-    return {k: os.environ.get(k) for k in THREAD_VARIABLES}
+    return {k: os.environ.get(k) for k in (*THREAD_VARIABLES, WORKER_ENV)}
+
+
+def workers_allowed():
+    return parallel_workers(4)
 
 
 def test_workers_run_one_native_thread_and_the_parent_keeps_its_environment(monkeypatch):
     for k in THREAD_VARIABLES:
         monkeypatch.delenv(k, raising=False)
     monkeypatch.setenv("MKL_NUM_THREADS", "3")  # a user's own setting is kept
+    monkeypatch.delenv(WORKER_ENV, raising=False)
     pool = process_pool(1)
     try:
         seen = pool.submit(thread_settings).result()
+        nested = pool.submit(workers_allowed).result()
     finally:
         pool.shutdown()
     assert seen["OMP_NUM_THREADS"] == "1" and seen["OPENBLAS_NUM_THREADS"] == "1" and seen["MKL_NUM_THREADS"] == "3"
     assert "OMP_NUM_THREADS" not in os.environ and os.environ["MKL_NUM_THREADS"] == "3"
+    # a worker starts no pool of its own (a sweep's worker runs an optimum's candidates one by one)
+    assert seen[WORKER_ENV] == "1" and nested == 1 and parallel_workers(4) == 4 and WORKER_ENV not in os.environ
 
 
 def test_a_script_without_a_main_guard_runs_once(tmp_path):

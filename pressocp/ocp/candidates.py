@@ -21,7 +21,7 @@ import numpy as np
 from ..model import ModelSpec
 from ..objectives import get as get_objective
 from ..problem import SpeedProblem
-from ..workers import process_pool
+from ..workers import parallel_workers, process_pool
 from .stage import StageResult, Transcription
 from .verify import is_periodic, ram_speed_violation
 
@@ -72,7 +72,7 @@ def run_candidates(strategy: "Strategy", problem: SpeedProblem, spec: ModelSpec,
         bar = tqdm(total=len(args), desc=f"candidates (tension margins {', '.join(f'{m:g}' for m in margins)})",
                    unit="chain", leave=True)
     try:
-        chains = _run(args, min(strategy.workers, len(args)), bar, pool)
+        chains = _run(args, min(parallel_workers(strategy.workers), len(args)), bar, pool)
     finally:
         if bar is not None:
             bar.close()

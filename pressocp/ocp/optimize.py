@@ -12,7 +12,7 @@ from ..model import ModelSpec, PressModel, build_model
 from ..objectives import get as get_objective
 from ..problem import SpeedProblem
 from ..speed import FourierSpeed
-from ..workers import process_pool
+from ..workers import parallel_workers, process_pool
 from .collocation import Collocation
 from .result import OcpResult, peaks_of
 from .stage import StageResult, Transcription
@@ -88,8 +88,8 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     t_chain = time.perf_counter()
     # candidate chains run in worker processes, started now so that they import while the rigid stage
     # runs here; the initial speed's response is simulated there meanwhile
-    pool = process_pool(min(strat.workers, len(strat.margins))) \
-        if strat.workers > 1 and len(strat.margins) > 1 and model.clearance else None
+    workers = min(parallel_workers(strat.workers), len(strat.margins))
+    pool = process_pool(workers) if workers > 1 and model.clearance else None
     try:
         init_job = None if pool is None else pool.submit(initial_response, model.spec, problem, initial,
                                                           strat.verify_rtol)
