@@ -250,6 +250,12 @@ class Collocation(StateSettings):
         finest = max(round(MAX_ELEMENTS_PER_SECOND * period), MIN_ELEMENTS)
         return None if K >= finest else replace(self, elements=min(2 * K, finest))
 
+    def tightened(self, share: float) -> "Collocation":
+        """The same transcription holding `share` less of the ram-speed tolerance (``backoff``), down
+        to a tenth of it at least; started from a stage's `NlpPoint` on the same grid it is the same
+        NLP with moved bounds."""
+        return replace(self, backoff=max(self.backoff - share, 0.1))
+
     def use_jit(self) -> bool:
         """Whether this solve compiles (``jit``, or "auto" and a C compiler is present)."""
         return use_jit(self.jit, "collocation")

@@ -6,7 +6,7 @@ into a `StageResult`."""
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import ClassVar
 
 import casadi as ca
@@ -144,10 +144,11 @@ class StateSettings:
         """The same transcription on a finer grid: None here (a transcription with a grid overrides it)."""
         return None
 
-    def tightened(self, share: float) -> "StateSettings":
-        """The same transcription holding `share` less of the ram-speed tolerance (``backoff``), down
-        to a tenth of it at least."""
-        return replace(self, backoff=max(self.backoff - share, 0.1))
+    def tightened(self, share: float) -> "StateSettings | None":
+        """The same transcription holding `share` less of the ram-speed tolerance, to be started from a
+        stage's primal-dual solution (`WarmStart.point`): None here (a transcription that takes such a
+        start overrides it)."""
+        return None
 
 
 def check_states(problem: SpeedProblem, model: PressModel) -> None:

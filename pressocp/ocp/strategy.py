@@ -337,9 +337,11 @@ class Strategy:
             why, viol = self.grid_error(last, problem)
             if not why:
                 break
-            if viol > 0.0 and tighten is not None and last.nlp is not None and tightened < MAX_TIGHTEN:
+            tight = tighten(viol / problem.tol + TIGHTEN_MARGIN) \
+                if viol > 0.0 and tighten is not None and last.nlp is not None and tightened < MAX_TIGHTEN else None
+            if tight is not None:
                 tightened += 1
-                transcription = tighten(viol / problem.tol + TIGHTEN_MARGIN)
+                transcription = tight
                 label, warm = f"{name}_tightened_{tightened}", WarmStart(last.speed, point=last.nlp)
             else:
                 finer = None if refine is None else refine(problem.period, model.rod)
