@@ -43,11 +43,16 @@ def compiler_available() -> bool:
     return c_compiler() is not None
 
 
+def check_jit(setting: bool | str) -> None:
+    """A transcription's ``jit`` setting: True, False or "auto" (ValueError otherwise)."""
+    if setting not in (True, False, "auto"):
+        raise ValueError(f"jit must be True, False or 'auto', got {setting!r}")
+
+
 def use_jit(setting: bool | str, what: str) -> bool:
     """Whether to compile: `setting` True or False, or "auto" (when a C compiler is found; a warning
     names `what` runs on CasADi's virtual machine when none is)."""
-    if setting not in (True, False, "auto"):
-        raise ValueError(f"jit must be True, False or 'auto', got {setting!r}")
+    check_jit(setting)
     if setting == "auto":
         if not compiler_available():
             warnings.warn(f"no C compiler (cc) found: {what} runs on CasADi's virtual machine, several times "
@@ -83,12 +88,6 @@ def cache_dir() -> Path | None:
 def set_cache_dir(path: str | os.PathLike | None) -> None:
     """Use `path` as the cache folder (None: no cache), here and in processes started afterwards."""
     os.environ[CACHE_ENV] = "off" if path is None else os.fspath(path)
-
-
-def cache_entries() -> int:
-    """Number of object files in the cache (0 when it is off or empty)."""
-    folder = cache_dir()
-    return 0 if folder is None or not folder.is_dir() else sum(1 for _ in folder.glob("*/*.o"))
 
 
 def jit_options() -> dict:

@@ -115,9 +115,6 @@ def _run(args: list[tuple], workers: int, bar, pool: Executor | None) -> list[li
             warnings.warn(f"the candidate chains' worker processes stopped ({err}); running them here one after "
                           "the other. A script that optimises should do so under `if __name__ == '__main__':`",
                           RuntimeWarning, stacklevel=4)
-        except BaseException:
-            pool.shutdown(wait=False, cancel_futures=True)
-            raise
         finally:
             pool.shutdown(wait=False, cancel_futures=True)
     return [done(candidate_chain(*a)) for a in args]

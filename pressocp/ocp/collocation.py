@@ -27,7 +27,7 @@ import casadi as ca
 import numpy as np
 
 from .. import checks as chk
-from ..compile_cache import function_options, oracle_options, use_jit
+from ..compile_cache import check_jit, function_options, oracle_options, use_jit
 from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
 from ..speed import FourierSpeed
@@ -234,8 +234,7 @@ class Collocation(StateSettings):
         if self.elements is not None:
             chk.integer("elements", self.elements, 10, 100_000)
         chk.integer("degree", self.degree, 1, 9)
-        if self.jit not in (True, False, "auto"):
-            raise ValueError(f"jit must be True, False or 'auto', got {self.jit!r}")
+        check_jit(self.jit)
 
     def grid(self, period: float, rod: str = "rigid") -> CollocationGrid:
         """The element grid for a period and a model's rod ("rigid" or "flexible")."""

@@ -16,6 +16,7 @@ from ..model import ModelSpec
 from ..problem import SpeedProblem
 from ..result import SimResult
 from ..speed import FourierSpeed
+from .nlp import EVALUATIONS
 from .stage import StageResult
 from .verify import verify_speed
 
@@ -180,7 +181,7 @@ class OcpResult:
             t = s.timing
             rows.append({"stage": s.name, "iterations": s.iterations, "wall": s.wall_time,
                          "build": t.get("build", 0.0),
-                         "functions": sum(t.get(k, 0.0) for k in ("objective", "constraints", "jacobian", "hessian")),
+                         "functions": sum(t.get(k, 0.0) for k in EVALUATIONS),
                          "linear_solver": t.get("solver", 0.0), "start": t.get("start", 0.0),
                          "checks": t.get("checks", 0.0)})
         for key in ("verification", "other"):

@@ -13,13 +13,13 @@ import casadi as ca
 import numpy as np
 
 from .. import checks as chk
+from ..compile_cache import check_jit, function_options, oracle_options, use_jit
 from ..design import design_speed
 from ..model import ModelSpec, PressModel
 from ..objectives import get as get_objective
 from ..problem import SpeedProblem
 from ..rigid import crank_angle_at_height, inverse_dynamics, rigid_response
 from ..speed import FourierSpeed
-from ..compile_cache import function_options, oracle_options, use_jit
 from .nlp import (IPOPT_RIGID, Constraints, add_kinematic_window, add_objective, add_pin_cap, add_speed_bounds,
                   lifted_crank, scaled_crank_start, solve_nlp)
 from .stage import StageResult, WarmStart, settings_repr
@@ -73,15 +73,10 @@ class Rigid:
         chk.integer("samples", self.samples, 50, 20000)
         chk.integer("window_samples", self.window_samples, 10, 5000)
         chk.in_closed_interval("backoff", self.backoff, 1e-3, 1.0)
-        if self.jit not in (True, False, "auto"):
-            raise ValueError(f"jit must be True, False or 'auto', got {self.jit!r}")
+        check_jit(self.jit)
 
     def __repr__(self) -> str:
         return settings_repr(self)
-
-    def refined(self, period: float, rod: str = "rigid") -> None:
-        """No finer grid: the rigid press is evaluated in closed form at its samples."""
-        return None
 
     def solve(self, problem: SpeedProblem, model: PressModel | None = None, start: WarmStart | None = None,
               name: str = "rigid", progress: bool = False) -> StageResult:
