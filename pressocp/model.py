@@ -207,12 +207,12 @@ class PressModel:
         s = speed.padded(self.n_harmonics)
         return np.concatenate([s.a, s.b, [s.period, s.theta0], self.nominal])
 
-    def dae(self, explicit: bool = False) -> dict:
-        """The DAE dict for `casadi.integrator` (with the quadratures)."""
-        if explicit:
-            return {"t": self.t, "x": self.x, "p": self.p, "ode": self.ode_explicit, "quad": self.quad}
-        return {"t": self.t, "x": self.x, "z": self.z, "p": self.p, "ode": self.ode, "alg": self.alg,
-                "quad": self.quad}
+    def dae(self, explicit: bool = False, work: bool = True) -> dict:
+        """The DAE dict for `casadi.integrator`, with the work quadratures (`QUADRATURE_NAMES`) when
+        `work` (they cost 30-48 % of an integration, so a run that reads no work leaves them out)."""
+        dae = {"t": self.t, "x": self.x, "p": self.p, "ode": self.ode_explicit} if explicit else \
+            {"t": self.t, "x": self.x, "z": self.z, "p": self.p, "ode": self.ode, "alg": self.alg}
+        return {**dae, "quad": self.quad} if work else dae
 
     def z0(self, x: np.ndarray, p: np.ndarray, t: float = 0.0) -> np.ndarray:
         """Consistent algebraic state (free accelerations) for a state."""

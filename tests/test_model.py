@@ -195,3 +195,20 @@ def test_fixed_step_methods_take_the_step_asked_for():
     ref = simulate(m, s, t_end=0.1, x0=x0, method="cvodes", rtol=1e-10, n_out=501)
     r = simulate(m, s, t_end=0.1, x0=x0, method="rk", step=5e-5, n_out=501)
     assert np.max(np.abs(r.wrist_pin_force - ref.wrist_pin_force)) < 1e-4 * ref.peak("wrist_pin_force")
+
+
+def test_periodic_orbit_is_a_periodic_solution():
+    """The periodic response found and sampled in the same integrations (no work quadratures) is the
+    periodic response of the classic path: settle, then integrate one more cycle with the work
+    quadratures. Reference: the classic path at rtol 1e-10 (states 1e-3 of the clearance, peak 1e-5)."""
+    m = build_model(PressParams())
+    s = FourierSpeed.constant(0.8)
+    ref = simulate(m, s, periodic=True, method="cvodes", rtol=1e-10, n_out=2001)
+    assert "motor_work" in ref.energy
+    fast = simulate(m, s, periodic=True, method="cvodes", rtol=1e-9, n_out=2001, work=False)
+    assert "motor_work" not in fast.energy and fast.stats["steps"] > 0
+    assert fast.stats["periodic"]["cycles"] >= 1
+    scale = m.x_scale[:, None]
+    assert np.max(np.abs((fast.states - ref.states) / scale)) < 1e-3  # scaled: eccentricity / clearance
+    assert np.max(np.abs((fast.states[:, -1] - fast.states[:, 0]) / m.x_scale)) <= 1e-4  # periodic to its tol
+    assert fast.peak("torque") == pytest.approx(ref.peak("torque"), rel=1e-5)

@@ -151,7 +151,9 @@ def test_polish_keeps_only_a_verified_improvement(smooth):
     assert not kept.was_skipped and kept.speed is best.speed
     # the round's check against the result's own final verification (both periodic at rtol 1e-8)
     assert kept.details["verified_value"] == pytest.approx(smooth.peak_torque, rel=1e-3)
-    assert kept.details["verified_value"] < kept.details["previous_verified_value"]
+    # the detuned start's ram leaves its speed tolerance: it sets no bar to beat
+    start = simulate(model, detuned.speed, periodic=True, method="cvodes", rtol=1e-8, n_out=20001)
+    assert window_error(start, SMOOTH) > SMOOTH.tol and kept.details["previous_verified_value"] is None
     assert dropped.was_skipped and dropped.status.startswith("not kept") and dropped.speed is best.speed
     assert dropped.details["verified_value"] > dropped.details["previous_verified_value"]
     assert dropped.details["previous_verified_value"] == kept.details["verified_value"]
@@ -205,7 +207,10 @@ def test_flexible_rod_between_ideal_joints_skips_or_runs_only_the_flexible_stage
     auto = Strategy(verify_rtol=1e-8).flexible_only(SMOOTH, model, rigid, replay, False)
     assert replay.calls == 0 and [s.name for s in auto] == ["flexible"] and auto[0].was_skipped
     assert rigid.check.verified and rigid.check.model == "flexible rod (1 element), ideal joints"
-    assert rigid.check.peak_torque == pytest.approx(smooth.peak_torque, rel=1e-4)
+    # the check against IDAS at rtol 1e-10 on the same model (another integrator and tolerance)
+    ref = simulate(model, rigid.speed, periodic=True, method="idas", rtol=1e-10, n_out=20001)
+    assert rigid.check.peak_torque == pytest.approx(ref.peak("torque"), rel=1e-4)
+    assert rigid.check.peak_torque == pytest.approx(smooth.peak_torque, rel=1e-3)  # the clearances change little
     stages = Strategy(mode="all", verify_rtol=1e-8).flexible_only(SMOOTH, model, rigid, replay, False)
     assert replay.calls == 2 and [s.name for s in stages] == ["flexible", "polish_1"]
     assert not stages[0].was_skipped and stages[1].status.startswith("not kept")

@@ -20,7 +20,7 @@ from ..problem import SpeedProblem
 from ..simulate import HINT, SimulationError, first_line
 from .nlp import Constraints, UniformPartition
 from .stage import StageResult, WarmStart
-from .states import StateSettings, check_states, keep_contact, sample_outputs, solve_states, states_at, warm_state
+from .states import StateSettings, check_states, keep_contact, sample_outputs, solve_states, warm_states
 
 INTEGRATORS = ("idas", "cvodes")
 
@@ -168,8 +168,7 @@ class MultipleShooting(StateSettings):
         grid = self.grid(problem.period)
         N, S = grid.intervals, grid.samples
         rtol = min(self.rtol, 1e-7)
-        x0, warm = warm_state(model, start, rtol)
-        nodes = states_at(model, start.speed, x0, grid.nodes, rtol)
+        nodes, warm = warm_states(model, start, grid.nodes, rtol)
         names = sample_outputs(problem, model, self.min_eccentricity)
         G = interval_function(model, grid, names, self.integrator, self.rtol, max_steps=self.max_steps)
         p0 = model.parameters(start.speed)

@@ -1,5 +1,5 @@
-"""What the transcriptions of models with states share: the warm start (periodic state and the
-states at the transcription's times), the working window placed on the model's own ram, the
+"""What the transcriptions of models with states share: the warm start (the states at the
+transcription's times along the periodic response), the working window placed on the model's own ram, the
 contact-keeping constraint, the constraints on the output samples, and the NLP solve that turns
 into a `StageResult`."""
 
@@ -16,7 +16,7 @@ from .. import checks as chk
 from ..model import PressModel
 from ..objectives import get as get_objective
 from ..problem import SpeedProblem
-from ..simulate import SimulationError, integrate, periodic_state
+from ..simulate import SimulationError, integrate, periodic_orbit
 from ..speed import FourierSpeed
 from .nlp import (IPOPT_WARM, Constraints, add_dense_speed_bounds, add_objective, add_pin_cap, needed_outputs,
                   parameter_symbols, solve_nlp)
@@ -27,17 +27,19 @@ from .verify import settled_state
 RAM_OUTPUTS = ("ram_height", "ram_velocity")
 
 
-def warm_state(model: PressModel, start: WarmStart, rtol: float) -> tuple[np.ndarray, dict]:
-    """The periodic scaled state of the start speed on `model` (``start.x0`` when given), or when none
-    is found the state after three cycles from rest. Returns (x0, facts for the stage record)."""
-    if start.x0 is not None:
-        return np.asarray(start.x0, float), {"periodic_warm_start": True}
+def warm_states(model: PressModel, start: WarmStart, times: np.ndarray, rtol: float) -> tuple[np.ndarray, dict]:
+    """Scaled states at `times` (the first 0) along the start speed's periodic response on `model`
+    (`periodic_orbit` by CVODES at `rtol`, its search started from ``start.x0`` when given: one cycle
+    then), or when none is found along the cycle after three from rest. Returns (nx x len(times)
+    states, facts for the stage record)."""
+    x_start = None if start.x0 is None else np.asarray(start.x0, float)
     try:
-        x0, info = periodic_state(model, start.speed, method="cvodes", rtol=rtol)
-        return x0, {"periodic_warm_start": True, "settle_cycles": info["cycles"], "newton_steps": info["newton"]}
+        X, info = periodic_orbit(model, start.speed, times, "cvodes", rtol, x_start=x_start)
+        return X, {"periodic_warm_start": True, "settle_cycles": info["cycles"], "newton_steps": info["newton"]}
     except SimulationError as err:
-        return settled_state(model, start.speed, 3, rtol), {"periodic_warm_start": False,
-                                                            "reason": str(err).splitlines()[0]}
+        x0 = settled_state(model, start.speed, 3, rtol)
+        return states_at(model, start.speed, x0, times, rtol), {"periodic_warm_start": False,
+                                                                 "reason": str(err).splitlines()[0]}
 
 
 def states_at(model: PressModel, speed: FourierSpeed, x_start: np.ndarray, times: np.ndarray,
@@ -48,7 +50,7 @@ def states_at(model: PressModel, speed: FourierSpeed, x_start: np.ndarray, times
     if len(times) == 1:
         return x_start
     X, _, _ = integrate(model, "cvodes", x_start[:, 0], model.parameters(speed), np.asarray(times)[1:], rtol, rtol,
-                        10**7, 1e-5)
+                        10**7, 1e-5, work=False)
     return np.hstack([x_start, X])
 
 

@@ -228,8 +228,12 @@ class Strategy:
             if model.rod == "flexible":
                 chain.append(("flexible", model))
         speed = start.speed if neighbour is None else neighbour
-        for name, m in chain:
-            solved, transcription = self.solve_refined(problem, m, transcription, WarmStart(speed), name, progress)
+        for k, (name, m) in enumerate(chain):
+            if k == len(chain) - 1 and self.polish_rounds:
+                # its follow-ups wait for the polish: a polish round that is kept makes them moot
+                solved = [transcription.solve(problem, m, WarmStart(speed), name, progress)]
+            else:
+                solved, transcription = self.solve_refined(problem, m, transcription, WarmStart(speed), name, progress)
             stages += solved
             speed = solved[-1].speed
             if not solved[-1].success:
@@ -314,8 +318,15 @@ class Strategy:
 
     def solve_refined(self, problem: SpeedProblem, model: PressModel, transcription: Transcription, start: WarmStart,
                       name: str, progress: bool) -> tuple[list[StageResult], Transcription]:
-        """`transcription` on `model` from `start`, then while the answer's re-simulation does not
-        confirm it (`grid_error`):
+        """`transcription` on `model` from `start`, then its follow-ups while the answer's re-simulation
+        does not confirm it (`followed`). Returns the stages and the transcription of the last one."""
+        first = transcription.solve(problem, model, start, name, progress)
+        return self.followed(problem, model, transcription, first, progress)
+
+    def followed(self, problem: SpeedProblem, model: PressModel, transcription: Transcription, first: StageResult,
+                 progress: bool) -> tuple[list[StageResult], Transcription]:
+        """`first` (solved by `transcription` on `model`) and, while the last answer's re-simulation
+        does not confirm it (`grid_error`):
 
         * when only the ram speed strays (by v m/s over its tolerance tol), the same NLP again with
           the held share of the tolerance lowered by v/tol + `TIGHTEN_MARGIN` (``tightened``), started
@@ -324,9 +335,8 @@ class Strategy:
         * otherwise, on a finer grid (``refined``) from the answer and its periodic state (stage
           ``{name}_refined_k``), while the transcription has one.
 
-        Returns the stages and the transcription of the last one."""
-        stages = [transcription.solve(problem, model, start, name, progress)]
-        tightened = 0
+        Returns the stages (`first` included) and the transcription of the last one."""
+        name, stages, tightened = first.name, [first], 0
         while stages[-1].success:
             refine = getattr(transcription, "refined", None)  # optional hooks of the protocol
             tighten = getattr(transcription, "tightened", None)
@@ -374,21 +384,26 @@ class Strategy:
         followed by its own tightened or refined re-solves (`solve_refined`). A round that does not
         lower the periodic re-simulation's objective (at `verify_rtol`), or fails, or leaves the ram
         speed out of tolerance, is recorded as not kept, its answer being `last`'s, and ends the
-        polishing."""
+        polishing. When the first round is not kept, `last`'s own follow-ups (`followed`, deferred
+        by `clearance_chain`) run then."""
         value = get_objective(problem.objective).value
         # both re-simulated alike, at the final verification's tolerance: an optimum holds the ram
         # speed to within a few 1e-5 m/s of its tolerance, about the error of a check at rtol 1e-7
-        best = value(self.verify_stage(model, last))
+        first = self.verify_stage(model, last)
+        # an answer whose re-simulation is not periodic with the ram speed in tolerance sets no bar
+        best = value(first) if is_periodic(first) is True and ram_speed_violation(first, problem) <= 0.0 else np.inf
         rounds = []
         for k in range(self.polish_rounds):
             name = f"polish_{k + 1}"
-            solved, _ = self.solve_refined(problem, model, transcription, WarmStart(last.speed), name, progress)
+            sim = last.simulation  # `last`'s periodic response on `model`: its state starts the warm start's search
+            x0 = sim.states[:, 0] / model.x_scale if is_periodic(sim) is True else None
+            solved, _ = self.solve_refined(problem, model, transcription, WarmStart(last.speed, x0), name, progress)
             st = solved[-1]
             cand = self.verify_stage(model, st)
             viol = max(ram_speed_violation(cand, problem), 0.0)
             new = value(cand)
             if st.success and is_periodic(cand) is True and new < best and viol <= 0.0:
-                st.details.update(verified_value=new, previous_verified_value=best)
+                st.details.update(verified_value=new, previous_verified_value=best if np.isfinite(best) else None)
                 rounds += solved
                 last, best = st, new
                 continue
@@ -396,10 +411,17 @@ class Strategy:
                    f"re-simulated {new:.6g} against {best:.6g}" if is_periodic(cand) is True and viol <= 0.0
                    else "its re-simulation is not periodic with the ram speed in tolerance")
             rounds += [replace(s, superseded=f"the polish round ending in {st.name} was not kept") for s in solved[:-1]]
+            if k == 0:  # the polished stage's own follow-ups, deferred by `clearance_chain`
+                follow, transcription = self.followed(problem, model, transcription, last, progress)
+                if len(follow) > 1:
+                    rounds += [replace(solved[-1], superseded=f"not kept ({why}); {last.name} was followed up instead")]
+                    rounds += follow[1:]
+                    return rounds
             kept = replace(StageResult.skipped(st.name, "", model.spec.describe(), last),
                            status=f"not kept ({st.iterations} iterations: {why}); the previous answer stands",
                            iterations=st.iterations, wall_time=st.wall_time, timing=st.timing,
-                           details={"verified_value": new, "previous_verified_value": best},
+                           details={"verified_value": new,
+                                    "previous_verified_value": best if np.isfinite(best) else None},
                            simulation=last.simulation)
             rounds.append(kept)
             break
