@@ -88,7 +88,7 @@ TEMPLATE_NOTES = {
     "n_elements": "beam elements of the flexible rod", "transcription": "auto, collocation, shooting-idas or "
     "shooting-cvodes", "jit": "\"auto\", true or false: compile collocation with the C compiler",
     "verify_rtol": "tolerance of the verifying re-simulation",
-    "polish_rounds": "re-solves of the last stage from its answer (0: the first pass only, about half the time)",
+    "polish_rounds": "most re-solves of the last stage from its answer, each restarting the barrier (0: the first pass only)",
 }
 #: Optional keys the template shows commented out, after the line of the key named first.
 TEMPLATE_OPTIONAL = {

@@ -65,14 +65,14 @@ class SolverChoice:
     verify_rtol : float
         Tolerance of the final re-simulation.
     polish_rounds : int
-        Re-solves of the last stage from its own answer (`Strategy.polish_rounds`), 0..10.
+        Most re-solves of the last stage from its own answer (`Strategy.polish_rounds`), 0..10.
     """
 
     transcription: str = "auto"
     elements: int | None = None
     jit: bool | str = "auto"
     verify_rtol: float = 1e-9
-    polish_rounds: int = 1
+    polish_rounds: int = 3
 
     def __post_init__(self) -> None:
         chk.integer("polish_rounds", self.polish_rounds, 0, 10)

@@ -138,14 +138,15 @@ class Replay:
 def test_polish_keeps_only_a_verified_improvement(smooth):
     """From a detuned copy of the optimum, a round that returns the optimum is kept (its periodic
     re-simulation is lower); the next, which returns the detuned copy, is recorded as not kept, the
-    optimum standing, and ends the polishing."""
+    optimum standing, and ends the polishing. With a gain threshold above the first round's gain,
+    no second round runs."""
     model = build_model(SMOOTH.press, n_harmonics=4)
     best = smooth.stages[0]
     b = best.speed.b.copy()
     b[0] += 0.05  # rad/s on the first sine harmonic: a min-max optimum's peak rises either way
     detuned = dataclasses.replace(best, speed=FourierSpeed(best.speed.period, best.speed.a, b))
     replay = Replay(best, detuned, best)
-    rounds = Strategy(polish_rounds=3, verify_rtol=1e-8).polish(SMOOTH, model, detuned, replay, False)
+    rounds = Strategy(polish_rounds=3, polish_gain=0.0, verify_rtol=1e-8).polish(SMOOTH, model, detuned, replay, False)
     assert replay.calls == 2 and [s.name for s in rounds] == ["polish_1", "polish_2"]
     kept, dropped = rounds
     assert not kept.was_skipped and kept.speed is best.speed
@@ -157,6 +158,13 @@ def test_polish_keeps_only_a_verified_improvement(smooth):
     assert dropped.was_skipped and dropped.status.startswith("not kept") and dropped.speed is best.speed
     assert dropped.details["verified_value"] > dropped.details["previous_verified_value"]
     assert dropped.details["previous_verified_value"] == kept.details["verified_value"]
+    # a round that gains less than polish_gain on its start's re-simulation ends the polishing
+    gain = 1.0 - kept.details["verified_value"] / start.peak("torque")
+    assert gain > 0
+    replay = Replay(best, detuned, best)
+    rounds = Strategy(polish_rounds=3, polish_gain=2 * gain, verify_rtol=1e-8).polish(SMOOTH, model, detuned, replay,
+                                                                                     False)
+    assert replay.calls == 1 and [s.name for s in rounds] == ["polish_1"] and rounds[0].speed is best.speed
 
 
 def test_a_failed_continuation_restarts_as_a_cold_chain(smooth, monkeypatch):
