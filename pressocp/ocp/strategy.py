@@ -104,9 +104,9 @@ class Strategy:
         first round that does not lower the verified objective by more than `polish_gain`.
     polish_gain : float
         Share by which a polish round must lower the verified objective for another round to run,
-        in [0, 1). Each round restarts IPOPT's barrier from the last answer, which escapes a local
-        optimum: on the slender-rod scene the rounds gave 71.78, 70.33 and 70.33 N m (4 %, 2 %,
-        0 %), on the 75 spm seed the first gained under 1 %.
+        in [0, 1). Each round restarts IPOPT's barrier from the last answer, which can escape a
+        local optimum: on the slender-rod scene the rounds gained 4 % and 2 % (to 71.78 and 70.33
+        N m) and a third nothing; on the 75 spm seed a second round gained nothing.
     refine_rounds : int
         Trust-region rounds of multiple shooting after the other stages, 0..100 (minutes each).
     refine_step : float
@@ -126,7 +126,7 @@ class Strategy:
     verified_ratio: float = 1.02
     soft_factor: float | None = 100.0
     polish_rounds: int = 3
-    polish_gain: float = 0.01
+    polish_gain: float = 0.025
     refine_rounds: int = 0
     refine_step: float = 0.2
     verify_rtol: float = 1e-9
