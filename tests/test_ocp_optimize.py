@@ -224,6 +224,29 @@ def test_flexible_rod_between_ideal_joints_skips_or_runs_only_the_flexible_stage
     assert not stages[0].was_skipped and stages[1].status.startswith("not kept")
 
 
+def test_flexible_rod_with_clearances_checks_the_rigid_rod_answer_first(smooth):
+    """Flexible rod and clearances: the clearance stages run on the rigid rod, and their answer is then
+    re-simulated on the flexible rod. "auto": it holds there (60 spm, stiff rod), so the flexible stage
+    is skipped, its record holding that re-simulation, which the result reuses as its verification;
+    "all": the flexible stage is solved from it, then a polish round. Reference: an IDAS simulation at
+    rtol 1e-10 of the same model."""
+    model = build_model(SMOOTH.press, rod="flexible", n_elements=1, n_harmonics=4)
+    r = optimize_speed(SMOOTH, model, strategy=Strategy(rigid=Rigid(samples=200), verify_rtol=1e-8), progress=False)
+    assert [s.name for s in r.stages] == ["rigid", "target", "flexible"] and r.stages[2].was_skipped
+    assert r.verified and r.stages[2].check.verified and r.stages[2].check.model == model.spec.describe()
+    assert r.simulation is r.stages[2].simulation
+    ref = simulate(model, r.speed, periodic=True, method="idas", rtol=1e-10, n_out=20001)
+    assert r.peak_torque == pytest.approx(ref.peak("torque"), rel=1e-4)
+    assert r.peak_torque == pytest.approx(smooth.peak_torque, rel=2e-3)  # the stiff rod changes little
+    last = dataclasses.replace(r.stages[1], simulation=None)
+    solved = dataclasses.replace(last, model=model.spec.describe(), transcription="Replay")  # returns its start
+    replay = Replay(solved, solved)
+    base = build_model(SMOOTH.press, n_harmonics=4)
+    stages = Strategy(mode="all", verify_rtol=1e-8).on_flexible_rod(SMOOTH, model, base, last, replay, False)
+    assert replay.calls == 2 and [s.name for s in stages] == ["flexible", "polish_1"]
+    assert not stages[0].was_skipped and stages[0].check.verified and stages[1].status.startswith("not kept")
+
+
 @pytest.mark.slow
 def test_slender_rod_scene_optimum_beats_the_rigid_optimum_on_the_flexible_rod():
     """The bundled slender-rod scene (a few minutes): the rigid-press optimum drives the rod near its
@@ -256,7 +279,7 @@ def test_candidates_keep_the_lowest_verified_answer_and_record_every_one(smooth,
     good = smooth.stages[0]
     values = {0.05: 150.0, 0.02: 145.0, 0.1: float("inf")}
 
-    def chain(self, problem, model, base, rigid, transcription, neighbour, progress, margin=None):
+    def chain(self, problem, base, rigid, transcription, neighbour, progress, margin=None):
         return [dataclasses.replace(good, name="no_reversal", details={"margin": margin}),
                 dataclasses.replace(good, name="target", details={"margin": margin})]
 
@@ -265,8 +288,7 @@ def test_candidates_keep_the_lowest_verified_answer_and_record_every_one(smooth,
     monkeypatch.setattr(candidates, "verified_value", lambda stage, problem: values[stage.details["margin"]])
     model = build_model(SMOOTH.press, n_harmonics=4)
     strategy = Strategy(tension_margin=(0.05, 0.02, 0.1), workers=1)
-    stages = candidates.run_candidates(strategy, SMOOTH, model.spec, model.spec, good, Replay(), strategy.margins,
-                                       False)
+    stages = candidates.run_candidates(strategy, SMOOTH, model.spec, good, Replay(), strategy.margins, False)
     assert [s.name for s in stages] == ["no_reversal@0.05", "target@0.05", "no_reversal@0.1", "target@0.1",
                                         "no_reversal@0.02", "target@0.02"]
     assert all("not kept" in s.superseded for s in stages[:4]) and not any(s.superseded for s in stages[4:])

@@ -29,19 +29,18 @@ if TYPE_CHECKING:
     from .strategy import Strategy
 
 
-def candidate_chain(strategy: "Strategy", problem: SpeedProblem, spec: ModelSpec, base: ModelSpec,
-                    rigid: StageResult, transcription: Transcription, margin: float, suffix: str,
+def candidate_chain(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec, rigid: StageResult,
+                    transcription: Transcription, margin: float, suffix: str,
                     progress: bool = False) -> list[StageResult]:
-    """One candidate: `Strategy.clearance_chain` from the no-reversal start at `margin`, its answer
-    verified (`Strategy.verify_stage`), its stages named with `suffix`. Runs in a worker process too
-    (the models are built from their specs there), so its stages carry no solver objects."""
-    n = problem.n_harmonics
-    model = spec.build(problem.press, n)
-    base_model = model if base == spec else base.build(problem.press, n)
-    stages = strategy.clearance_chain(problem, model, base_model, rigid, transcription, None, progress, margin)
+    """One candidate: `Strategy.clearance_chain` on the rigid-rod model `base` from the no-reversal start
+    at `margin`, its answer verified (`Strategy.verify_stage`), its stages named with `suffix`. Runs
+    in a worker process too (the model is built from its spec there), so its stages carry no solver
+    objects."""
+    model = base.build(problem.press, problem.n_harmonics)
+    stages = strategy.clearance_chain(problem, model, rigid, transcription, None, progress, margin)
     last = stages[-1]
     if last.success and not last.was_skipped:
-        strategy.verify_stage(model if last.model == spec.describe() else base_model, last)
+        strategy.verify_stage(model, last)
     return [replace(s, name=s.name + suffix, point=None) for s in stages]
 
 
@@ -54,9 +53,9 @@ def verified_value(stage: StageResult, problem: SpeedProblem) -> float:
     return float(get_objective(problem.objective).value(sim))
 
 
-def run_candidates(strategy: "Strategy", problem: SpeedProblem, spec: ModelSpec, base: ModelSpec,
-                   rigid: StageResult, transcription: Transcription, margins: tuple[float, ...],
-                   progress: bool, pool: Executor | None = None) -> list[StageResult]:
+def run_candidates(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec, rigid: StageResult,
+                   transcription: Transcription, margins: tuple[float, ...], progress: bool,
+                   pool: Executor | None = None) -> list[StageResult]:
     """Every candidate chain (`candidate_chain`), in `pool` (default: ``strategy.workers`` new processes;
     here, one after the other, with one worker or when the pool breaks), then their stages: the
     candidates not kept first (marked ``superseded`` with their verified value), the best last. Each
@@ -64,7 +63,7 @@ def run_candidates(strategy: "Strategy", problem: SpeedProblem, spec: ModelSpec,
     ``details["candidates"]``, every margin's verified value."""
     suffixes = [f"@{m:g}" for m in margins]
     rigid = replace(rigid, point=None)  # no solver objects into the workers
-    args = [(strategy, problem, spec, base, rigid, transcription, m, sfx) for m, sfx in zip(margins, suffixes)]
+    args = [(strategy, problem, base, rigid, transcription, m, sfx) for m, sfx in zip(margins, suffixes)]
     bar = None
     if progress:
         from tqdm.auto import tqdm

@@ -182,29 +182,77 @@ class Strategy:
         base = model if model.rod == "rigid" else build_model(model.params, "rigid", model.clearance, 4,
                                                                model.n_harmonics)
         rigid.check = self.check(base, rigid, problem)
+        stages += self.rigid_rod_stages(problem, base, rigid, transcription, initial, progress, pool)
+        if model.rod != "flexible" or not all(st.success or st.superseded for st in stages):
+            return stages
+        return stages + self.on_flexible_rod(problem, model, base, stages[-1], transcription, progress)
+
+    def rigid_rod_stages(self, problem: SpeedProblem, base: PressModel, rigid: StageResult,
+                         transcription: Transcription, initial: FourierSpeed, progress: bool,
+                         pool: Executor | None) -> list[StageResult]:
+        """The clearance stages on the rigid-rod model `base` after the `rigid` stage (checked on
+        `base`): in "continue" mode the chain from the initial speed when it fits; the candidate
+        chains when there are several no-reversal margins and the rigid optimum is not verified;
+        else one chain."""
+        stages: list[StageResult] = []
         if self.mode == "continue" and not rigid.check.verified and self.fits(base, initial, problem):
-            tried = self.clearance_chain(problem, model, base, rigid, transcription, initial, progress)
+            tried = self.clearance_chain(problem, base, rigid, transcription, initial, progress)
             if all(st.success for st in tried):
-                return stages + tried
+                return tried
             for st in tried:
                 if not st.success:
                     st.superseded = "the chain from the neighbour's optimum failed here; it restarted as a cold chain"
             stages += tried
         margins = self.margins
         if len(margins) > 1 and not rigid.check.verified and problem.press.process_force.force == 0.0:
-            return stages + run_candidates(self, problem, model.spec, base.spec, rigid, transcription, margins,
-                                           progress, pool)
-        return stages + self.clearance_chain(problem, model, base, rigid, transcription, None, progress,
+            return stages + run_candidates(self, problem, base.spec, rigid, transcription, margins, progress, pool)
+        return stages + self.clearance_chain(problem, base, rigid, transcription, None, progress,
                                              margins[0] if margins else None)
 
-    def clearance_chain(self, problem: SpeedProblem, model: PressModel, base: PressModel, rigid: StageResult,
+    def on_flexible_rod(self, problem: SpeedProblem, model: PressModel, base: PressModel, last: StageResult,
+                        transcription: Transcription, progress: bool) -> list[StageResult]:
+        """The flexible rod after the rigid-rod answer `last` (solved on `base`): that answer
+        re-simulated on `model` (periodic at `verify_rtol`, its search started from the rigid-rod
+        journal states with the rod undeformed). In "auto" and "continue" mode, when it is periodic
+        with the ram speed in tolerance and its objective within `verified_ratio` of the rigid rod's,
+        the flexible stage is skipped (its record holds that re-simulation, which the final
+        verification reuses); otherwise the flexible stage starts from it, then the polish rounds."""
+        value = get_objective(problem.objective).value
+        t0 = time.perf_counter()
+        on_base = self.verify_stage(base, last)
+        x0 = rod_undeformed(model, base, on_base.states[:, 0]) if is_periodic(on_base) is True else None
+        sim = verify_speed(model, last.speed, self.verify_rtol, x0=x0)
+        ratio = value(sim) / value(on_base)
+        viol = max(ram_speed_violation(sim, problem), 0.0)
+        check = Check(model=model.spec.describe(), objective=value(sim), ratio=float(ratio), periodic=is_periodic(sim),
+                      ram_speed_violation=viol, peak_torque=sim.peak("torque"),
+                      verified=bool(is_periodic(sim) is True and ratio <= self.verified_ratio and viol <= 0.0))
+        seconds = time.perf_counter() - t0
+        if self.mode in ("auto", "continue") and check.verified:
+            reason = (f"the rigid-rod answer meets the constraints on the flexible rod and its objective there is "
+                      f"within {self.verified_ratio:g} x the rigid rod's ({check.ratio:.4g} x)")
+            stage = StageResult.skipped("flexible", reason, model.spec.describe(), last)
+            stage.check, stage.simulation = check, sim
+            add_time(stage, "checks", seconds)
+            return [stage]
+        x_flex = sim.states[:, 0] / model.x_scale if is_periodic(sim) is True else None
+        solved, transcription = self.solve_refined(problem, model, transcription, WarmStart(last.speed, x_flex),
+                                                   "flexible", progress)
+        solved[0].check = check
+        add_time(solved[0], "checks", seconds)
+        if not solved[-1].success:
+            return solved
+        return [*solved, *self.rounds(problem, model, model, solved, transcription, progress)]
+
+    def clearance_chain(self, problem: SpeedProblem, base: PressModel, rigid: StageResult,
                         transcription: Transcription, neighbour: FourierSpeed | None,
                         progress: bool, margin: float | None = None) -> list[StageResult]:
-        """The stages after the rigid one on a model with clearance, to the polish and refinement
-        rounds; it stops at a failed stage. ``neighbour``: a non-impacting start (a neighbouring
-        optimum in a continuation) that the stages on models with states take as it is, with no
-        no-reversal or soft stage; None: the cold chain from the rigid optimum, through the
+        """The stages after the rigid one on the rigid-rod model with clearance `base`, to the polish
+        and refinement rounds; it stops at a failed stage. ``neighbour``: a non-impacting start (a
+        neighbouring optimum in a continuation) that the stages on models with states take as it is,
+        with no no-reversal or soft stage; None: the cold chain from the rigid optimum, through the
         no-reversal stage at tension `margin` (None: none)."""
+        model = base
         stages: list[StageResult] = []
         start = rigid
         if neighbour is None and not rigid.check.verified and margin is not None \
@@ -219,22 +267,13 @@ class Strategy:
                     start = nr
         chain: list[tuple[str, PressModel]] = []
         if self.mode in ("auto", "continue") and rigid.check.verified:
-            reason = self.verified_reason
-            stages.append(StageResult.skipped("target", reason, base.spec.describe(), start))
-            if model.rod == "flexible":
-                flex = self.check(model, start, problem)
-                if flex.verified:
-                    stages.append(StageResult.skipped("flexible", reason, model.spec.describe(), start))
-                else:
-                    chain.append(("flexible", model))
+            stages.append(StageResult.skipped("target", self.verified_reason, base.spec.describe(), start))
         else:
             if getattr(transcription, "needs_soft_start", False) and self.soft_factor is not None \
                     and neighbour is None and start.check.ratio > IMPACT_RATIO:
                 chain.append(("soft", build_model(soft_params(model.params, self.soft_factor), "rigid", base.clearance,
                                                   4, model.n_harmonics)))
             chain.append(("target", base))
-            if model.rod == "flexible":
-                chain.append(("flexible", model))
         speed = start.speed if neighbour is None else neighbour
         for k, (name, m) in enumerate(chain):
             if k == len(chain) - 1 and self.polish_rounds:
@@ -298,12 +337,18 @@ class Strategy:
         """``stage.simulation``: the stage's answer re-simulated on `model` (`verify_speed` at
         `verify_rtol`), its periodic search started from the stage's own state at t = 0 when the
         transcription has one (a collocation grid's first column: one or two cycles settle it). Run
-        once per stage; its time goes to the stage's ``timing["checks"]``."""
-        if stage.simulation is None:
+        once per stage on its own model; its time goes to the stage's ``timing["checks"]``. On another
+        model than the stage's, the re-simulation is returned and not kept."""
+        own = stage.model == model.spec.describe()
+        if stage.simulation is None or not own:
             t0 = time.perf_counter()
             states = stage.states
-            x0 = states[:, 0] if states is not None and states.ndim == 2 and states.shape[0] == model.nx else None
-            stage.simulation = verify_speed(model, stage.speed, self.verify_rtol, x0=x0)
+            x0 = states[:, 0] if own and states is not None and states.ndim == 2 and states.shape[0] == model.nx \
+                else None
+            sim = verify_speed(model, stage.speed, self.verify_rtol, x0=x0)
+            if not own:
+                return sim
+            stage.simulation = sim
             add_time(stage, "checks", time.perf_counter() - t0)
         return stage.simulation
 
@@ -405,8 +450,8 @@ class Strategy:
         rounds = []
         for k in range(self.polish_rounds):
             name = f"polish_{k + 1}"
-            sim = last.simulation  # `last`'s periodic response on `model`: its state starts the warm start's search
-            x0 = sim.states[:, 0] / model.x_scale if is_periodic(sim) is True else None
+            # `last`'s periodic response on `model`: its state starts the warm start's search
+            x0 = first.states[:, 0] / model.x_scale if is_periodic(first) is True else None
             solved, _ = self.solve_refined(problem, model, transcription, WarmStart(last.speed, x0), name, progress)
             st = solved[-1]
             cand = self.verify_stage(model, st)
@@ -416,7 +461,7 @@ class Strategy:
                 st.details.update(verified_value=new, previous_verified_value=best if np.isfinite(best) else None)
                 rounds += solved
                 gain = (reference - new) / abs(reference) if np.isfinite(reference) else np.inf
-                last, best, reference = st, new, new
+                last, best, reference, first = st, new, new, cand
                 if gain <= self.polish_gain:
                     break
                 continue
@@ -435,7 +480,7 @@ class Strategy:
                            iterations=st.iterations, wall_time=st.wall_time, timing=st.timing,
                            details={"verified_value": new,
                                     "previous_verified_value": best if np.isfinite(best) else None},
-                           simulation=last.simulation)
+                           simulation=first)
             rounds.append(kept)
             break
         return rounds
@@ -477,6 +522,17 @@ class Strategy:
                 step *= REFINE_SHRINK
             rounds.append(st)
         return rounds
+
+
+def rod_undeformed(model: PressModel, base: PressModel, x: np.ndarray) -> np.ndarray:
+    """A scaled state of the flexible-rod `model` from the (unscaled) state `x` of its rigid-rod `base`:
+    the states both name (the journals') copied, the rod's coordinates and rates zero."""
+    out = np.zeros(model.nx)
+    for i, name in enumerate(base.state_names):
+        if name in model.state_names:
+            k = model.state_names.index(name)
+            out[k] = x[i] / model.x_scale[k]
+    return out
 
 
 def add_time(stage: StageResult, key: str, seconds: float) -> None:
