@@ -65,12 +65,13 @@ def main_module_hidden() -> Iterator[None]:
             main.__dict__.update(saved)
 
 
-def process_pool(workers: int) -> ProcessPoolExecutor:
-    """A pool of `workers` spawned processes, one native thread each (`single_threaded_children`),
+def process_pool(workers: int, start: int | None = None) -> ProcessPoolExecutor:
+    """A pool of at most `workers` spawned processes, one native thread each (`single_threaded_children`),
     that do not import the parent's ``__main__`` (`main_module_hidden`): its tasks must be functions
-    of installed modules. The workers are started here, and import pressocp while the caller goes on."""
+    of installed modules. `start` of them (default all) are started here, and import pressocp while
+    the caller goes on; the others start when a task finds no idle worker."""
     with single_threaded_children(), main_module_hidden():
         pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
-        for _ in range(workers):  # start every worker now (they import while the caller goes on)
+        for _ in range(workers if start is None else min(start, workers)):
             pool.submit(os.getpid)
     return pool
