@@ -1,0 +1,121 @@
+"""The final verification of the seed optimum: its periodic re-simulation at rtol 1e-9, now and before.
+
+    python benchmarks/bench_verification.py [--before-python EXE] [--repeat 3]
+
+The seed optimum (`results/seed_optimum_speed.json`, the 75 spm default call's answer) re-simulated on
+the clearance model by `verify_speed(model, speed, 1e-9)` from rest (the periodic search started
+from centred journals), as the default call's verification does when no stage's state is at hand.
+Each interpreter runs in a fresh process from a temporary folder: one call to warm up (integrator
+construction, the compiled outputs' link), then `--repeat` timed calls; the median is reported. With
+``--before-python`` (a virtual environment with an earlier version installed) both run in this one
+invocation, alternately, so the ratio is measured in one run. Writes ``results/verification.json``
+and ``results/verification.png`` with the date and machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+from pressocp.report import stamp
+
+OUT = Path(__file__).parent / "results"
+SPEED = OUT / "seed_optimum_speed.json"
+#: Goal of the fast-simulation issue: 3 x faster than before, the same peaks to 1e-6.
+GOAL_RATIO, GOAL_PEAKS = 3.0, 1e-6
+
+CHILD = """
+import json, sys, time
+import pressocp as po
+from pressocp.model import build_model
+from pressocp.ocp.verify import verify_speed
+from pressocp.speed import FourierSpeed
+problem = po.Scenario.load("press75").problem
+speed = FourierSpeed.from_dict(json.loads(open(sys.argv[1]).read()))
+model = build_model(problem.press, n_harmonics=problem.n_harmonics)
+t0 = time.perf_counter()
+sim = verify_speed(model, speed, 1e-9)
+first = time.perf_counter() - t0
+times = []
+for _ in range(int(sys.argv[2])):
+    t0 = time.perf_counter()
+    sim = verify_speed(model, speed, 1e-9)
+    times.append(time.perf_counter() - t0)
+names = ("torque", "slider_normal_force", "crank_pin_force", "wrist_pin_force")
+print("RESULT" + json.dumps({"first_s": first, "times_s": times, "peaks": {n: sim.peak(n) for n in names},
+                             "steps": sim.stats.get("steps"), "periodic": sim.stats.get("periodic")}))
+"""
+
+
+def run(python: str, repeat: int) -> dict:
+    """One fresh process of `python` verifying the seed optimum; its times and peaks."""
+    with tempfile.TemporaryDirectory() as cwd:  # not this checkout: `python -c` imports from its cwd
+        out = subprocess.run([python, "-c", CHILD, str(SPEED), str(repeat)], capture_output=True, text=True, cwd=cwd)
+    line = [x for x in out.stdout.splitlines() if x.startswith("RESULT")]
+    if out.returncode != 0 or not line:
+        raise RuntimeError(f"{python} failed:\n{(out.stderr or out.stdout)[-2000:]}")
+    r = json.loads(line[0][len("RESULT"):])
+    r["median_s"] = statistics.median(r["times_s"])
+    return r
+
+
+def figure(row: dict, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    labels = [k for k in ("before", "after") if k in row["runs"]]
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    for i, k in enumerate(labels):
+        r = row["runs"][k]
+        ax.bar(i, r["median_s"], color="C0" if k == "before" else "C1")
+        ax.plot([i] * len(r["times_s"]), r["times_s"], "k.")
+        ax.text(i, r["median_s"], f"{r['median_s']:.2f} s\n{r['peaks']['torque']:.6f} N·m", ha="center", va="bottom")
+    ax.set_xticks(range(len(labels)), labels)
+    ax.set_ylabel("verify_speed(model, seed optimum, 1e-9), s (median; dots: every call)")
+    title = "final verification of the seed optimum (periodic, CVODES rtol 1e-9, 20 001 samples)"
+    if "ratio" in row:
+        title += f"\n{row['ratio']:.1f} x faster; peaks agree to {row['max_peak_difference']:.1e} (goal {GOAL_RATIO:g} x, {GOAL_PEAKS:g})"
+    ax.set_title(title, fontsize=9)
+    ax.set_ylim(0, 1.3 * max(row["runs"][k]["median_s"] for k in labels))
+    fig.suptitle(f"{row['date']}, {row['machine']}", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--before-python", default=None, help="interpreter with the earlier version installed")
+    ap.add_argument("--repeat", type=int, default=3, help="timed calls per process (median)")
+    a = ap.parse_args()
+    if a.repeat < 1:
+        ap.error(f"--repeat must be >= 1, got {a.repeat}")
+    runs = {"after": run(sys.executable, a.repeat)}
+    if a.before_python:
+        runs["before"] = run(a.before_python, a.repeat)
+    row = {**stamp(), "what": "verify_speed(model, seed optimum, rtol 1e-9) from rest, fresh process each side",
+           "runs": runs, "before_python": a.before_python}
+    if "before" in runs:
+        b, n = runs["before"], runs["after"]
+        row["ratio"] = b["median_s"] / n["median_s"]
+        row["max_peak_difference"] = max(abs(n["peaks"][k] / b["peaks"][k] - 1) for k in b["peaks"])
+        row["goals_met"] = bool(row["ratio"] >= GOAL_RATIO and row["max_peak_difference"] <= GOAL_PEAKS)
+    OUT.mkdir(exist_ok=True)
+    (OUT / "verification.json").write_text(json.dumps(row, indent=1))
+    figure(row, OUT / "verification.png")
+    for k, r in runs.items():
+        print(f"{k}: median {r['median_s']:.3f} s of {[round(x, 3) for x in r['times_s']]}, first {r['first_s']:.2f} s, "
+              f"peak torque {r['peaks']['torque']:.9g} N m")
+    if "ratio" in row:
+        print(f"ratio {row['ratio']:.2f} x, peaks agree to {row['max_peak_difference']:.2g}")
+
+
+if __name__ == "__main__":
+    main()
