@@ -75,6 +75,8 @@ JOBS = (
     Job("ocp_seed", "bench_ocp.py", ("seed", "--repeat", "3"), 20, "default call, 75 spm scene"),
     Job("speed", "bench_speed.py", ("--repeat", "3", "--cold-first"), 12,
         "the bundled scenarios' default calls, each in a fresh process, compile cache empty then filled"),
+    Job("verification", "bench_verification.py", (), 1,
+        "the seed optimum's final verification, this version (with --before-python: against another)"),
     Job("ocp_seed_collocation", "bench_ocp.py", ("seed_collocation", "--repeat", "3"), 15,
         "75 spm, every stage, collocation on CasADi's virtual machine"),
     Job("ocp_seed_collocation_jit", "bench_ocp.py", ("seed_collocation_jit", "--repeat", "3"), 6,
