@@ -122,6 +122,7 @@ def test_rigid_answer_derivative_matches_re_solved_optima(rigid_answer):
         assert s.derivative(n) == pytest.approx(fd, rel=0.01)
         row = s.table[s.table["parameter"] == n].iloc[0]
         assert row["derivative_check"] == pytest.approx(row["derivative"], rel=1e-4, abs=1e-6)
+        assert row["trustworthy"]
     # the same optimum followed to p +- 0.1 % from its primal-dual point (IPOPT's warm start)
     p = SMALL.press.value("slider_mass")
     assert s.point.p[0] == p  # the NLP's p: the parameters in the order asked
@@ -188,3 +189,15 @@ def test_collocation_answer_derivative_matches_re_solved_optima():
     fd, scale = central("wrist_pin.clearance", 0.1)
     assert abs(s.derivative("wrist_pin.clearance") * scale) < 1e-4
     assert abs(fd * scale) < 1e-4
+
+
+def test_derivatives_that_disagree_are_flagged():
+    """The agreement test on numbers measured on the 75 spm seed (wrist-pin clearance: 3551 by the
+    envelope theorem against -390 by the optimum's own derivative), on a 1 % difference, and on two
+    values that are both negligible next to J*/p."""
+    from pressocp.ocp.sensitivity import derivatives_agree
+
+    assert not derivatives_agree(3551.0, -390.0, 145.0 / 1e-4)
+    assert derivatives_agree(100.0, 101.0, 1.0)
+    assert not derivatives_agree(100.0, 110.0, 1.0)
+    assert derivatives_agree(1e-9, -1e-9, 1.0)  # both below 1e-6 x J*/p

@@ -15,6 +15,7 @@ optimum, so it takes few iterations; its objective is reported next to the resul
 from __future__ import annotations
 
 import time
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -42,6 +43,22 @@ ONE_SIDED = 1e-6
 RIGID_STAGES = ("rigid", "no_reversal")
 
 
+#: ``derivative`` and ``derivative_check`` agree when they differ by at most this share of the larger
+#: one, or when both are below `NEGLIGIBLE` in normalised terms (p / J* dJ*/dp).
+AGREE_RTOL = 0.05
+#: A normalised derivative below this is zero for the agreement test.
+NEGLIGIBLE = 1e-6
+
+
+def derivatives_agree(derivative: float, check: float, scale: float) -> bool:
+    """Whether dJ*/dp by the envelope theorem and by the optimum's own derivative agree: within
+    `AGREE_RTOL` of the larger, or both under `NEGLIGIBLE` x `scale` (``scale`` = J*/|p|, the
+    objective's unit per unit of p). When they do not, the KKT solve is not sound at this optimum
+    (dependent or degenerate active constraints), and neither number is to be trusted."""
+    big = max(abs(derivative), abs(check))
+    return bool(abs(derivative - check) <= AGREE_RTOL * big or big <= NEGLIGIBLE * abs(scale))
+
+
 class SensitivityError(RuntimeError):
     """The re-solve at the answer did not converge, so the KKT system is not at a solution."""
 
@@ -55,7 +72,9 @@ class OptimumSensitivities:
     table : pandas.DataFrame
         One row per parameter: ``parameter_value`` (SI), ``objective`` (J*, the objective's unit),
         ``derivative`` (dJ*/dp, envelope theorem), ``derivative_check`` (the same from the optimum's
-        own derivative; the two agree when the KKT solve is sound), ``normalised`` (p / J* dJ*/dp),
+        own derivative; the two agree when the KKT solve is sound), ``trustworthy``
+        (`derivatives_agree`: False means neither is to be trusted, and a warning says so; re-solve
+        or sweep that parameter instead), ``normalised`` (p / J* dJ*/dp),
         ``step_up`` and ``step_down`` (relative steps dp/p to the first predicted change of the active
         set, weakly active constraints aside) with ``change_up`` and ``change_down`` (the constraint
         group that changes), ``weakly_active`` (inequalities at their bound with a multiplier near
@@ -219,14 +238,21 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
     rows = []
     for j, n in enumerate(names):
         p = float(again.point.p[j])
+        d, dc = to_J * float(k.df_dp[j]), to_J * float(k.df_dp_direct[j])
         rows.append({
-            "parameter": n, "parameter_value": p, "objective": J, "derivative": to_J * float(k.df_dp[j]),
-            "derivative_check": to_J * float(k.df_dp_direct[j]),
+            "parameter": n, "parameter_value": p, "objective": J, "derivative": d, "derivative_check": dc,
+            "trustworthy": derivatives_agree(d, dc, J / abs(p)),
             "normalised": to_J * float(k.df_dp[j]) * p / J,
             "step_up": k.step_up[j] / abs(p), "step_down": k.step_down[j] / abs(p),
             "change_up": k.change_up[j], "change_down": k.change_down[j], "weakly_active": weak,
             "kkt_residual": k.residual, "kkt_regularisation": k.regularisation,
             "coefficients_one_sided": bool(weak or min(k.step_up[j], -k.step_down[j]) / abs(p) < ONE_SIDED)})
+    doubtful = [r["parameter"] for r in rows if not r["trustworthy"]]
+    if doubtful:
+        warnings.warn(f"dJ*/dp of {', '.join(doubtful)}: the envelope theorem and the optimum's own derivative "
+                      "disagree (table columns derivative and derivative_check), so the KKT solve is not sound "
+                      "there and neither value is to be trusted; re-solve at p +- dp or sweep the parameter",
+                      RuntimeWarning, stacklevel=2)
     labels = [f"a{i + 1}" for i in range(n2 // 2)] + [f"b{i + 1}" for i in range(n2 // 2)]
     coeffs = pd.DataFrame(k.dx_dp[:n2, :], index=labels, columns=list(names))
     return OptimumSensitivities(
@@ -237,4 +263,5 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
         transcription=transcription, model=spec, point=again.point, to_objective=to_J)
 
 
-__all__ = ["KINEMATIC", "ONE_SIDED", "OptimumSensitivities", "SensitivityError", "optimum_sensitivities"]
+__all__ = ["AGREE_RTOL", "KINEMATIC", "NEGLIGIBLE", "ONE_SIDED", "OptimumSensitivities", "SensitivityError",
+           "derivatives_agree", "optimum_sensitivities"]
