@@ -9,7 +9,10 @@ import numpy as np
 
 
 def finite(name: str, value: Any) -> float:
-    """Return ``value`` as a float, raising ``ValueError`` unless it is a finite real number."""
+    """Return ``value`` as a float, raising ``ValueError`` unless it is a finite real number (a bool is
+    not one: ``gravity=True`` is a slip, not 1 m/s^2)."""
+    if isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name} must be a finite real number, got the bool {value!r}")
     try:
         x = float(value)
     except (TypeError, ValueError):
@@ -86,3 +89,20 @@ def choice(name: str, value: Any, allowed: tuple[str, ...]) -> str:
     if value not in allowed:
         raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}; got {value!r}")
     return value
+
+
+#: Field annotations (as strings, under ``from __future__ import annotations``) of real numbers.
+REAL_ANNOTATIONS = ("float", "float | None", "Optional[float]")
+
+
+def convert_reals(obj: Any) -> None:
+    """Store every real-number field of the frozen dataclass `obj` (annotated ``float`` or
+    ``float | None``, and not None) as a float: ``"1e11"``, ``7`` or ``np.float32(0.5)`` become
+    floats, so later arithmetic is arithmetic. A value that is not a finite real number (a bool, a
+    word, NaN) raises ValueError naming the field. Call it first in ``__post_init__``."""
+    import dataclasses
+
+    for f in dataclasses.fields(obj):
+        value = getattr(obj, f.name)
+        if value is not None and str(f.type).replace(" ", "") in {a.replace(" ", "") for a in REAL_ANNOTATIONS}:
+            object.__setattr__(obj, f.name, finite(f.name, value))

@@ -138,6 +138,7 @@ class Bearing:
     tangential_damping: float = 1e3
 
     def __post_init__(self) -> None:
+        chk.convert_reals(self)
         c = chk.positive("clearance", self.clearance, "m")
         chk.nonnegative("tangential_damping", self.tangential_damping, "N s/m")
         rj = plausible("journal_radius", self.journal_radius, *LENGTH_RANGE, "m")
@@ -252,6 +253,7 @@ class ProcessForce:
     speed_edge: float = 1e-3
 
     def __post_init__(self) -> None:
+        chk.convert_reals(self)
         chk.nonnegative("force", self.force, "N")
         top = chk.finite("h_top", self.h_top)
         bottom = chk.finite("h_bottom", self.h_bottom)
@@ -316,6 +318,7 @@ class PressParams:
     process_force: ProcessForce = field(default_factory=ProcessForce)
 
     def __post_init__(self) -> None:
+        chk.convert_reals(self)
         r = plausible("crank_radius", self.crank_radius, *LENGTH_RANGE, "m")
         l = plausible("rod_length", self.rod_length, *LENGTH_RANGE, "m")
         if l < MIN_ROD_RATIO * r:

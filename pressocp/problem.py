@@ -124,6 +124,7 @@ class SpeedProblem:
     def __post_init__(self) -> None:
         if not isinstance(self.press, PressParams):
             raise ValueError(f"press must be a PressParams, got {type(self.press).__name__}")
+        chk.convert_reals(self)
         T = chk.positive("period", self.period, "s")
         v = chk.finite("ram_speed", self.ram_speed)
         w0, w1 = check_window(self.window)

@@ -137,3 +137,21 @@ def test_a_parameter_set_by_its_dotted_name():
         press.with_value("slider_mas", 1.0)
     with pytest.raises(ValueError):
         press.with_value("wrist_pin.clearance", -1e-4)
+
+
+def test_numbers_are_converted_at_the_door():
+    """Strings, ints and numpy scalars become floats (so arithmetic is arithmetic); a bool or a word
+    is refused with the field's name."""
+    import numpy as np
+
+    from pressocp import Bearing, PressParams, SpeedProblem
+
+    b = Bearing(stiffness="1e11", clearance=np.float32(1e-4))
+    assert b.contact_stiffness * 2 == 2e11 and type(b.stiffness) is float and type(b.clearance) is float
+    p = PressParams(crank_inertia="0.5", slider_mass=150)
+    assert p.crank_inertia == 0.5 and type(p.crank_inertia) is float and type(p.slider_mass) is float
+    assert SpeedProblem(p, ram_speed="-0.1").ram_speed == -0.1
+    with pytest.raises(ValueError, match="gravity must be a finite real number, got the bool True"):
+        PressParams(gravity=True)
+    with pytest.raises(ValueError, match="rod_mass must be a finite real number, got 'heavy'"):
+        PressParams(rod_mass="heavy")
