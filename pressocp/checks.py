@@ -8,6 +8,33 @@ from typing import Any
 import numpy as np
 
 
+class WrongType(TypeError, ValueError):
+    """An argument of the wrong kind. A TypeError, and a ValueError too, so that every handler of
+    bad input (the command line's among them) reports it as such."""
+
+
+#: What to do instead, by (expected class, given class) names.
+TYPE_HINTS = {
+    ("SpeedProblem", "PressParams"): "wrap the press in a problem, SpeedProblem(press, period=..., ram_speed=...)",
+    ("PressParams", "SpeedProblem"): "pass the problem's press, problem.press",
+    ("PressParams", "Scenario"): "pass the scenario's press, scenario.press",
+    ("SpeedProblem", "Scenario"): "pass the scenario's problem, scenario.problem",
+    ("PressModel", "PressParams"): "build the model first, build_model(press)",
+    ("FourierSpeed", "SpeedDesign"): "pass the design's speed, design.speed",
+    ("FourierSpeed", "OcpResult"): "pass the result's speed, result.speed",
+}
+
+
+def instance(name: str, value: Any, cls: type) -> Any:
+    """`value` when it is a `cls`, else `WrongType` naming the argument, both classes and, for the
+    usual mix-ups (`TYPE_HINTS`), what to pass instead."""
+    if isinstance(value, cls):
+        return value
+    got = type(value).__name__
+    hint = TYPE_HINTS.get((cls.__name__, got))
+    raise WrongType(f"{name} must be a {cls.__name__}, got {got}" + (f": {hint}" if hint else ""))
+
+
 def finite(name: str, value: Any) -> float:
     """Return ``value`` as a float, raising ``ValueError`` unless it is a finite real number (a bool is
     not one: ``gravity=True`` is a slip, not 1 m/s^2)."""

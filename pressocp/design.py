@@ -134,7 +134,8 @@ def design_speed(problem: SpeedProblem, settings: DesignSettings | None = None) 
     -------
     SpeedDesign
     """
-    S = DesignSettings() if settings is None else settings
+    chk.instance("problem", problem, SpeedProblem)
+    S = DesignSettings() if settings is None else chk.instance("settings", settings, DesignSettings)
     params, T, v, (w0, w1), n = problem.press, problem.period, problem.ram_speed, problem.window, problem.n_harmonics
     tol = S.band * problem.tol / abs(v)
     m, mu = S.samples, S.smoothing_weight

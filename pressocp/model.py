@@ -266,6 +266,7 @@ def build_model(
     -------
     PressModel
     """
+    chk.instance("params", params, PressParams)
     spec = ModelSpec(rod, clearance, n_elements)
     clearance, ne = spec.clearance, spec.n_elements
     nh = chk.integer("n_harmonics", n_harmonics, 1, 50)

@@ -122,8 +122,7 @@ class SpeedProblem:
     max_pin_force: float | None = None
 
     def __post_init__(self) -> None:
-        if not isinstance(self.press, PressParams):
-            raise ValueError(f"press must be a PressParams, got {type(self.press).__name__}")
+        chk.instance("press", self.press, PressParams)
         chk.convert_reals(self)
         T = chk.positive("period", self.period, "s")
         v = chk.finite("ram_speed", self.ram_speed)

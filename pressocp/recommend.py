@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import checks as chk
 from .params import PressParams
 from .rigid import rigid_inverse_dynamics, rigid_kinematics
 from .speed import FourierSpeed
@@ -94,10 +95,8 @@ def recommend_model(params: PressParams, speed: FourierSpeed) -> ModelRecommenda
     -------
     ModelRecommendation
     """
-    if not isinstance(params, PressParams):
-        raise ValueError(f"params must be a PressParams, got {type(params).__name__}")
-    if not isinstance(speed, FourierSpeed):
-        raise ValueError(f"speed must be a FourierSpeed, got {type(speed).__name__}")
+    chk.instance("params", params, PressParams)
+    chk.instance("speed", speed, FourierSpeed)
     T = speed.period
     t = np.linspace(0.0, T, SAMPLES, endpoint=False)
     th, om, al = speed.evaluate(t)

@@ -191,6 +191,8 @@ def rigid_response(params: PressParams, speed: FourierSpeed, t: Any = None) -> S
     SimResult
         Same fields as a simulation of the full model; eccentricities and the rod deflection are zero.
     """
+    chk.instance("params", params, PressParams)
+    chk.instance("speed", speed, FourierSpeed)
     if t is None:
         t = np.linspace(0.0, speed.period, 2001)
     t = chk.finite_array("t", t)

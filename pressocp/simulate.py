@@ -354,8 +354,8 @@ def simulate(
     chk.choice("method", method, METHODS)
     r = chk.positive("rtol", rtol)
     a = r if atol is None else chk.positive("atol", atol)
-    if not isinstance(speed, FourierSpeed):
-        raise ValueError(f"speed must be a FourierSpeed, got {type(speed).__name__}")
+    chk.instance("model", model, PressModel)
+    chk.instance("speed", speed, FourierSpeed)
     ncyc = chk.integer("cycles", cycles, 1, 1000)
     T_end = ncyc * speed.period if t_end is None else chk.positive("t_end", t_end, "s")
     n = max(2, int(round(OUTPUTS_PER_CYCLE * T_end / speed.period)) + 1) if n_out is None else chk.integer("n_out", n_out, 2, 10**8)

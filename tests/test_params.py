@@ -155,3 +155,22 @@ def test_numbers_are_converted_at_the_door():
         PressParams(gravity=True)
     with pytest.raises(ValueError, match="rod_mass must be a finite real number, got 'heavy'"):
         PressParams(rod_mass="heavy")
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda p, prob, s: __import__("pressocp").design_speed(p), "problem must be a SpeedProblem, got PressParams: wrap"),
+    (lambda p, prob, s: __import__("pressocp").build_model(prob), "params must be a PressParams, got SpeedProblem: pass"),
+    (lambda p, prob, s: __import__("pressocp").rigid_response(prob, s), "params must be a PressParams, got SpeedProblem"),
+    (lambda p, prob, s: __import__("pressocp").optimize_speed(p), "problem must be a SpeedProblem, got PressParams"),
+    (lambda p, prob, s: __import__("pressocp").simulate(p, s), "model must be a PressModel, got PressParams: build"),
+])
+def test_the_wrong_object_is_a_type_error_that_says_what_to_pass(call, match):
+    """Passing the press where the problem belongs (and the like) fails at once with a TypeError (also a
+    ValueError, as bad input) naming the argument and what to pass instead; nothing is solved."""
+    from pressocp import FourierSpeed, PressParams, SpeedProblem
+
+    p = PressParams()
+    prob, s = SpeedProblem(p, period=0.8), FourierSpeed.constant(0.8)
+    with pytest.raises(TypeError, match=match) as err:
+        call(p, prob, s)
+    assert isinstance(err.value, ValueError)

@@ -7,6 +7,7 @@ import time
 
 import numpy as np
 
+from .. import checks as chk
 from ..design import design_speed
 from ..model import ModelSpec, PressModel, build_model
 from ..objectives import get as get_objective
@@ -66,16 +67,14 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
         Ctrl-C; ``err.best`` holds the interrupted stage's least-infeasible iterate when there is one.
     """
     t_start = time.perf_counter()
-    if not isinstance(problem, SpeedProblem):
-        raise ValueError(f"problem must be a SpeedProblem, got {type(problem).__name__}")
+    chk.instance("problem", problem, SpeedProblem)
     strat = Strategy.of(strategy)
     tr = Collocation() if transcription is None else transcription
     if not callable(getattr(tr, "solve", None)) or not hasattr(tr, "has_states"):
         raise ValueError(f"transcription must be Rigid, MultipleShooting or Collocation, got {type(tr).__name__}")
     if model is None:
         model = build_model(problem.press, n_harmonics=problem.n_harmonics)
-    if not isinstance(model, PressModel):
-        raise ValueError(f"model must be a PressModel (from build_model), got {type(model).__name__}")
+    chk.instance("model", model, PressModel)
     if model.params != problem.press:
         raise ValueError("model.params must be the problem's press (build the model from problem.press)")
     if not model.is_rigid and not tr.has_states:

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from .. import checks as chk
 from ..model import ModelSpec, build_model
 from ..objectives import get as get_objective
 from ..params import check_parameter
@@ -186,8 +187,7 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
     SensitivityError
         The re-solve at the answer did not converge.
     """
-    if not isinstance(result, OcpResult):
-        raise ValueError(f"result must be an OcpResult, got {type(result).__name__}")
+    chk.instance("result", result, OcpResult)
     names = tuple(check_parameter(n) for n in parameters)
     if not names:
         raise ValueError("parameters must name at least one press parameter")
