@@ -32,6 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from . import checks as chk
+from .compile_cache import check_jit
 from .model import ModelSpec, PressModel
 from .ocp import Collocation, MultipleShooting, OcpResult, Strategy, optimize_speed
 from .params import Bearing, PressParams, ProcessForce
@@ -75,6 +76,16 @@ class SolverChoice:
     polish_rounds: int = 3
 
     def __post_init__(self) -> None:
+        # every key is checked here, when the scenario loads, not when a solve starts (the
+        # transcription's name in `Scenario.from_dict`, with a suggestion)
+        if self.elements is not None:
+            chk.integer("elements", self.elements, 10, 100_000)
+        check_jit(self.jit)
+        r = chk.finite("verify_rtol", self.verify_rtol)
+        if not 1e-14 <= r <= 1e-5:
+            raise ValueError(f"verify_rtol must be in [1e-14, 1e-05], got {self.verify_rtol!r} (the final "
+                             "re-simulation's relative tolerance; 1e-9 by default)")
+        object.__setattr__(self, "verify_rtol", r)
         chk.integer("polish_rounds", self.polish_rounds, 0, 10)
 
     def make_transcription(self) -> Collocation | MultipleShooting:

@@ -47,6 +47,10 @@ BAD_FILES = [
     ("unknown rod", GOOD + '[model]\nrod = "flex"\n', ["rod", "flex"]),
     ("unknown joint", GOOD + '[model]\nclearance = ["crank"]\n', ["clearance", "crank"]),
     ("unknown transcription", GOOD + '[solver]\ntranscription = "ipopt"\n', ["solver.transcription", "ipopt"]),
+    ("solver tolerance NaN", GOOD + '[solver]\nverify_rtol = nan\n', ["verify_rtol", "nan"]),
+    ("solver tolerance zero", GOOD + '[solver]\nverify_rtol = 0.0\n', ["verify_rtol", "[1e-14, 1e-05]"]),
+    ("negative elements", GOOD + '[solver]\nelements = -5\n', ["elements", "-5"]),
+    ("jit as a word", GOOD + '[solver]\njit = "yes"\n', ["jit", "'yes'"]),
     ("malformed TOML", GOOD.replace("slider_mass = 600.0", "slider_mass = 600.0 kg"), ["TOML", "line"]),
     ("a table given a value", GOOD.replace("[press.wrist_pin]\nclearance = 1.5e-4", "").replace(
         "[problem]", "[problem]") + "", None),  # placeholder replaced below
