@@ -21,6 +21,7 @@ Exit codes: 0 success; 1 solved but not converged or not verified (results writt
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import tomllib
 from pathlib import Path
@@ -157,6 +158,18 @@ def _parser() -> argparse.ArgumentParser:
     return ap
 
 
+def check_writable(folder: Path, what: str) -> None:
+    """InputError unless `folder` can be written or created: its nearest existing ancestor must be a
+    folder this process may write into. Checked before any solve (a folder is not created here)."""
+    existing = folder.absolute()
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    if not existing.is_dir():
+        raise InputError(f"{what}: {existing} is a file, so no folder can be made under it")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise InputError(f"{what}: {existing} is not writable by this user")
+
+
 def _prepare(args: argparse.Namespace):
     """Check the input and return the job to run (a callable giving its exit code). Every bad value
     raises here, before anything is solved."""
@@ -166,6 +179,7 @@ def _prepare(args: argparse.Namespace):
         if args.action == "new":
             if args.path.exists() and not args.force:
                 raise InputError(f"{args.path} exists; pass --force to overwrite it")
+            check_writable(args.path.parent, f"scenario new {args.path}")
 
             def write() -> int:
                 atomic_write(args.path, template(str(args.path)))
@@ -179,6 +193,7 @@ def _prepare(args: argparse.Namespace):
     out: Path = args.out
     if out.exists() and not out.is_dir():
         raise InputError(f"--out {out} is a file, not a folder")
+    check_writable(out, f"--out {out}")
     import matplotlib
 
     matplotlib.use("Agg")  # files only; the library itself never picks a backend

@@ -94,6 +94,8 @@ BAD_ARGS = [
      ["--speed", "simulate"]),
     ("sweep.csv of another run", ["sweep", "--vary", "slider_mass=100,200", "--out", "{tmp}/done"],
      ["sweep.csv", "--resume"]),
+    ("--out under a file", ["optimize", "--out", "{tmp}/afile/out"], ["--out", "afile", "is a file"]),
+    ("scenario new under a file", ["scenario", "new", "{tmp}/afile/my.toml"], ["scenario new", "is a file"]),
 ]
 
 
