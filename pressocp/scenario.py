@@ -114,11 +114,16 @@ class Scenario:
         return self.problem.press
 
     def check_speed(self, speed: FourierSpeed | None, name: str = "speed") -> None:
-        """Raise ScenarioError unless `speed` (if given) has the problem's period."""
+        """Raise ScenarioError unless `speed` (if given) has the problem's period and at most its
+        harmonics."""
         if speed is not None and not math.isclose(speed.period, self.problem.period, rel_tol=1e-9, abs_tol=0.0):
             raise ScenarioError(f"{name}: the speed's period is {speed.period:g} s but the scenario's is "
                                 f"{self.problem.period:g} s; set the scenario's cycle to match, e.g. "
                                 f"--set problem.period_s={speed.period!r}")
+        if speed is not None and speed.n_harmonics > self.problem.n_harmonics:
+            raise ScenarioError(f"{name}: the speed has {speed.n_harmonics} harmonics but the scenario's problem "
+                                f"{self.problem.n_harmonics}; set the problem's to match, e.g. "
+                                f"--set problem.n_harmonics={speed.n_harmonics}")
 
     def build_model(self) -> PressModel:
         """The scenario's model level for its press (`ModelSpec.build`)."""

@@ -94,6 +94,8 @@ BAD_ARGS = [
      ["--speed", "simulate"]),
     ("sweep.csv of another run", ["sweep", "--vary", "slider_mass=100,200", "--out", "{tmp}/done"],
      ["sweep.csv", "--resume"]),
+    ("--speed with more harmonics than the problem", ["simulate", "--speed", "{tmp}/speed20.json"],
+     ["--speed", "20 harmonics", "problem.n_harmonics=20"]),
     ("--out under a file", ["optimize", "--out", "{tmp}/afile/out"], ["--out", "afile", "is a file"]),
     ("scenario new under a file", ["scenario", "new", "{tmp}/afile/my.toml"], ["scenario new", "is a file"]),
 ]
@@ -103,6 +105,7 @@ BAD_ARGS = [
 def test_bad_arguments_exit_2(tmp_path, capsys, what, argv, words):
     (tmp_path / "notjson.json").write_text("{period: 1")
     (tmp_path / "speed1s.json").write_text(json.dumps({"period": 1.0, "a": [0.1], "b": [0.0]}))
+    (tmp_path / "speed20.json").write_text(json.dumps({"period": 0.8, "a": [0.01] * 20, "b": [0.0] * 20}))
     (tmp_path / "afile").write_text("x")
     (tmp_path / "done").mkdir()
     (tmp_path / "done" / "sweep.csv").write_text("slider_mass,ok\n100,True\n")
