@@ -38,6 +38,9 @@ MAX_CLEARANCE_FRACTION = 0.1
 #: The rod must be at least this many crank radii long.
 MIN_ROD_RATIO = 1.5
 STIFFNESS_RANGE = (1e4, 1e16)  # N/m^n
+#: Smallest radial clearance, m: the Hertz stiffness grows as 1/sqrt(c) (inf at 5e-324), and the
+#: smallest clearance used (the rigid-limit test) is 1 um.
+MIN_CLEARANCE = 1e-6
 
 
 def plausible(name: str, value: float, lo: float, hi: float, unit: str) -> float:
@@ -142,12 +145,15 @@ class Bearing:
         c = chk.positive("clearance", self.clearance, "m")
         chk.nonnegative("tangential_damping", self.tangential_damping, "N s/m")
         rj = plausible("journal_radius", self.journal_radius, *LENGTH_RANGE, "m")
+        allowed = f"[{MIN_CLEARANCE:g}, {MAX_CLEARANCE_FRACTION * rj:g}] m ({MAX_CLEARANCE_FRACTION:.0%} of journal_radius={rj:g} m)"
         if c > MAX_CLEARANCE_FRACTION * rj:
             # Just over the limit is a worn joint, not a slip; ten times over, in mm, is a plausible clearance.
             in_mm = c >= 10 * MAX_CLEARANCE_FRACTION * rj and c / 1000 <= MAX_CLEARANCE_FRACTION * rj
             slip = f": a clearance in mm? {c:g} mm is {c / 1000:g} m" if in_mm else ""
-            raise ValueError(f"clearance must be in (0, {MAX_CLEARANCE_FRACTION * rj:g}] m ({MAX_CLEARANCE_FRACTION:.0%} "
-                             f"of journal_radius={rj:g} m), got {c!r}{slip}")
+            raise ValueError(f"clearance must be in {allowed}, got {c!r}{slip}")
+        if c < MIN_CLEARANCE:
+            raise ValueError(f"clearance must be in {allowed}, got {c!r}: below a micrometre the joint is ideal "
+                             "(build the model with clearance=() for ideal joints)")
         if self.stiffness is not None:
             k = chk.positive("stiffness", self.stiffness, "N/m^exponent")
             if not STIFFNESS_RANGE[0] <= k <= STIFFNESS_RANGE[1]:
@@ -321,7 +327,7 @@ class PressParams:
         chk.convert_reals(self)
         r = plausible("crank_radius", self.crank_radius, *LENGTH_RANGE, "m")
         l = plausible("rod_length", self.rod_length, *LENGTH_RANGE, "m")
-        if l < MIN_ROD_RATIO * r:
+        if l < MIN_ROD_RATIO * r * (1.0 - 1e-12):  # the bound itself is allowed, rounding aside
             raise ValueError(f"rod_length must be in [{MIN_ROD_RATIO:g} x crank_radius = {MIN_ROD_RATIO * r:g}, "
                              f"{LENGTH_RANGE[1]:g}] m, got {l!r}")
         chk.positive("crank_inertia", self.crank_inertia, "kg m^2")

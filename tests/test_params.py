@@ -70,16 +70,23 @@ def test_bad_press_params_message_names_range():
     (lambda: PressParams(rod_length=250.0), r"rod_length must be in .*250 mm is 0.25 m"),
     (lambda: PressParams(rod_length=0.06), r"rod_length must be in \[1.5 x crank_radius"),
     (lambda: PressParams(slider_mass=150000.0), r"slider_mass must be in \[0.001, 100000\] kg.*150000 g is 150 kg"),
-    (lambda: Bearing(clearance=0.15), r"clearance must be in \(0, 0.004\] m \(10% of journal_radius=0.04 m\), got 0.15: "
+    (lambda: Bearing(clearance=0.15), r"clearance must be in \[1e-06, 0.004\] m \(10% of journal_radius=0.04 m\), got 0.15: "
                                        r"a clearance in mm\? 0.15 mm is 0.00015 m"),
     (lambda: Bearing(journal_radius=25.0), r"journal_radius must be in .*25 mm is 0.025 m"),
     (lambda: Bearing(clearance=0.0026, journal_radius=0.025), r"got 0.0026$"),
     (lambda: Bearing(stiffness=10.0), r"stiffness must be in \[10000, 1e\+16\]"),
+    (lambda: Bearing(clearance=5e-324), r"clearance must be in \[1e-06, 0.004\] m .*got 5e-324: below a micrometre"),
+    (lambda: Bearing(clearance=1e-7), r"got 1e-07: below a micrometre the joint is ideal"),
 ])
 def test_implausible_values_name_the_likely_unit_slip(make, match):
     """A press described in mm (or grams) is refused at construction, with the value in metres."""
     with pytest.raises(ValueError, match=match):
         make()
+
+
+def test_a_bound_itself_is_allowed_despite_rounding():
+    """rod_length = 1.5 x crank_radius exactly (0.075 against 1.5 x 0.05 = 0.07500000000000001)."""
+    assert PressParams(rod_length=0.075).rod_length == 0.075
 
 
 @pytest.mark.parametrize(
