@@ -158,6 +158,22 @@ def _parser() -> argparse.ArgumentParser:
     return ap
 
 
+def flag_reason(summary: dict) -> str:
+    """Why a job's results are flagged, from its summary: not converged (IPOPT's status), or not
+    verified (the re-simulation not periodic, the ram speed out of tolerance), else its status."""
+    if summary.get("converged") is False:
+        return f"not converged ({summary.get('status')})"
+    periodic = summary.get("periodic")
+    if summary.get("verified") is False or periodic not in (True, None):
+        why = []
+        if periodic not in (True, None):
+            why.append(f"the re-simulation is not periodic ({periodic})")
+        if summary.get("max_ram_speed_violation_m_s", 0.0) > 0.0:
+            why.append(f"the ram speed leaves its tolerance by {summary['max_ram_speed_violation_m_s']:.3g} m/s")
+        return "not verified" + (f": {'; '.join(why)}" if why else "")
+    return str(summary.get("status", periodic))
+
+
 def check_writable(folder: Path, what: str) -> None:
     """InputError unless `folder` can be written or created: its nearest existing ancestor must be a
     folder this process may write into. Checked before any solve (a folder is not created here)."""
@@ -218,8 +234,8 @@ def _prepare(args: argparse.Namespace):
             print(report.text)
             print(f"  wrote {', '.join(p.name for p in report.files)} to {out}/")
         if not report.ok:
-            print(f"pressocp {report.job}: results written but flagged: "
-                  f"{report.summary.get('status', report.summary.get('periodic'))}", file=sys.stderr)
+            print(f"pressocp {report.job}: results written but flagged: {flag_reason(report.summary)}",
+                  file=sys.stderr)
         return report.exit_code
     return run
 

@@ -114,12 +114,16 @@ class Scenario:
         return self.problem.press
 
     def check_speed(self, speed: FourierSpeed | None, name: str = "speed") -> None:
-        """Raise ScenarioError unless `speed` (if given) has the problem's period and at most its
-        harmonics."""
+        """Raise ScenarioError unless `speed` (if given) has the problem's period, at most its
+        harmonics, and a crank speed above 0 throughout."""
         if speed is not None and not math.isclose(speed.period, self.problem.period, rel_tol=1e-9, abs_tol=0.0):
             raise ScenarioError(f"{name}: the speed's period is {speed.period:g} s but the scenario's is "
                                 f"{self.problem.period:g} s; set the scenario's cycle to match, e.g. "
                                 f"--set problem.period_s={speed.period!r}")
+        if speed is not None and speed.min_speed() <= 0.0:
+            raise ScenarioError(f"{name}: the crank speed falls to {speed.min_speed():.4g} rad/s, so the crank "
+                                "stops or turns back within the cycle; a press speed stays above 0 (check the "
+                                "file's coefficients)")
         if speed is not None and speed.n_harmonics > self.problem.n_harmonics:
             raise ScenarioError(f"{name}: the speed has {speed.n_harmonics} harmonics but the scenario's problem "
                                 f"{self.problem.n_harmonics}; set the problem's to match, e.g. "
@@ -150,6 +154,8 @@ class Scenario:
             raise ScenarioError(f"{p}: no such scenario file (bundled scenarios: {', '.join(bundled())})") from None
         except IsADirectoryError:
             raise ScenarioError(f"{p}: is a folder, not a scenario file") from None
+        except UnicodeDecodeError as err:
+            raise ScenarioError(f"{p}: not a text scenario file (not UTF-8: {err.reason} at byte {err.start})") from None
         return cls.from_toml(text, source=str(p))
 
     @classmethod

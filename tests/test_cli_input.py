@@ -96,6 +96,9 @@ BAD_ARGS = [
      ["sweep.csv", "--resume"]),
     ("--speed with more harmonics than the problem", ["simulate", "--speed", "{tmp}/speed20.json"],
      ["--speed", "20 harmonics", "problem.n_harmonics=20"]),
+    ("--speed that turns the crank back", ["simulate", "--speed", "{tmp}/backwards.json"],
+     ["--speed", "falls to", "turns back"]),
+    ("binary scenario file", ["optimize", "{tmp}/binary.toml"], ["binary.toml", "not a text scenario file"]),
     ("--out under a file", ["optimize", "--out", "{tmp}/afile/out"], ["--out", "afile", "is a file"]),
     ("scenario new under a file", ["scenario", "new", "{tmp}/afile/my.toml"], ["scenario new", "is a file"]),
 ]
@@ -105,6 +108,8 @@ BAD_ARGS = [
 def test_bad_arguments_exit_2(tmp_path, capsys, what, argv, words):
     (tmp_path / "notjson.json").write_text("{period: 1")
     (tmp_path / "speed1s.json").write_text(json.dumps({"period": 1.0, "a": [0.1], "b": [0.0]}))
+    (tmp_path / "backwards.json").write_text(json.dumps({"period": 0.8, "a": [10.0], "b": [0.0]}))
+    (tmp_path / "binary.toml").write_bytes(bytes(range(128, 256)))
     (tmp_path / "speed20.json").write_text(json.dumps({"period": 0.8, "a": [0.01] * 20, "b": [0.0] * 20}))
     (tmp_path / "afile").write_text("x")
     (tmp_path / "done").mkdir()
@@ -142,3 +147,17 @@ def test_scenario_show_applies_overrides(capsys):
     shown = Scenario.from_toml(capsys.readouterr().out)
     assert shown.problem.period == pytest.approx(1.0)
     assert shown.press == Scenario.load("press75").press
+
+
+def test_a_flagged_result_says_why():
+    """The exit-1 message names what failed, not IPOPT's success status."""
+    from pressocp.cli import flag_reason
+
+    base = {"converged": True, "verified": False, "periodic": True, "status": "Solve_Succeeded",
+            "max_ram_speed_violation_m_s": 2e-5}
+    assert flag_reason(base) == "not verified: the ram speed leaves its tolerance by 2e-05 m/s"
+    assert flag_reason({**base, "periodic": "not searched: impacts", "max_ram_speed_violation_m_s": 0.0}) == \
+        "not verified: the re-simulation is not periodic (not searched: impacts)"
+    assert flag_reason({**base, "converged": False, "status": "Maximum_Iterations_Exceeded"}) == \
+        "not converged (Maximum_Iterations_Exceeded)"
+    assert "Solve_Succeeded" not in flag_reason(base)
