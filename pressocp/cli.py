@@ -189,7 +189,7 @@ def check_writable(folder: Path, what: str) -> None:
 def _prepare(args: argparse.Namespace):
     """Check the input and return the job to run (a callable giving its exit code). Every bad value
     raises here, before anything is solved."""
-    from .io import atomic_write
+    from .io import atomic_write, output_folder
 
     if args.command == "scenario":
         if args.action == "new":
@@ -229,7 +229,8 @@ def _prepare(args: argparse.Namespace):
         job = lambda: jobs.optimize_job(scenario, out, progress=not args.quiet)  # noqa: E731
 
     def run() -> int:
-        report = job()
+        with output_folder(out):
+            report = job()
         if not args.quiet:
             print(report.text)
             print(f"  wrote {', '.join(p.name for p in report.files)} to {out}/")
@@ -277,7 +278,7 @@ def parse_vary(items: list[str], path: bool) -> dict | list:
 def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
     """Check a sweep's input (every point) and return the job that runs it."""
     from . import jobs, plots
-    from .io import atomic_write
+    from .io import atomic_write, output_folder
     from .sweeps import points_of, sweep
     from .workers import process_pool
 
@@ -296,6 +297,10 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
     keys = list(points[0])
 
     def run() -> int:
+        with output_folder(out, clear=False):  # a resumed sweep continues its sweep.csv
+            return sweep_job()
+
+    def sweep_job() -> int:
         pool = None if args.workers is None else process_pool(args.workers)
         try:
             table = sweep(scenario, vary, args.task, speed, pool, progress=not args.quiet, csv=csv)
@@ -323,6 +328,7 @@ COMMANDS = ("optimize", "simulate", "design", "impacts", "sweep", "scenario")
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit code (0, 1, 2 or 130)."""
+    from .io import OutputBusy
     from .scenario import ScenarioError
 
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -336,6 +342,9 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         return job()
+    except OutputBusy as err:
+        print(f"pressocp: error: {err}", file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         print("pressocp: interrupted (files written so far are complete; the rest were not written)",
               file=sys.stderr)

@@ -14,6 +14,58 @@ from typing import Any
 import numpy as np
 
 
+#: Lock file of an output folder while a run writes into it.
+LOCK_NAME = ".pressocp.lock"
+#: The file a run writes last, listing the run's files: present means the folder holds a complete run.
+SUMMARY_NAME = "summary.json"
+
+
+class OutputBusy(ValueError):
+    """Another run is writing into the output folder."""
+
+
+@contextmanager
+def output_folder(out: str | Path, clear: bool = True) -> Iterator[Path]:
+    """The output folder `out` (created), held by this run: a second run into it while this one
+    writes is refused (`OutputBusy`; a `filelock` lock file, `LOCK_NAME`, released when the run ends
+    or dies). With `clear`, the previous run's files, listed in its `SUMMARY_NAME`, are removed
+    first, that summary last: an interrupted run then leaves no summary of an older run beside its
+    own files. Other files in the folder are left alone."""
+    from filelock import FileLock, Timeout
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    lock = FileLock(str(out / LOCK_NAME))
+    try:
+        lock.acquire(timeout=0)
+    except Timeout:
+        raise OutputBusy(f"{out} is being written by another pressocp run (lock file {out / LOCK_NAME}): "
+                         "wait for it to end, or pass another --out") from None
+    try:
+        if clear:
+            clear_previous_run(out)
+        yield out
+    finally:
+        lock.release()
+
+
+def clear_previous_run(out: Path) -> list[str]:
+    """Remove the files the folder's `SUMMARY_NAME` lists (plain names in `out` only), then the
+    summary. Returns the names removed (none when there is no readable summary)."""
+    summary = out / SUMMARY_NAME
+    try:
+        names = json.loads(summary.read_text()).get("files", [])
+    except (OSError, ValueError, AttributeError):
+        return []
+    removed = []
+    for name in [n for n in names if isinstance(n, str) and n != SUMMARY_NAME] + [SUMMARY_NAME]:
+        path = out / name
+        if Path(name).name == name and path.is_file():
+            path.unlink()
+            removed.append(name)
+    return removed
+
+
 def file_mode() -> int:
     """Permissions of a new file under the process's umask (mkstemp's own are owner-only)."""
     mask = os.umask(0)

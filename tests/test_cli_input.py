@@ -161,3 +161,27 @@ def test_a_flagged_result_says_why():
     assert flag_reason({**base, "converged": False, "status": "Maximum_Iterations_Exceeded"}) == \
         "not converged (Maximum_Iterations_Exceeded)"
     assert "Solve_Succeeded" not in flag_reason(base)
+
+
+def test_an_output_folder_holds_one_run(tmp_path, capsys):
+    """A run first removes the previous run's files (those its summary.json lists, then the summary),
+    so an interrupted run never leaves an old summary beside new results; other files stay. While a
+    run holds the folder's lock, a second run into it exits 2 before writing anything."""
+    from filelock import FileLock
+
+    from pressocp.io import LOCK_NAME
+
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "summary.json").write_text(json.dumps({"files": ["old.png", "../outside.txt", "summary.json"]}))
+    (out / "old.png").write_text("old")
+    (out / "mine.txt").write_text("the user's")
+    (tmp_path / "outside.txt").write_text("outside")
+    with FileLock(str(out / LOCK_NAME)):
+        assert main(["design", "--out", str(out), "-q"]) == 2
+        assert "being written by another pressocp run" in capsys.readouterr().err
+        assert (out / "old.png").exists()  # nothing touched
+    assert main(["design", "--out", str(out), "-q"]) == 0
+    assert not (out / "old.png").exists() and (out / "mine.txt").exists() and (tmp_path / "outside.txt").exists()
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["job"] == "design" and all((out / f).exists() for f in summary["files"])
