@@ -33,6 +33,9 @@ LAWS = ("hunt-crossley", "kelvin-voigt")
 #: Plausible ranges (SI) of press dimensions; a value outside names the likely unit slip.
 LENGTH_RANGE = (1e-3, 5.0)  # m: crank radius, rod length, journal radius
 MASS_RANGE = (1e-3, 1e5)  # kg
+MODULUS_RANGE = (1e8, 1e14)  # Pa: polymers to 100 x steel (a rigid-limit check uses 2.1e13)
+MAX_GRAVITY = 100.0  # m/s^2: 0 (a horizontal press) to well above 9.81
+MAX_COM_RATIO = 2.0  # |crank_com| / crank_radius (a counterweight puts it below 0)
 #: Largest radial clearance as a fraction of the journal radius.
 MAX_CLEARANCE_FRACTION = 0.1
 #: The rod must be at least this many crank radii long.
@@ -332,22 +335,41 @@ class PressParams:
                              f"{LENGTH_RANGE[1]:g}] m, got {l!r}")
         chk.positive("crank_inertia", self.crank_inertia, "kg m^2")
         chk.nonnegative("crank_mass", self.crank_mass, "kg")
-        chk.finite("crank_com", self.crank_com)
+        com = chk.finite("crank_com", self.crank_com)
+        if abs(com) > MAX_COM_RATIO * r:
+            slip = f": a value in mm? {com:g} mm is {com / 1000:g} m" if abs(com / 1000) <= MAX_COM_RATIO * r else ""
+            raise ValueError(f"crank_com must be in [-{MAX_COM_RATIO:g}, {MAX_COM_RATIO:g}] x crank_radius = "
+                             f"[{-MAX_COM_RATIO * r:g}, {MAX_COM_RATIO * r:g}] m, got {com!r}{slip}")
         plausible("rod_mass", self.rod_mass, *MASS_RANGE, "kg")
         if self.rod_inertia is not None:
             chk.positive("rod_inertia", self.rod_inertia, "kg m^2")
-        chk.positive("rod_youngs_modulus", self.rod_youngs_modulus, "Pa")
+        E = chk.positive("rod_youngs_modulus", self.rod_youngs_modulus, "Pa")
+        if not MODULUS_RANGE[0] <= E <= MODULUS_RANGE[1]:
+            slip = next((f": a value in {u}? {E:g} {u} is {E * f:g} Pa" for u, f in (("GPa", 1e9), ("MPa", 1e6))
+                         if MODULUS_RANGE[0] <= E * f <= MODULUS_RANGE[1]), "") if E < MODULUS_RANGE[0] else ""
+            raise ValueError(f"rod_youngs_modulus must be in [{MODULUS_RANGE[0]:g}, {MODULUS_RANGE[1]:g}] Pa, got "
+                             f"{E!r}{slip}")
         chk.positive("rod_area_moment", self.rod_area_moment, "m^4")
         zeta = chk.finite("rod_damping_ratio", self.rod_damping_ratio)
         if not 0.0 <= zeta < 1.0:
             raise ValueError(f"rod_damping_ratio must be in [0, 1), got {zeta!r}")
         plausible("slider_mass", self.slider_mass, *MASS_RANGE, "kg")
-        chk.nonnegative("gravity", self.gravity, "m/s^2")
+        g = chk.nonnegative("gravity", self.gravity, "m/s^2")
+        if g > MAX_GRAVITY:
+            slip = f": a value in mm/s^2? {g:g} mm/s^2 is {g / 1000:g} m/s^2" if g / 1000 <= MAX_GRAVITY else ""
+            raise ValueError(f"gravity must be in [0, {MAX_GRAVITY:g}] m/s^2, got {g!r}{slip}")
         for name in ("crank_pin", "wrist_pin"):
             if not isinstance(getattr(self, name), Bearing):
                 raise ValueError(f"{name} must be a Bearing, got {type(getattr(self, name)).__name__}")
         if not isinstance(self.process_force, ProcessForce):
             raise ValueError("process_force must be a ProcessForce")
+        H = self.stroke
+        for name in ("h_top", "h_bottom"):
+            h = getattr(self.process_force, name)
+            if self.process_force.force > 0.0 and not -H <= h <= 2 * H:
+                slip = f": a value in mm? {h:g} mm is {h / 1000:g} m" if -H <= h / 1000 <= 2 * H else ""
+                raise ValueError(f"process_force.{name} must be in [-stroke, 2 x stroke] = [{-H:g}, {2 * H:g}] m "
+                                 f"(a height above bottom dead centre), got {h!r}{slip}")
 
     @property
     def stroke(self) -> float:

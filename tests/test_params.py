@@ -77,6 +77,12 @@ def test_bad_press_params_message_names_range():
     (lambda: Bearing(stiffness=10.0), r"stiffness must be in \[10000, 1e\+16\]"),
     (lambda: Bearing(clearance=5e-324), r"clearance must be in \[1e-06, 0.004\] m .*got 5e-324: below a micrometre"),
     (lambda: Bearing(clearance=1e-7), r"got 1e-07: below a micrometre the joint is ideal"),
+    (lambda: PressParams(gravity=9810), r"gravity must be in \[0, 100\] m/s\^2.*9810 mm/s\^2 is 9.81 m/s\^2"),
+    (lambda: PressParams(rod_youngs_modulus=210), r"rod_youngs_modulus must be in .*210 GPa is 2.1e\+11 Pa"),
+    (lambda: PressParams(rod_youngs_modulus=210e3), r"210000 MPa is 2.1e\+11 Pa"),
+    (lambda: PressParams(crank_com=25), r"crank_com must be in .*25 mm is 0.025 m"),
+    (lambda: PressParams(process_force=ProcessForce(force=1e4, h_top=12.7, h_bottom=0.0)),
+     r"process_force.h_top must be in .*12.7 mm is 0.0127 m"),
 ])
 def test_implausible_values_name_the_likely_unit_slip(make, match):
     """A press described in mm (or grams) is refused at construction, with the value in metres."""
