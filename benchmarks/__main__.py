@@ -14,8 +14,10 @@ added by hand to a record of runs.json is shown with its status). The other tabl
 are measurements with their discussion, written by hand from the JSON files; the table says which
 files each run refreshed and when.
 
-A failing benchmark is recorded with its exit status and the next one runs; the command exits with
-status 1 if any failed. Ctrl-C stops the running benchmark and the command.
+Every job has a time budget (`Job.minutes`); one still running after 1.5 x its budget
+(``--budget-factor``) is stopped and recorded as over budget. A failing or stopped benchmark is
+recorded with its exit status and the next one runs; the command exits with status 1 if any failed.
+Ctrl-C stops the running benchmark and the command.
 """
 
 from __future__ import annotations
@@ -23,6 +25,8 @@ from __future__ import annotations
 import argparse
 import hashlib
 import json
+import os
+import signal
 import subprocess
 import sys
 import time
@@ -45,7 +49,7 @@ class Job:
     name: str
     script: str
     args: tuple[str, ...]
-    minutes: float  # rough duration on the 2-core machine
+    minutes: float  # its budget on the 2-core machine: stopped after `BUDGET_FACTOR` x this
     what: str
 
     def command(self) -> list[str]:
@@ -136,7 +140,9 @@ def table(runs: dict) -> str:
         if r is None:
             lines.append(f"| {job.name} | `{' '.join([job.script, *job.args])}` | not run by this command yet | | | | |")
             continue
-        status = "ok" if r["exit_status"] == 0 else f"**failed ({r['exit_status']})**"
+        status = "ok" if r["exit_status"] == 0 else (
+            f"**over budget** (stopped at {r['wall_time_s'] / 60:.1f} min; budget {r.get('budget_min', job.minutes):g} min)"
+            if r.get("over_budget") else f"**failed ({r['exit_status']})**")
         if r.get("note"):  # written by hand in runs.json: what the record alone does not say
             status += f": {r['note']}"
         files = ", ".join(f"`{f}`" for f in r["files"]) or "none"
@@ -157,15 +163,38 @@ def write_readme(runs: dict) -> None:
     README.write_text(text)
 
 
-def run(job: Job) -> dict:
-    """Run one job; its record for runs.json (`stamp` of its start: date, machine, CPUs, Python)."""
+#: A job is stopped when it runs this many times its budget (`Job.minutes`).
+BUDGET_FACTOR = 1.5
+#: Exit status recorded for a job stopped over its budget.
+OVER_BUDGET = -1000
+
+
+def run(job: Job, budget_factor: float = BUDGET_FACTOR) -> dict:
+    """Run one job; its record for runs.json (`stamp` of its start: date, machine, CPUs, Python). A
+    job still running after `budget_factor` x its budget is stopped (its process group killed) and
+    recorded with exit status `OVER_BUDGET` and ``over_budget``."""
     logs = RESULTS / "logs"
     logs.mkdir(parents=True, exist_ok=True)
     started, before, wall0 = stamp(), result_contents(), time.perf_counter()
+    limit = budget_factor * job.minutes * 60.0
     with open(logs / f"{job.name}.log", "w") as log:
-        status = subprocess.run(job.command(), stdout=log, stderr=subprocess.STDOUT, cwd=HERE.parent).returncode
-    return {"command": " ".join([job.script, *job.args]), **started,
-            "wall_time_s": time.perf_counter() - wall0, "exit_status": status, "files": result_files(before)}
+        proc = subprocess.Popen(job.command(), stdout=log, stderr=subprocess.STDOUT, cwd=HERE.parent,
+                                start_new_session=True)  # its own process group: its workers stop with it
+        try:
+            status = proc.wait(timeout=limit)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+            status = OVER_BUDGET
+            log.write(f"\n[python -m benchmarks] stopped after {limit / 60:.1f} min, "
+                      f"{budget_factor:g} x its budget of {job.minutes:g} min\n")
+        except BaseException:  # Ctrl-C: stop the job too
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+            raise
+    return {"command": " ".join([job.script, *job.args]), **started, "budget_min": job.minutes,
+            "wall_time_s": time.perf_counter() - wall0, "exit_status": status,
+            "over_budget": status == OVER_BUDGET, "files": result_files(before)}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -175,7 +204,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--skip", nargs="+", choices=names, metavar="NAME", default=[], help="run all but these")
     ap.add_argument("--list", action="store_true", help="list the benchmarks and stop")
     ap.add_argument("--dry-run", action="store_true", help="print the commands, run nothing")
+    ap.add_argument("--budget-factor", type=float, default=BUDGET_FACTOR,
+                    help=f"stop a job after this many times its budget (default {BUDGET_FACTOR:g})")
     args = ap.parse_args(argv)
+    if not args.budget_factor > 0:
+        ap.error(f"--budget-factor must be > 0, got {args.budget_factor:g}")
     jobs = [j for j in JOBS if (args.only is None or j.name in args.only) and j.name not in args.skip]
     if args.list or args.dry_run:
         for j in jobs:
@@ -184,8 +217,8 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     failed = []
     for j in jobs:
-        print(f"{j.name}: {' '.join([j.script, *j.args])} (about {j.minutes:g} min) ...", flush=True)
-        record = run(j)
+        print(f"{j.name}: {' '.join([j.script, *j.args])} (budget {j.minutes:g} min) ...", flush=True)
+        record = run(j, args.budget_factor)
         runs = load_runs()
         runs[j.name] = record
         RUNS.write_text(json.dumps(runs, indent=1) + "\n")

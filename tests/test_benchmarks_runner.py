@@ -56,6 +56,23 @@ def test_runs_are_recorded_and_the_table_rewritten(tmp_path, monkeypatch):
     assert "**failed (3)**: stopped by hand |" in runner.table(runs)
 
 
+def test_a_job_over_its_budget_is_stopped_and_recorded(tmp_path, monkeypatch):
+    """A job that runs past budget_factor x its budget is killed (with its process group) and recorded
+    as over budget; the table says so, and the command exits 1."""
+    results = tmp_path / "results"
+    results.mkdir()
+    (tmp_path / "README.md").write_text("# Benchmarks\n")
+    (tmp_path / "slow.py").write_text("import time\ntime.sleep(60)\n")
+    for name, value in (("HERE", tmp_path), ("RESULTS", results), ("README", tmp_path / "README.md"),
+                        ("RUNS", results / "runs.json"), ("JOBS", (runner.Job("slow", "slow.py", (), 0.01, "sleeps"),))):
+        monkeypatch.setattr(runner, name, value)
+    assert runner.main(["--budget-factor", "2"]) == 1  # 1.2 s allowed
+    run = json.loads((results / "runs.json").read_text())["slow"]
+    assert run["over_budget"] and run["exit_status"] == runner.OVER_BUDGET and run["wall_time_s"] < 30
+    assert "**over budget**" in (tmp_path / "README.md").read_text()
+    assert "stopped after" in (results / "logs" / "slow.log").read_text()
+
+
 @pytest.mark.parametrize("job", runner.JOBS, ids=lambda job: job.name)
 def test_every_benchmark_command_parses(job):
     """Each job's script imports and accepts the job's arguments (``--help`` after them: argparse checks
