@@ -35,6 +35,8 @@ LENGTH_RANGE = (1e-3, 5.0)  # m: crank radius, rod length, journal radius
 MASS_RANGE = (1e-3, 1e5)  # kg
 MODULUS_RANGE = (1e8, 1e14)  # Pa: polymers to 100 x steel (a rigid-limit check uses 2.1e13)
 MAX_GRAVITY = 100.0  # m/s^2: 0 (a horizontal press) to well above 9.81
+MAX_CRANK_INERTIA = 1e5  # kg m^2: crank, gear and reflected motor of the largest presses
+AREA_MOMENT_RANGE = (1e-14, 1e-1)  # m^4: a 1 mm square rod (8e-14) to a 1 m one (8e-2)
 MAX_COM_RATIO = 2.0  # |crank_com| / crank_radius (a counterweight puts it below 0)
 #: Largest radial clearance as a fraction of the journal radius.
 MAX_CLEARANCE_FRACTION = 0.1
@@ -333,7 +335,11 @@ class PressParams:
         if l < MIN_ROD_RATIO * r * (1.0 - 1e-12):  # the bound itself is allowed, rounding aside
             raise ValueError(f"rod_length must be in [{MIN_ROD_RATIO:g} x crank_radius = {MIN_ROD_RATIO * r:g}, "
                              f"{LENGTH_RANGE[1]:g}] m, got {l!r}")
-        chk.positive("crank_inertia", self.crank_inertia, "kg m^2")
+        J = chk.positive("crank_inertia", self.crank_inertia, "kg m^2")
+        if J > MAX_CRANK_INERTIA:
+            slip = (f": a value in kg mm^2? {J:g} kg mm^2 is {J / 1e6:g} kg m^2" if J / 1e6 <= MAX_CRANK_INERTIA
+                    else "")
+            raise ValueError(f"crank_inertia must be in (0, {MAX_CRANK_INERTIA:g}] kg m^2, got {J!r}{slip}")
         chk.nonnegative("crank_mass", self.crank_mass, "kg")
         com = chk.finite("crank_com", self.crank_com)
         if abs(com) > MAX_COM_RATIO * r:
@@ -349,7 +355,12 @@ class PressParams:
                          if MODULUS_RANGE[0] <= E * f <= MODULUS_RANGE[1]), "") if E < MODULUS_RANGE[0] else ""
             raise ValueError(f"rod_youngs_modulus must be in [{MODULUS_RANGE[0]:g}, {MODULUS_RANGE[1]:g}] Pa, got "
                              f"{E!r}{slip}")
-        chk.positive("rod_area_moment", self.rod_area_moment, "m^4")
+        I = chk.positive("rod_area_moment", self.rod_area_moment, "m^4")
+        if not AREA_MOMENT_RANGE[0] <= I <= AREA_MOMENT_RANGE[1]:
+            slips = [f"{I:g} {u} is {I * f:g} m^4" for u, f in (("mm^4", 1e-12), ("cm^4", 1e-8))
+                     if AREA_MOMENT_RANGE[0] <= I * f <= AREA_MOMENT_RANGE[1]]
+            raise ValueError(f"rod_area_moment must be in [{AREA_MOMENT_RANGE[0]:g}, {AREA_MOMENT_RANGE[1]:g}] m^4, "
+                             f"got {I!r}" + (f": a value in other units? {'; '.join(slips)}" if slips else ""))
         zeta = chk.finite("rod_damping_ratio", self.rod_damping_ratio)
         if not 0.0 <= zeta < 1.0:
             raise ValueError(f"rod_damping_ratio must be in [0, 1), got {zeta!r}")

@@ -81,6 +81,9 @@ def test_bad_press_params_message_names_range():
     (lambda: PressParams(rod_youngs_modulus=210), r"rod_youngs_modulus must be in .*210 GPa is 2.1e\+11 Pa"),
     (lambda: PressParams(rod_youngs_modulus=210e3), r"210000 MPa is 2.1e\+11 Pa"),
     (lambda: PressParams(crank_com=25), r"crank_com must be in .*25 mm is 0.025 m"),
+    (lambda: PressParams(crank_inertia=5e5), r"crank_inertia must be in .*500000 kg mm\^2 is 0.5 kg m\^2"),
+    (lambda: PressParams(rod_area_moment=213), r"rod_area_moment must be in .*213 mm\^4 is 2.13e-10 m\^4; "
+                                                r"213 cm\^4 is 2.13e-06 m\^4"),
     (lambda: PressParams(process_force=ProcessForce(force=1e4, h_top=12.7, h_bottom=0.0)),
      r"process_force.h_top must be in .*12.7 mm is 0.0127 m"),
 ])
