@@ -24,6 +24,10 @@ from pathlib import Path
 
 #: Environment variable naming the cache folder ("off" disables the cache).
 CACHE_ENV = "PRESSOCP_CACHE_DIR"
+#: Environment variable that tells `pressocp.jitcc` which file to create when a SIGINT stops it. The
+#: caller cannot see that SIGINT: CasADi runs the compiler through ``system()``, which ignores SIGINT
+#: in its caller, so a Ctrl-C during a compile would otherwise be lost (`compile_interrupted`).
+INTERRUPT_ENV = "PRESSOCP_COMPILE_INTERRUPTED"
 #: Optimisation flags of the compiled functions (-O3 was no faster and compiled 3 x longer).
 FLAGS = ("-O1",)
 #: Directions per derivative sweep of an NLP whose functions are compiled (the oracle's
@@ -90,6 +94,24 @@ def set_cache_dir(path: str | os.PathLike | None) -> None:
     os.environ[CACHE_ENV] = "off" if path is None else os.fspath(path)
 
 
+def interrupt_flag() -> Path:
+    """This process's flag file for a compile stopped by SIGINT (`INTERRUPT_ENV`)."""
+    return Path(tempfile.gettempdir()) / f"pressocp-compile-interrupted-{os.getpid()}"
+
+
+def compile_interrupted() -> bool:
+    """Whether a compile of this process was stopped by SIGINT since the last call (the flag file
+    `pressocp.jitcc` leaves is removed)."""
+    flag = interrupt_flag()
+    if not flag.exists():
+        return False
+    try:
+        flag.unlink()
+    except OSError:
+        pass
+    return True
+
+
 def jit_options() -> dict:
     """CasADi Function options that compile the function with the system C compiler at `FLAGS`,
     through the object-file cache (`cache_dir`) unless it is off; the generated sources go to the
@@ -98,14 +120,16 @@ def jit_options() -> dict:
     if cc is None:
         raise RuntimeError("no C compiler (cc or gcc) on the PATH: install one, or compile nothing (jit=False)")
     folder = cache_dir()
-    compiler = shlex.quote(cc)
+    compiler = linker = shlex.quote(cc)
     if folder is not None:
         try:
             folder.mkdir(parents=True, exist_ok=True)
             script = Path(__file__).with_name("jitcc.py")
             compiler = " ".join(shlex.quote(str(a)) for a in (sys.executable, "-s", script, folder, cc))
+            linker = compiler  # a link runs as it is, but a SIGINT during it is recorded too
         except OSError:  # an unwritable cache folder: compile without it
             pass
+    os.environ[INTERRUPT_ENV] = str(interrupt_flag())  # for the compiler's process (`compile_interrupted`)
     return {"jit": True, "compiler": "shell",
-            "jit_options": {"compiler": compiler, "linker": shlex.quote(cc), "flags": list(FLAGS), "verbose": False,
+            "jit_options": {"compiler": compiler, "linker": linker, "flags": list(FLAGS), "verbose": False,
                             "directory": os.path.join(tempfile.gettempdir(), "")}}

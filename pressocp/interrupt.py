@@ -10,6 +10,24 @@ import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 
+from .compile_cache import compile_interrupted
+
+
+@contextmanager
+def compiling() -> Iterator[None]:
+    """Around a CasADi call that may run the C compiler (a JIT function's construction, or an NLP's
+    whose derivatives are compiled): a Ctrl-C that stopped the compile, which the caller cannot see
+    (`pressocp.compile_cache.compile_interrupted`), raises `KeyboardInterrupt`, whether the call failed
+    ("Compilation failed") or returned."""
+    try:
+        yield
+    except RuntimeError:
+        if compile_interrupted():
+            raise KeyboardInterrupt from None
+        raise
+    if compile_interrupted():
+        raise KeyboardInterrupt
+
 
 @contextmanager
 def interruptible() -> Iterator[list]:
@@ -18,6 +36,8 @@ def interruptible() -> Iterator[list]:
 
     Outside the main thread, or where SIGINT is ignored, it changes nothing."""
     hit: list = []
+    if compile_interrupted():  # a Ctrl-C during a compile before this call (see `compile_interrupted`)
+        raise KeyboardInterrupt
     if threading.current_thread() is not threading.main_thread():
         yield hit
         return
@@ -39,5 +59,5 @@ def interruptible() -> Iterator[list]:
         raise
     finally:
         signal.signal(signal.SIGINT, previous)
-    if hit:
+    if hit or compile_interrupted():
         raise KeyboardInterrupt

@@ -19,6 +19,7 @@ from __future__ import annotations
 import hashlib
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -112,7 +113,26 @@ def compile_cached(cache: str, compiler: str, args: list[str]) -> int:
     return code
 
 
+def record_interrupts() -> None:
+    """On SIGINT, create the file named by ``$PRESSOCP_COMPILE_INTERRUPTED`` (when set) and exit 130:
+    the process that ran this compile through ``system()`` ignores SIGINT meanwhile, and checks that
+    file instead (`pressocp.compile_cache.compile_interrupted`)."""
+    flag = os.environ.get("PRESSOCP_COMPILE_INTERRUPTED")
+    if not flag:
+        return
+
+    def stop(signum, frame):
+        try:
+            with open(flag, "w"):
+                pass
+        finally:
+            os._exit(130)
+
+    signal.signal(signal.SIGINT, stop)
+
+
 if __name__ == "__main__":
+    record_interrupts()
     if len(sys.argv) < 3:
         sys.exit("usage: python jitcc.py CACHE_DIR COMPILER ARG...")
     sys.exit(compile_cached(sys.argv[1], sys.argv[2], sys.argv[3:]))

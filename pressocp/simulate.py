@@ -12,7 +12,7 @@ import numpy as np
 
 from . import checks as chk
 from .compile_cache import jit_options, use_jit
-from .interrupt import interruptible
+from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, QUADRATURE_NAMES, PressModel
 from .result import SimResult
 from .speed import FourierSpeed
@@ -105,8 +105,9 @@ def output_function(model: PressModel, samples: int) -> ca.Function:
     key = ("outputs", "compiled")
     if key not in model.functions:
         f = model.outputs
-        model.functions[key] = ca.Function(f.name(), f.sx_in(), f.call(f.sx_in()), f.name_in(), f.name_out(),
-                                           jit_options()) if use_jit("auto", "the simulation's outputs") else f
+        with compiling():
+            model.functions[key] = ca.Function(f.name(), f.sx_in(), f.call(f.sx_in()), f.name_in(), f.name_out(),
+                                               jit_options()) if use_jit("auto", "the simulation's outputs") else f
     mapped = ("outputs", "compiled", samples)
     if mapped not in model.functions:
         model.functions[mapped] = model.functions[key].map(samples)

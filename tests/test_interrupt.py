@@ -4,13 +4,14 @@ integrates, ends the program with KeyboardInterrupt instead of a returned result
 The IPOPT case solves without JIT: a SIGINT sent to the process alone while CasADi runs the C
 compiler is lost (POSIX ``system()`` ignores SIGINT in its caller), so with compiled functions the
 signal could land in a compile and the solve return (seen under load in CI). A terminal's Ctrl-C
-reaches the compiler too, which then stops."""
+reaches the compiler's process too, which records it for the caller (tested below)."""
 
 import os
 import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pytest
 
@@ -50,3 +51,37 @@ def test_ctrl_c_raises_keyboard_interrupt(where):
     assert "KeyboardInterrupt" in err, err[-2000:]
     assert proc.returncode != 0
     assert stopped_in < 30.0
+
+
+def test_a_ctrl_c_during_a_compile_is_not_lost(tmp_path):
+    """CasADi runs the compiler through system(), which ignores SIGINT in the caller; the caching
+    compiler (pressocp/jitcc.py) records a SIGINT in the caller's flag file and exits 130, and
+    `compiling` turns the flag into KeyboardInterrupt, whether the CasADi call failed or returned."""
+    from pressocp import compile_cache
+    from pressocp.interrupt import compiling
+
+    flag = tmp_path / "interrupted"
+    script = Path(compile_cache.__file__).with_name("jitcc.py")
+    env = {**os.environ, compile_cache.INTERRUPT_ENV: str(flag)}
+    proc = subprocess.Popen([sys.executable, "-s", str(script), str(tmp_path / "cache"), "sleep", "30"], env=env,
+                            start_new_session=True)
+    try:
+        time.sleep(1.0)
+        os.killpg(proc.pid, signal.SIGINT)  # a terminal's Ctrl-C reaches the whole group
+        assert proc.wait(timeout=20) == 130 and flag.exists()
+    finally:
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    own = compile_cache.interrupt_flag()
+    for failed in (False, True):
+        own.write_text("")
+        with pytest.raises(KeyboardInterrupt):
+            with compiling():
+                if failed:
+                    raise RuntimeError("Compilation failed")
+        assert not own.exists()
+    with pytest.raises(RuntimeError, match="not a compile"):  # no flag: the error stands
+        with compiling():
+            raise RuntimeError("not a compile")

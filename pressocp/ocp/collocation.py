@@ -28,6 +28,7 @@ import numpy as np
 
 from .. import checks as chk
 from ..compile_cache import check_jit, function_options, oracle_options, use_jit
+from ..interrupt import compiling
 from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
 from ..speed import FourierSpeed
@@ -147,8 +148,9 @@ def point_function(model: PressModel, names: tuple[str, ...], jit: bool = False)
         x, crank, q = ca.SX.sym("x", model.nx), ca.SX.sym("crank", 3), ca.SX.sym("q", len(model.symbols))
         out = model.at_crank(x, crank, q)
         y = ca.vertcat(*[out[1 + OUTPUT_NAMES.index(n)] for n in names])
-        model.functions[key] = ca.Function("point", [x, crank, q], [out[0], y], ["x", "crank", "q"], ["ode", "y"],
-                                           function_options(jit))
+        with compiling():
+            model.functions[key] = ca.Function("point", [x, crank, q], [out[0], y], ["x", "crank", "q"],
+                                               ["ode", "y"], function_options(jit))
     return model.functions[key]
 
 

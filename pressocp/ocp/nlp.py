@@ -13,7 +13,7 @@ import casadi as ca
 import numpy as np
 
 from ..compile_cache import function_options
-from ..interrupt import interruptible
+from ..interrupt import compiling, interruptible
 from ..objectives import Objective
 from ..problem import SpeedProblem
 from ..rigid import kinematics_function
@@ -165,7 +165,8 @@ def ram_function(problem: SpeedProblem, jit: bool = False) -> ca.Function:
     t, c = ca.SX.sym("t"), ca.SX.sym("c", 2 * n)
     th, om, al = series(t, c[:n], c[n:], T)
     kin = kinematics_function(problem.press)(theta=th, omega=om, alpha=al)
-    return ca.Function("ram", [t, c], [kin["ram_height"], kin["ram_velocity"], th], function_options(jit))
+    with compiling():
+        return ca.Function("ram", [t, c], [kin["ram_height"], kin["ram_velocity"], th], function_options(jit))
 
 
 def add_kinematic_window(cons: Constraints, problem: SpeedProblem, c, t1, duration: float, samples: int,
@@ -435,8 +436,9 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
     cb = IterationRecord(w.numel(), cons, objective, scale, bar, q0.size)
     gall = cons.g
     warm = {} if multipliers is None else {"lam_x0": multipliers[0], "lam_g0": multipliers[1]}
-    solver = ca.nlpsol(name, "ipopt", {"x": w, "p": q, "f": f, "g": gall},
-                       {**options, **(IPOPT_WARM_START if warm else {}), "iteration_callback": cb})
+    with compiling():  # compiled derivatives are built here
+        solver = ca.nlpsol(name, "ipopt", {"x": w, "p": q, "f": f, "g": gall},
+                           {**options, **(IPOPT_WARM_START if warm else {}), "iteration_callback": cb})
     build = time.perf_counter() - t0
     if keep is not None:
         keep["solver"] = solver

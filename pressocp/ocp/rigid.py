@@ -14,6 +14,7 @@ import numpy as np
 
 from .. import checks as chk
 from ..compile_cache import check_jit, function_options, oracle_options, use_jit
+from ..interrupt import compiling
 from ..design import design_speed
 from ..model import ModelSpec, PressModel
 from ..objectives import get as get_objective
@@ -36,8 +37,9 @@ def loads_function(problem: SpeedProblem, symbols: tuple[str, ...] = (), jit: bo
     th, om, al = ca.SX.sym("theta"), ca.SX.sym("omega"), ca.SX.sym("alpha")
     press, q = problem.press.with_symbols(tuple(symbols)) if symbols else (problem.press, [])
     dyn = inverse_dynamics(press, th, om, al)
-    return ca.Function("loads", [th, om, al, ca.vertcat(*q) if q else ca.SX(0, 1)], [dyn[k] for k in LOAD_OUTPUTS],
-                       function_options(jit))
+    with compiling():
+        return ca.Function("loads", [th, om, al, ca.vertcat(*q) if q else ca.SX(0, 1)],
+                           [dyn[k] for k in LOAD_OUTPUTS], function_options(jit))
 
 
 @dataclass(frozen=True)
