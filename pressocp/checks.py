@@ -118,8 +118,9 @@ def choice(name: str, value: Any, allowed: tuple[str, ...]) -> str:
     return value
 
 
-#: Field annotations (as strings, under ``from __future__ import annotations``) of real numbers.
-REAL_ANNOTATIONS = ("float", "float | None", "Optional[float]")
+#: Field annotations (as strings, under ``from __future__ import annotations``, spaces removed) of
+#: real numbers.
+REAL_ANNOTATIONS = frozenset({"float", "float|None", "Optional[float]"})
 
 
 def convert_reals(obj: Any) -> None:
@@ -131,5 +132,5 @@ def convert_reals(obj: Any) -> None:
 
     for f in dataclasses.fields(obj):
         value = getattr(obj, f.name)
-        if value is not None and str(f.type).replace(" ", "") in {a.replace(" ", "") for a in REAL_ANNOTATIONS}:
+        if value is not None and str(f.type).replace(" ", "") in REAL_ANNOTATIONS:
             object.__setattr__(obj, f.name, finite(f.name, value))

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from .design import design_speed
-from .io import atomic_write, write_json
+from .io import SUMMARY_NAME, atomic_write, write_json
 from .objectives import get as get_objective
 from .ocp.result import PEAK_SERIES, OcpResult, versions
 from .ocp.verify import is_periodic, ram_speed_error, rigid_reference, verify_speed, window_times
@@ -110,8 +110,8 @@ def _figures(out: Path, responses: list[tuple[str, SimResult]], problem: SpeedPr
 def _finish(job: str, out: Path, summary: dict, text: str, details: str, files: list[Path], ok: bool) -> JobReport:
     """Write report.txt and summary.json (last, so a complete summary means a complete run)."""
     files.append(atomic_write(out / "report.txt", text + "\n\n" + details + "\n"))
-    summary["files"] = sorted(p.name for p in [*files, out / "summary.json"])
-    files.append(write_json(out / "summary.json", summary))
+    summary["files"] = sorted(p.name for p in [*files, out / SUMMARY_NAME])
+    files.append(write_json(out / SUMMARY_NAME, summary))
     return JobReport(job, summary, text, files, ok)
 
 

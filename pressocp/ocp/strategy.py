@@ -5,19 +5,20 @@
 2. ``no_reversal``: the ideal press again, with the rod tension at both pins kept above a margin x
    the hanging weight, warm-started from the rigid optimum. Without a force reversal the journals
    stay on their bearings; it is re-simulated on the target model too. With several margins
-   (``tension_margin``, default 0.05 and 0.02), stages 2-6 run once per margin, side by side in
+   (``tension_margin``, default 0.05 and 0.02), stages 2-5 run once per margin, side by side in
    worker processes, and the lowest verified answer is kept (`pressocp.ocp.candidates`).
 3. ``soft`` (transcriptions that need it, i.e. multiple shooting): the clearance model with a
    softer contact, when the start impacts.
-4. ``target``: the clearance model (rigid rod) by the given transcription.
-5. ``flexible``: when the target model's rod is flexible, the same problem on it.
-   Stages 4 and 5 are re-simulated (`verify_stage`) and, while that does not confirm the NLP,
-   re-solved with the ram-speed bounds moved from their primal-dual solution (``_tightened_k``) or
-   on a finer grid (``_refined_k``): `solve_refined`.
-6. ``polish_k``: the last stage's NLP solved again from its own answer, without multipliers. IPOPT's
+4. ``target``: the clearance model (rigid rod) by the given transcription. It is re-simulated
+   (`verify_stage`) and, while that does not confirm the NLP, re-solved with the ram-speed bounds
+   moved from its primal-dual solution (``_tightened_k``) or on a finer grid (``_refined_k``):
+   `followed`. When a polish round follows, that waits until the round was not kept.
+5. ``polish_k``: the last stage's NLP solved again from its own answer, without multipliers. IPOPT's
    barrier restarts there and can leave the local optimum the first pass stopped at. A round is kept
    only when its periodic re-simulation lowers the objective with the ram speed in tolerance; the
-   first round that does not ends the polishing.
+   first round that does not, or that gains no more than ``polish_gain``, ends the polishing.
+6. ``flexible`` (a flexible target rod): the rigid-rod answer re-simulated on the flexible rod;
+   only when it does not hold there is the problem solved on it, then polished (`on_flexible_rod`).
 7. ``refine_k`` (opt-in): trust-region rounds of multiple shooting, each kept only when its
    periodic re-simulation lowers the objective with the ram speed in tolerance.
 
@@ -252,13 +253,12 @@ class Strategy:
         neighbouring optimum in a continuation) that the stages on models with states take as it is,
         with no no-reversal or soft stage; None: the cold chain from the rigid optimum, through the
         no-reversal stage at tension `margin` (None: none)."""
-        model = base
         stages: list[StageResult] = []
         start = rigid
         if neighbour is None and not rigid.check.verified and margin is not None \
                 and problem.press.process_force.force == 0.0:
             bound = margin * problem.hanging_weight
-            nr = self.rigid.solve(problem.replace(min_tension=bound), model, WarmStart(rigid.speed), "no_reversal",
+            nr = self.rigid.solve(problem.replace(min_tension=bound), base, WarmStart(rigid.speed), "no_reversal",
                                   progress)
             stages.append(nr)
             if nr.success:
@@ -271,8 +271,8 @@ class Strategy:
         else:
             if getattr(transcription, "needs_soft_start", False) and self.soft_factor is not None \
                     and neighbour is None and start.check.ratio > IMPACT_RATIO:
-                chain.append(("soft", build_model(soft_params(model.params, self.soft_factor), "rigid", base.clearance,
-                                                  4, model.n_harmonics)))
+                chain.append(("soft", build_model(soft_params(base.params, self.soft_factor), "rigid", base.clearance,
+                                                  4, base.n_harmonics)))
             chain.append(("target", base))
         speed = start.speed if neighbour is None else neighbour
         for k, (name, m) in enumerate(chain):
@@ -437,8 +437,8 @@ class Strategy:
         each followed by its own tightened or refined re-solves (`solve_refined`). A round that does
         not lower the periodic re-simulation's objective (at `verify_rtol`), or fails, or leaves the
         ram speed out of tolerance, is recorded as not kept, its answer being `last`'s, and ends the
-        polishing; so does a kept round that gained no more than `polish_gain`. When the first round is not kept, `last`'s own follow-ups (`followed`, deferred
-        by `clearance_chain`) run then."""
+        polishing; so does a kept round that gained no more than `polish_gain`. When the first round
+        is not kept, `last`'s own follow-ups (`followed`, deferred by `clearance_chain`) run then."""
         value = get_objective(problem.objective).value
         # both re-simulated alike, at the final verification's tolerance: an optimum holds the ram
         # speed to within a few 1e-5 m/s of its tolerance, about the error of a check at rtol 1e-7
