@@ -55,7 +55,7 @@ from pressocp import (Collocation, FourierSpeed, MultipleShooting, PressParams, 
 from pressocp.ocp.strategy import max_relative_change
 from pressocp.plots import draw_levels, plot_speed_design, rigid_torque_level, save
 
-from goals import GOAL_FLOOR_RATIO, GOAL_PEAK_NM, GOAL_WALL_S
+from goals import GOAL_CASE_WALL_S, GOAL_FLOOR_RATIO, GOAL_PEAK_NM, GOAL_WALL_S
 
 OUT = Path(__file__).parent / "results"
 OPTIMISATION_CASES = ["default", "default_all", "default_idas", "seed", "seed_idas", "seed_collocation",
@@ -238,7 +238,8 @@ def main() -> None:
         cap = f", pin forces ≤ {a.cap_N:.0f} N" if a.case == "pin_cap" else ""
         title = (f"{a.case}{cap}: peak torque {r.initial_peak_torque:.0f} → {r.peak_torque:.0f} N·m "
                  f"(rigid floor {r.rigid_peak_torque:.1f}), {row['wall_time_s']:.0f} s "
-                 f"(goal {GOAL_WALL_S:.0f} s{'' if a.repeat == 1 else f', median of {a.repeat}'})")
+                 f"(goal {GOAL_CASE_WALL_S.get(a.case, GOAL_WALL_S):.0f} s"
+                 f"{'' if a.repeat == 1 else f', median of {a.repeat}'})")
         save(plot_speed_design(r, title, levels=goal_levels(a.case, r.rigid_peak_torque)), OUT / f"ocp_{name}.png")
     with open(OUT / "ocp.jsonl", "a") as fh:
         fh.write(json.dumps(row, default=float) + "\n")

@@ -78,8 +78,8 @@ def figure(row: dict, path: Path) -> None:
         ax.plot([i] * len(r["times_s"]), r["times_s"], "k.")
         ax.text(i, r["median_s"], f"{r['median_s']:.2f} s\n{r['peaks']['torque']:.6f} N·m", ha="center", va="bottom")
     ax.set_xticks(range(len(labels)), labels)
-    ax.set_ylabel("verify_speed(model, seed optimum, 1e-9), s (median; dots: every call)")
-    title = "final verification of the seed optimum (periodic, CVODES rtol 1e-9, 20 001 samples)"
+    ax.set_ylabel("wall time, s (median; dots: every call)")
+    title = "verify_speed(model, seed optimum, 1e-9): periodic, CVODES, 20 001 samples"
     if "ratio" in row:
         title += f"\n{row['ratio']:.1f} x faster; peaks agree to {row['max_peak_difference']:.1e} (goal {GOAL_RATIO:g} x, {GOAL_PEAKS:g})"
     ax.set_title(title, fontsize=9)
@@ -94,7 +94,11 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--before-python", default=None, help="interpreter with the earlier version installed")
     ap.add_argument("--repeat", type=int, default=3, help="timed calls per process (median)")
+    ap.add_argument("--replot", action="store_true", help="redraw the figure from results/verification.json")
     a = ap.parse_args()
+    if a.replot:
+        figure(json.loads((OUT / "verification.json").read_text()), OUT / "verification.png")
+        return
     if a.repeat < 1:
         ap.error(f"--repeat must be >= 1, got {a.repeat}")
     runs = {"after": run(sys.executable, a.repeat)}
