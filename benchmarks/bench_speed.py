@@ -10,7 +10,8 @@ left (a second process with the same model). ``--python EXE`` runs another inter
 virtual environment with an earlier version of the package installed (the "before" rows; it must
 accept the same call). Each run records its wall time, peak
 torque, verification, stages with iterations and times, and (when the package has it) the time
-table (`OcpResult.time_table`). Rows are appended to ``results/speed.jsonl`` with the label, date and
+table (`OcpResult.time_table`) with the compiler's time summed over it (``compile_s``: with a filled
+cache, 0 s). Rows are appended to ``results/speed.jsonl`` with the label, date and
 machine; ``results/speed.png`` is drawn from the newest row of each (scenario, label): medians with
 every run, the goals, and for press75 the stage times of the newest "before" and "after" rows.
 """
@@ -50,7 +51,7 @@ print("RESULT" + json.dumps({
                 "status": s.status, "superseded": s.superseded,
                 "verified_value": s.details.get("verified_value", s.details.get("candidate_value"))}
                for s in r.stages],
-    "time_table": table}))
+    "time_table": table, "compile_s": sum(t.get("compile", 0.0) for t in table) if table else None}))
 """
 
 
@@ -77,11 +78,13 @@ def measure(name: str, repeat: int, label: str, python: str, cold_first: bool) -
             r["compile_cache"] = "empty" if cold_first and k == 0 else ("filled" if cold_first else "user's")
             runs.append(r)
             print(f"{name} [{label}] run {k + 1}: {r['wall_s']:.1f} s, peak "
-                  f"{r.get('peak_torque', float('nan')):.4f} N m, verified {r.get('verified')}", flush=True)
+                  f"{r.get('peak_torque', float('nan')):.4f} N m, verified {r.get('verified')}, compile "
+                  f"{r.get('compile_s') if r.get('compile_s') is not None else float('nan'):.1f} s "
+                  f"({r['compile_cache']} cache)", flush=True)
     ok = [r for r in runs if "error" not in r]
     return {"scenario": name, "label": label, "run": stamp(), "python": python, "repeat": repeat,
             "median_wall_s": statistics.median(r["wall_s"] for r in runs),
-            "wall_s": [r["wall_s"] for r in runs],
+            "wall_s": [r["wall_s"] for r in runs], "compile_s": [r.get("compile_s") for r in runs],
             "peaks": [r.get("peak_torque") for r in runs], "all_verified": bool(ok) and all(r["verified"] for r in ok),
             "answers_agree": bool(ok) and max(r["peak_torque"] for r in ok) - min(r["peak_torque"] for r in ok)
             <= 1e-3 * min(r["peak_torque"] for r in ok), "runs": runs}
@@ -145,6 +148,11 @@ def plot(rows: list[dict]) -> Path:
             pk = [p for p in row["peaks"] if p is not None]
             a1.annotate(f"{row['median_wall_s']:.0f} s\n{min(pk):.1f} N·m" if pk else "failed",
                         (x, row["median_wall_s"]), ha="center", va="bottom", fontsize=7)
+            comp = [c for c in row.get("compile_s", []) if c is not None]
+            if comp:  # the compiler's time in each run: the first with an empty cache, then filled
+                a1.annotate("compile\n" + " / ".join(f"{c:.1f}" for c in comp) + " s", (x, 0.0),
+                            xycoords=("data", "axes fraction"), xytext=(0, 3), textcoords="offset points",
+                            ha="center", va="bottom", fontsize=6)
     a1.axhline(GOAL_SEED_S, color="g", ls="--", lw=1, label=f"press75 goal {GOAL_SEED_S:.0f} s")
     a1.axhline(MOONSHOT_S, color="g", ls=":", lw=1, label=f"moonshot {MOONSHOT_S:.0f} s")
     a1.set_xticks(range(len(scen)), scen)

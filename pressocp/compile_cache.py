@@ -13,6 +13,7 @@ variable, so worker processes started afterwards use the same folder.
 
 from __future__ import annotations
 
+import atexit
 import os
 import shlex
 import shutil
@@ -28,6 +29,11 @@ CACHE_ENV = "PRESSOCP_CACHE_DIR"
 #: caller cannot see that SIGINT: CasADi runs the compiler through ``system()``, which ignores SIGINT
 #: in its caller, so a Ctrl-C during a compile would otherwise be lost (`compile_interrupted`).
 INTERRUPT_ENV = "PRESSOCP_COMPILE_INTERRUPTED"
+#: Environment variable naming the file to which `pressocp.jitcc` appends the seconds of every compile
+#: it runs (a cache hit runs none), so a caller can report its compile time (`compile_seconds`).
+COMPILE_LOG_ENV = "PRESSOCP_COMPILE_LOG"
+#: `pressocp.jitcc`'s cache folder argument for "no cache" (every source compiled, and timed).
+NO_CACHE = "-"
 #: Optimisation flags of the compiled functions (-O3 was no faster and compiled 3 x longer).
 FLAGS = ("-O1",)
 #: Directions per derivative sweep of an NLP whose functions are compiled (the oracle's
@@ -112,6 +118,26 @@ def compile_interrupted() -> bool:
     return True
 
 
+def compile_log() -> Path:
+    """This process's log of compile times (`COMPILE_LOG_ENV`)."""
+    return Path(tempfile.gettempdir()) / f"pressocp-compile-seconds-{os.getpid()}"
+
+
+def compile_seconds() -> float:
+    """Seconds the C compiler has run for this process's JIT functions so far (object files taken
+    from the cache cost none): the difference between two calls is the compile time between them."""
+    try:
+        text = compile_log().read_text()
+    except OSError:
+        return 0.0
+    return float(sum(float(x) for x in text.split() if x.replace(".", "", 1).isdigit()))
+
+
+@lru_cache(maxsize=1)
+def _remove_log_at_exit() -> None:
+    atexit.register(lambda: compile_log().unlink(missing_ok=True))
+
+
 def jit_options() -> dict:
     """CasADi Function options that compile the function with the system C compiler at `FLAGS`,
     through the object-file cache (`cache_dir`) unless it is off; the generated sources go to the
@@ -120,16 +146,17 @@ def jit_options() -> dict:
     if cc is None:
         raise RuntimeError("no C compiler (cc or gcc) on the PATH: install one, or compile nothing (jit=False)")
     folder = cache_dir()
-    compiler = linker = shlex.quote(cc)
     if folder is not None:
         try:
             folder.mkdir(parents=True, exist_ok=True)
-            script = Path(__file__).with_name("jitcc.py")
-            compiler = " ".join(shlex.quote(str(a)) for a in (sys.executable, "-s", script, folder, cc))
-            linker = compiler  # a link runs as it is, but a SIGINT during it is recorded too
         except OSError:  # an unwritable cache folder: compile without it
-            pass
+            folder = None
+    script = Path(__file__).with_name("jitcc.py")  # a link runs as it is, but a SIGINT during it is recorded too
+    compiler = linker = " ".join(shlex.quote(str(a)) for a in (sys.executable, "-s", script,
+                                                               NO_CACHE if folder is None else folder, cc))
     os.environ[INTERRUPT_ENV] = str(interrupt_flag())  # for the compiler's process (`compile_interrupted`)
+    os.environ[COMPILE_LOG_ENV] = str(compile_log())  # and where it logs its time (`compile_seconds`)
+    _remove_log_at_exit()
     return {"jit": True, "compiler": "shell",
             "jit_options": {"compiler": compiler, "linker": linker, "flags": list(FLAGS), "verbose": False,
                             "directory": os.path.join(tempfile.gettempdir(), "")}}

@@ -1,12 +1,13 @@
 """A caching C compiler for CasADi's JIT, run as a script (it imports nothing of pressocp):
 
-    python jitcc.py CACHE_DIR COMPILER ARG...
+    python jitcc.py CACHE_DIR COMPILER ARG...      (CACHE_DIR "-": no cache)
 
 It stands in for the compiler in CasADi's shell importer (`pressocp.compile_cache.jit_options`).
 When the command compiles one C source (``-c SRC -o OBJ``), the object file is looked up in
 CACHE_DIR under the SHA-256 of the compiler's identity, the flags and the source text; a hit is
 copied to OBJ and the compiler is not run. Any other command (a link, or a source it cannot read)
-runs the compiler as it is.
+runs the compiler as it is. The wall time of every compile it does run is appended to the file named
+by ``$PRESSOCP_COMPILE_LOG``, the calling process's record of its compile time.
 
 An entry is one file: a header line with the SHA-256 of the object code, then the object code. An
 entry whose object code does not match its header (truncated, corrupt) is deleted and rebuilt,
@@ -23,6 +24,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import time
 
 MAGIC = b"pressocp-jitcc 1 "
 
@@ -86,23 +88,41 @@ def write_entry(path: str, payload: bytes) -> None:
             pass
 
 
+def timed_call(command: list[str]) -> int:
+    """Run `command`; its wall time is appended to the file named by ``$PRESSOCP_COMPILE_LOG`` (when
+    set), which the calling process reads as its compile time. Returns the exit code."""
+    t0 = time.perf_counter()
+    code = subprocess.call(command)
+    log = os.environ.get("PRESSOCP_COMPILE_LOG")
+    if log:
+        try:
+            with open(log, "a") as f:
+                f.write(f"{time.perf_counter() - t0:.6f}\n")
+        except OSError:
+            pass
+    return code
+
+
 def compile_cached(cache: str, compiler: str, args: list[str]) -> int:
-    """Run ``compiler args`` through the cache; returns the exit code."""
+    """Run ``compiler args`` through the cache; returns the exit code. A compile the cache answers is
+    not run and logs no time; a link is not timed (it is not a compile)."""
     run = lambda: subprocess.call([compiler, *args])  # noqa: E731
     if "-c" not in args or "-o" not in args or args.index("-o") + 1 >= len(args):
         return run()
+    if cache == "-":  # no cache (pressocp.compile_cache.NO_CACHE)
+        return timed_call([compiler, *args])
     obj = args[args.index("-o") + 1]
     sources = [a for a in args if a.endswith((".c", ".cpp", ".cc"))]
     key = cache_key(compiler, args, sources[0], obj) if len(sources) == 1 else None
     if key is None:
-        return run()
+        return timed_call([compiler, *args])
     entry = os.path.join(cache, key[:2], key + ".o")
     payload = read_entry(entry)
     if payload is not None:
         with open(obj, "wb") as f:
             f.write(payload)
         return 0
-    code = run()
+    code = timed_call([compiler, *args])
     if code == 0:
         try:
             os.makedirs(os.path.dirname(entry), exist_ok=True)

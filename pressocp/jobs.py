@@ -140,7 +140,7 @@ def optimum_summary(scenario: Scenario, result: OcpResult, ideal: SimResult | No
 
 
 #: Columns of the time table in the report: `OcpResult.time_table` key -> heading.
-TIME_COLUMNS = {"wall": "wall", "build": "build+compile", "functions": "functions", "linear_solver": "linear solver",
+TIME_COLUMNS = {"wall": "wall", "build": "build", "compile": "compile", "functions": "functions", "linear_solver": "linear solver",
                 "start": "warm start", "checks": "checks"}
 
 

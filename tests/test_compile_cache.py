@@ -106,13 +106,30 @@ def test_a_second_process_with_the_same_function_compiles_nothing(tmp_path):
     assert first == expected
 
 
+TIMED = SNIPPET.replace("from pressocp.compile_cache import jit_options",
+                        "from pressocp.compile_cache import compile_seconds, jit_options") + "print(compile_seconds())\n"
+
+
+@needs_cc
+@pytest.mark.parametrize("cache", ["on", "off"])
+def test_the_compile_time_a_process_reports_is_the_compilers_and_none_for_a_cached_object(tmp_path, cache):
+    """`compile_seconds`: a first process's compiles take time; a second one, whose object files all
+    come from the cache, reports exactly 0 s, unless the cache is off."""
+    env = {**os.environ, compile_cache.CACHE_ENV: str(tmp_path / "cache") if cache == "on" else "off"}
+    seconds = [float(subprocess.run([sys.executable, "-c", TIMED], env=env, capture_output=True, text=True,
+                                    check=True, cwd=tmp_path).stdout.split()[-1]) for _ in range(2)]
+    assert seconds[0] > 0.0
+    assert (seconds[1] == 0.0) if cache == "on" else (seconds[1] > 0.0)
+
+
 def test_the_cache_folder_is_configurable_and_can_be_off(monkeypatch, tmp_path):
     monkeypatch.setenv(compile_cache.CACHE_ENV, str(tmp_path / "here"))
     assert compile_cache.cache_dir() == tmp_path / "here"
     monkeypatch.setenv(compile_cache.CACHE_ENV, "off")
     assert compile_cache.cache_dir() is None
-    if compile_cache.compiler_available():
-        assert "jitcc" not in compile_cache.jit_options()["jit_options"]["compiler"]
+    if compile_cache.compiler_available():  # every compile still timed, none cached
+        command = compile_cache.jit_options()["jit_options"]["compiler"].split()
+        assert command[2].endswith("jitcc.py") and command[3] == compile_cache.NO_CACHE
     monkeypatch.delenv(compile_cache.CACHE_ENV)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
     assert compile_cache.cache_dir() == tmp_path / "xdg" / "pressocp" / "jit"

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from ..compile_cache import function_options
+from ..compile_cache import compile_seconds, function_options
 from ..interrupt import compiling, interruptible
 from ..objectives import Objective
 from ..problem import SpeedProblem
@@ -392,14 +392,15 @@ EVALUATIONS = {"objective": ("nlp_f", "nlp_grad_f"), "constraints": ("nlp_g",), 
                "hessian": ("nlp_hess_l",)}
 
 
-def timing_split(stats: dict, build: float, wall: float, callback: float) -> dict:
-    """Where an IPOPT solve's wall time went, s: ``build`` (nlpsol construction, with any compile of
-    its functions), the function and derivative evaluations (`EVALUATIONS`, from CasADi's
+def timing_split(stats: dict, build: float, wall: float, callback: float, compile: float = 0.0) -> dict:
+    """Where an IPOPT solve's wall time went, s: ``build`` (nlpsol construction: code generation, link
+    and set-up), ``compile`` (the C compiler's time, `pressocp.compile_cache.compile_seconds`; none
+    when every object file came from the cache), the function and derivative evaluations (`EVALUATIONS`, from CasADi's
     ``t_wall_*`` counters), ``callback`` (the iteration record and progress bar), ``solver`` (the rest
     of IPOPT's own time: the linear solver, MUMPS, above all) and ``total``."""
     evals = {k: float(sum(stats.get(f"t_wall_{n}", 0.0) for n in names)) for k, names in EVALUATIONS.items()}
     solve = float(stats.get("t_wall_total", wall - build))
-    return {"build": build, **evals, "callback": callback,
+    return {"build": build - compile, "compile": compile, **evals, "callback": callback,
             "solver": max(solve - sum(evals.values()) - callback, 0.0), "total": wall}
 
 
@@ -425,7 +426,7 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
     ``multipliers``: ``(lam_x0, lam_g0)``, IPOPT's multipliers at ``w0`` from a solve of the same NLP
     (other bounds allowed): a primal-dual warm start with `IPOPT_WARM_START` on top of ``options``.
     Ctrl-C raises `KeyboardInterrupt` (with ``best`` holding the least-infeasible iterate)."""
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), compile_seconds()
     bar = None
     if progress:
         from tqdm.auto import tqdm
@@ -439,7 +440,7 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
     with compiling():  # compiled derivatives are built here
         solver = ca.nlpsol(name, "ipopt", {"x": w, "p": q, "f": f, "g": gall},
                            {**options, **(IPOPT_WARM_START if warm else {}), "iteration_callback": cb})
-    build = time.perf_counter() - t0
+    build, compiled = time.perf_counter() - t0, compile_seconds() - c0
     if keep is not None:
         keep["solver"] = solver
     g_fun = ca.Function("constraints", [w, q], [gall])
@@ -472,8 +473,9 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
         raise
     finally:
         if bar is not None:
-            split = timing_split(stats, build, time.perf_counter() - t0, cb.seconds)
+            split = timing_split(stats, build, time.perf_counter() - t0, cb.seconds, compiled)
             bar.set_postfix_str(f"{bar.postfix + '; ' if bar.postfix else ''}{split['build']:.1f} s build, "
+                                f"{split['compile']:.1f} s compile, "
                                 f"{sum(split[k] for k in EVALUATIONS):.1f} s functions, "
                                 f"{split['solver']:.1f} s linear solver", refresh=False)
             bar.close()
@@ -488,5 +490,5 @@ def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarra
                       barrier=barrier, violations_start=viol_start, violations=viol_end,
                       iteration_log={"time_s": [t - t0 for t in cb.times], **log},
                       wall_time=time.perf_counter() - t0, point=point,
-                      timing=timing_split(stats, build, time.perf_counter() - t0, cb.seconds),
+                      timing=timing_split(stats, build, time.perf_counter() - t0, cb.seconds, compiled),
                       lam_x=lam[0], lam_g=lam[1])

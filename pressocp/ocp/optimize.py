@@ -8,6 +8,7 @@ import time
 import numpy as np
 
 from .. import checks as chk
+from ..compile_cache import compile_seconds
 from ..design import design_speed
 from ..model import ModelSpec, PressModel, build_model
 from ..objectives import get as get_objective
@@ -101,7 +102,7 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
         init_job = None if pool is None else pool.submit(initial_response, model.spec, problem, initial,
                                                           strat.verify_rtol)
         stages = strat.run(problem, model, tr, initial, progress, pool)
-        t_verify = time.perf_counter()
+        t_verify, c_verify = time.perf_counter(), compile_seconds()
         init_sim = initial_response(model, problem, initial, strat.verify_rtol) if init_job is None \
             else init_job.result()
     finally:
@@ -116,7 +117,8 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     sim = answer.simulation if reuse else verify_speed(model, answer.speed, strat.verify_rtol)
     t1, t2 = window_times(sim, problem)
     wall = time.perf_counter() - t_start
-    timing = {"verification": time.perf_counter() - t_verify, "other": t_chain - t_start}
+    timing = {"verification": time.perf_counter() - t_verify, "other": t_chain - t_start,
+              "verification_compile": compile_seconds() - c_verify}
     return OcpResult(
         problem=problem, model=model.spec, transcription=repr(tr), strategy=repr(strat), speed=answer.speed,
         initial_speed=initial, objective_value=last.objective, verified_objective=objective.value(sim),

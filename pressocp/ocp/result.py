@@ -92,7 +92,8 @@ class OcpResult:
         The verification responses (not saved in JSON; `resimulate` recomputes).
     timing : dict
         Wall time outside the stages, s: ``verification`` (the answer's and the initial speed's
-        re-simulations) and ``other`` (set-up, the initial design); `time_table` adds the stages.
+        re-simulations; ``verification_compile`` of it compiling their output functions) and ``other``
+        (set-up, the initial design); `time_table` adds the stages.
     """
 
     problem: SpeedProblem
@@ -172,7 +173,8 @@ class OcpResult:
 
     def time_table(self) -> list[dict]:
         """Where the wall time went, a row per stage and one for the verification, each with
-        ``wall`` and its parts (s): ``build`` (the NLP built and its functions compiled), ``functions``
+        ``wall`` and its parts (s): ``build`` (the NLP and its functions generated, linked and set up),
+        ``compile`` (the C compiler's time: none when the object files came from the cache), ``functions``
         (objective, constraints and their derivatives), ``linear_solver`` (IPOPT's own time, MUMPS
         above all), ``start`` (the warm start's simulations), ``checks`` (re-simulations of the
         stage's answer), and ``iterations``."""
@@ -180,13 +182,14 @@ class OcpResult:
         for s in self.stages:
             t = s.timing
             rows.append({"stage": s.name, "iterations": s.iterations, "wall": s.wall_time,
-                         "build": t.get("build", 0.0),
+                         "build": t.get("build", 0.0), "compile": t.get("compile", 0.0),
                          "functions": sum(t.get(k, 0.0) for k in EVALUATIONS),
                          "linear_solver": t.get("solver", 0.0), "start": t.get("start", 0.0),
                          "checks": t.get("checks", 0.0)})
         for key in ("verification", "other"):
             if key in self.timing:
-                rows.append({"stage": key, "iterations": 0, "wall": self.timing[key], "build": 0.0, "functions": 0.0,
+                rows.append({"stage": key, "iterations": 0, "wall": self.timing[key], "build": 0.0,
+                             "compile": self.timing.get(f"{key}_compile", 0.0), "functions": 0.0,
                              "linear_solver": 0.0, "start": 0.0, "checks": self.timing[key] if key == "verification"
                              else 0.0})
         return rows
