@@ -3,13 +3,15 @@ the collocation defects of a simulated response (CVODES, independent of the coll
 at the scheme's order, the compiled functions equal the virtual machine's, and the transcription
 converges on the clearance model to an optimum its re-simulation confirms."""
 
+from dataclasses import replace
+
 import casadi as ca
 import numpy as np
 import pytest
 
 from pressocp import Collocation, PressParams, Rigid, SpeedProblem, WarmStart, build_model, design_speed
-from pressocp.ocp.collocation import (CollocationGrid, collocation_defect, collocation_residuals, nlp_options,
-                                      point_function, radau_matrices)
+from pressocp.ocp.collocation import (RELAX_ITERATIONS, CollocationGrid, collocation_defect, collocation_residuals,
+                                      nlp_options, point_function, radau_matrices)
 from pressocp.ocp.nlp import crank_motion
 from pressocp.ocp.states import states_at
 from pressocp.ocp.strategy import soft_params
@@ -153,6 +155,17 @@ def test_primal_dual_warm_start_stays_at_the_optimum_and_follows_tightened_bound
     v = np.asarray(collocation_residuals(model, tight.grid(SMOOTH.period), ("ram_velocity",),
                                          moved.states, crank_motion(moved.speed, tight.grid(1.0).times))[2]).ravel()
     assert np.max(np.abs(v[band] - SMOOTH.ram_speed)) <= tight.backoff * SMOOTH.tol * (1 + 1e-6)
+    # `relaxed`: the answer's NLP (its grid, from any transcription) holding the whole tolerance; IPOPT
+    # capped (the cap is lifted here: this start sits further from the relaxed optimum than a default one)
+    loose = Collocation(elements=400, jit=False).relaxed(sol)
+    assert loose.backoff == 1.0 and loose.elements == 60 and loose.ipopt["ipopt.max_iter"] == RELAX_ITERATIONS
+    loose = replace(loose, ipopt={**loose.ipopt, "ipopt.max_iter": 100})
+    back = loose.solve(SMOOTH, model, WarmStart(sol.speed, point=sol.nlp))
+    assert back.success and back.details.get("primal_dual_warm_start") is True
+    assert back.objective < sol.objective and loose.relaxed(back) is None
+    v = np.asarray(collocation_residuals(model, loose.grid(SMOOTH.period), ("ram_velocity",),
+                                         back.states, crank_motion(back.speed, loose.grid(1.0).times))[2]).ravel()
+    assert np.max(np.abs(v[band] - SMOOTH.ram_speed)) <= SMOOTH.tol * (1 + 1e-6)
 
 
 def test_a_grid_is_refined_twice_up_to_the_finest():
