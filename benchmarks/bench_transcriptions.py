@@ -189,7 +189,10 @@ def map_case(wall: float, methods: list[str]) -> None:
     """Run `methods` at every map point; rows of other methods already in the JSON are kept."""
     path = OUT / "transcriptions_map.json"
     labels = [MAP_METHODS[m] for m in methods]
-    kept = [r for r in json.loads(path.read_text())["runs"] if r["method"] not in labels] if path.exists() else []
+    old = json.loads(path.read_text()) if path.exists() else {"runs": []}
+    # a kept row keeps its own date and cap (rows written before rows carried them: the file's)
+    kept = [{"date": old.get("date"), "shooting_wall_s": old.get("shooting_wall_s") if "shooting" in r["method"]
+             else None, **r} for r in old["runs"] if r["method"] not in labels]
     rows = []
     base = po.Scenario.load("press75")
     for spm in MAP_RATES_SPM:
@@ -203,13 +206,23 @@ def map_case(wall: float, methods: list[str]) -> None:
                 tr = map_transcription(method, wall)
                 row = run_one(f"{spm} spm, {c * 1e3:g} mm: {label}", tr, problem, model, start)
                 row.update(stroke_rate_spm=spm, clearance_m=c, method=label, start_objective=start.objective,
-                           rigid_floor=rigid.objective)
+                           rigid_floor=rigid.objective, date=stamp()["date"],
+                           shooting_wall_s=None if method == "collocation" else wall)
                 row["outcome"] = outcome(row)
                 rows.append(row)
                 path.write_text(json.dumps(
                     {**stamp(), "versions": versions(), "case": "map", "shooting_wall_s": wall,
                      "verify_rtol": VERIFY_RTOL, "runs": kept + rows}, indent=1, default=str) + "\n")
     map_figure(json.loads(path.read_text()))
+
+
+def map_provenance(d: dict, method: str) -> str:
+    """When `method`'s cells of the map were run, and its cap ("IDAS 2026-11-24, cap 600 s"): rows
+    written before rows carried their own date and cap have the file's."""
+    rows = [r for r in d["runs"] if r["method"] == method]
+    dates = sorted({str(r.get("date") or d["date"])[:10] for r in rows})
+    caps = {r.get("shooting_wall_s", d.get("shooting_wall_s")) for r in rows if "shooting" in method} - {None}
+    return f"{method.split(' ')[0]} {', '.join(dates)}" + (f", cap {caps.pop():.0f} s" if len(caps) == 1 else "")
 
 
 def map_figure(d: dict) -> None:
@@ -236,8 +249,8 @@ def map_figure(d: dict) -> None:
     ax.set_xlabel("radial clearance of both pins")
     ax.set_ylabel("stroke rate")
     ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=4)
-    ax.set_title(f"Which transcription converges (from the no-reversal optimum; shooting capped at "
-                 f"{d['shooting_wall_s']:.0f} s; {d['date'][:10]})", fontsize=9)
+    ax.set_title("Which transcription converges (from the no-reversal optimum)\n"
+                 + "; ".join(map_provenance(d, m) for m in methods), fontsize=8)
     fig.tight_layout()
     save(fig, OUT / "transcriptions_map.png")
 

@@ -31,12 +31,16 @@ def test_runs_are_recorded_and_the_table_rewritten(tmp_path, monkeypatch):
                                     "(Path(__file__).parent / 'results' / 'x.json').write_text('{}')\n")
     (tmp_path / "bad.py").write_text("raise SystemExit(3)\n")
     (results / "same.json").write_text("[1]")
+    (results / "resumed.csv").write_text("a point of an earlier run\n")
+    (tmp_path / "arch.py").write_text("from pathlib import Path\n"
+                                      "(Path(__file__).parent / 'results' / 'a.json').write_text('{}')\n")
     (tmp_path / "same.py").write_text("from pathlib import Path\n"
                                       "(Path(__file__).parent / 'results' / 'same.json').write_text('[1]')\n")
     for name, value in (("HERE", tmp_path), ("RESULTS", results), ("README", readme), ("RUNS", results / "runs.json"),
-                        ("JOBS", (runner.Job("ok", "ok.py", (), 0.1, "writes x.json"),
+                        ("JOBS", (runner.Job("ok", "ok.py", (), 0.1, "writes x.json", fresh=("resumed.csv",)),
                                   runner.Job("bad", "bad.py", ("--flag",), 0.1, "fails"),
-                                  runner.Job("same", "same.py", (), 0.1, "rewrites a file unchanged")))):
+                                  runner.Job("same", "same.py", (), 0.1, "rewrites a file unchanged"),
+                                  runner.Job("arch", "arch.py", (), 0.1, "archived", archive=True)))):
         monkeypatch.setattr(runner, name, value)
     assert runner.main([]) == 1  # a failure is reported, after every job ran
     runs = json.loads((results / "runs.json").read_text())
@@ -44,7 +48,12 @@ def test_runs_are_recorded_and_the_table_rewritten(tmp_path, monkeypatch):
     assert runs["same"]["exit_status"] == 0 and runs["same"]["files"] == []  # rewritten, unchanged
     assert runs["bad"]["exit_status"] == 3 and runs["bad"]["command"] == "bad.py --flag"
     assert {"date", "machine", "cpus", "wall_time_s"} <= set(runs["ok"])
+    assert not (results / "resumed.csv").exists() and "arch" not in runs and not (results / "a.json").exists()
+    suite = runs[runner.SUITE]  # the whole suite's run, the archive left out
+    assert suite["jobs"] == 3 and suite["failed"] == ["bad"] and suite["budget_min"] == pytest.approx(0.3)
     text = readme.read_text()
+    assert "Last run of the whole suite: " in text and "failed or over budget: bad." in text
+    assert "| arch (archive) | `arch.py` | not run by this command yet" in text
     assert text.startswith("# Benchmarks\n\nA hand-written table.\n")
     assert text.count(runner.BEGIN) == 1 and "**failed (3)**" in text and "`x.json`" in text
     assert (results / "logs" / "ok.log").exists()
@@ -52,6 +61,10 @@ def test_runs_are_recorded_and_the_table_rewritten(tmp_path, monkeypatch):
     again = readme.read_text()
     assert again.count(runner.BEGIN) == 1 and "**failed (3)**" in again
     runs = json.loads((results / "runs.json").read_text())
+    assert runs[runner.SUITE] == suite  # a part of the suite is not a run of it
+    assert runner.main(["--archive"]) == 0 and (results / "a.json").exists()
+    runs = json.loads((results / "runs.json").read_text())
+    assert runs["arch"]["exit_status"] == 0 and runs[runner.SUITE] == suite
     runs["bad"]["note"] = "stopped by hand"
     assert "**failed (3)**: stopped by hand |" in runner.table(runs)
 

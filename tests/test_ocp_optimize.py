@@ -229,9 +229,10 @@ def test_flexible_rod_with_clearances_checks_the_rigid_rod_answer_first(smooth):
     re-simulated on the flexible rod. "auto": it holds there (60 spm, stiff rod), so the flexible stage
     is skipped, its record holding that re-simulation, which the result reuses as its verification;
     "all": the flexible stage is solved from it, then a polish round. Reference: an IDAS simulation at
-    rtol 1e-10 of the same model."""
+    rtol 1e-10 of the same model. (The verification at rtol 1e-9: at 1e-8 CVODES's own error on this
+    rod reached 1.4e-4 of the peak for one of the answers IPOPT finds.)"""
     model = build_model(SMOOTH.press, rod="flexible", n_elements=1, n_harmonics=4)
-    r = optimize_speed(SMOOTH, model, strategy=Strategy(rigid=Rigid(samples=200), verify_rtol=1e-8), progress=False)
+    r = optimize_speed(SMOOTH, model, strategy=Strategy(rigid=Rigid(samples=200), verify_rtol=1e-9), progress=False)
     assert [s.name for s in r.stages] == ["rigid", "target", "flexible"] and r.stages[2].was_skipped
     assert r.verified and r.stages[2].check.verified and r.stages[2].check.model == model.spec.describe()
     assert r.simulation is r.stages[2].simulation
