@@ -34,6 +34,20 @@ class InputError(ValueError):
     """Bad command-line input: reported in one line, exit code 2."""
 
 
+def warn_other_press(path: str | None, scenario) -> None:
+    """A warning on stderr when `path` (a ``--speed``) is a result designed for a press that differs
+    from the scenario's, naming each differing parameter (simulating it on another press is allowed:
+    that is what a wear study does)."""
+    if path is None:
+        return
+    from .jobs import press_differences
+
+    diff = press_differences(path, scenario.press)
+    if diff:
+        print(f"warning: --speed {path} was designed for another press than {scenario.name}'s: "
+              + "; ".join(diff), file=sys.stderr)
+
+
 def parse_set(items: list[str]) -> dict:
     """``KEY=VALUE`` strings to overrides; VALUE is read as TOML (``60``, ``[0.6, 0.25]``, ``true``,
     ``"text"``) and taken as a plain string when it is not TOML (``model.rod=flexible``)."""
@@ -47,6 +61,8 @@ def parse_set(items: list[str]) -> dict:
             value = tomllib.loads(f"v = {raw.strip()}")["v"]
         except tomllib.TOMLDecodeError:
             value = raw.strip()
+        if key in out and out[key] != value:
+            raise InputError(f"--set {key} given twice ({out[key]!r} and {value!r}): give it once")
         out[key] = value
     return out
 
@@ -189,13 +205,17 @@ def check_writable(folder: Path, what: str) -> None:
 def _prepare(args: argparse.Namespace):
     """Check the input and return the job to run (a callable giving its exit code). Every bad value
     raises here, before anything is solved."""
-    from .io import atomic_write, output_folder
+    from .io import NotRegularFile, atomic_write, check_regular, output_folder
 
     if args.command == "scenario":
         if args.action == "new":
             if args.path.exists() and not args.force:
                 raise InputError(f"{args.path} exists; pass --force to overwrite it")
             check_writable(args.path.parent, f"scenario new {args.path}")
+            try:
+                check_regular(args.path)
+            except NotRegularFile as err:
+                raise InputError(f"scenario new: {err}") from None
 
             def write() -> int:
                 atomic_write(args.path, template(str(args.path)))
@@ -220,6 +240,7 @@ def _prepare(args: argparse.Namespace):
     if args.command == "simulate":
         speed = jobs.read_speed(args.speed) if args.speed is not None else None
         scenario.check_speed(speed, "--speed")
+        warn_other_press(args.speed, scenario)
         job = lambda: jobs.simulate_job(scenario, out, speed, str(args.speed) if args.speed else "rigid design")  # noqa: E731
     elif args.command == "design":
         job = lambda: jobs.design_job(scenario, out)  # noqa: E731
@@ -289,6 +310,7 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
         raise InputError(f"--speed is the speed a simulate sweep evaluates; --task is {args.task}")
     for p in points:
         scenario.with_overrides(p).check_speed(speed, "--speed")
+    warn_other_press(args.speed, scenario)
     if args.workers is not None and not 1 <= args.workers <= 256:
         raise InputError(f"--workers must be in [1, 256], got {args.workers}")
     csv = out / "sweep.csv"
@@ -307,7 +329,12 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
         finally:
             if pool is not None:
                 pool.shutdown(cancel_futures=True)
-        plots.save(plots.plot_sweep(table, keys, f"{scenario.name}: {args.task} sweep"), out / "sweep.png")
+        try:
+            plots.save(plots.plot_sweep(table, keys, f"{scenario.name}: {args.task} sweep"), out / "sweep.png")
+            written = "sweep.csv, sweep.png, report.txt"
+        except ValueError as err:  # no point to draw: the figure is not claimed
+            (out / "sweep.png").unlink(missing_ok=True)
+            written = f"sweep.csv, report.txt (no sweep.png: {err})"
         failed = int((~table["ok"].astype(bool)).sum())
         text = f"{scenario.name}: {args.task} at {len(table)} points, {failed} not ok"
         atomic_write(out / "report.txt", text + "\n\n" + table.drop(columns=["speed"], errors="ignore")
@@ -317,7 +344,7 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
                                 "peak_slider_normal_force_N", "wall_time_s", "error"] if c in table]
             print(text)
             print(table[cols].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
-            print(f"  wrote sweep.csv, sweep.png, report.txt to {out}/")
+            print(f"  wrote {written} to {out}/")
         return 0 if failed == 0 else 1
     return run
 

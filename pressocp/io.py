@@ -76,8 +76,11 @@ def file_mode() -> int:
 @contextmanager
 def atomic_path(path: str | Path) -> Iterator[str]:
     """A temporary file name beside `path` to write to; on success it is renamed onto `path` (with the
-    umask's permissions), on failure removed. Creates the folder."""
-    path = Path(path)
+    umask's permissions), on failure removed. Creates the folder. A symbolic link is written through
+    (the file it points to is replaced, the link stays); a path that is neither a regular file nor
+    missing (a device, a folder, a pipe) raises `NotRegularFile` before anything is written."""
+    path = Path(os.path.realpath(path))
+    check_regular(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     os.close(fd)
@@ -88,6 +91,19 @@ def atomic_path(path: str | Path) -> Iterator[str]:
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
+
+
+class NotRegularFile(OSError):
+    """A write to a path that exists and is not a regular file (a device, a folder, a pipe)."""
+
+
+def check_regular(path: str | Path) -> None:
+    """Raise `NotRegularFile` when `path` (its link followed) exists and is not a regular file."""
+    target = Path(os.path.realpath(path))
+    if target.exists() and not target.is_file():
+        kind = "a folder" if target.is_dir() else "a device, pipe or socket"
+        raise NotRegularFile(f"{path} is {kind}{f' ({target})' if str(target) != str(path) else ''}, not a regular "
+                             "file: refusing to replace it")
 
 
 def atomic_write(path: str | Path, text: str) -> Path:

@@ -4,6 +4,7 @@ impact study. Each writes its files into a folder (atomically) and returns a `Jo
 from __future__ import annotations
 
 import json
+import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -13,6 +14,7 @@ import numpy as np
 from .design import design_speed
 from .io import SUMMARY_NAME, atomic_write, write_json
 from .objectives import get as get_objective
+from .params import PressParams
 from .ocp.result import PEAK_SERIES, OcpResult, versions
 from .ocp.verify import is_periodic, ram_speed_error, rigid_reference, verify_speed, window_times
 from .plots import plot_impact_study, plot_responses, rigid_torque_level, save
@@ -79,6 +81,32 @@ def read_speed(path: str | Path) -> FourierSpeed:
         return FourierSpeed.from_dict(data)
     except (ValueError, TypeError) as err:
         raise ValueError(f"--speed: {path}: {err}") from None
+
+
+def press_differences(path: str | Path, press: PressParams) -> list[str]:
+    """How the press a result file was designed for (`OcpResult.to_json`, its ``problem.press``)
+    differs from `press`, one entry per parameter ("slider_mass: 150 in the file, 200 here"); empty
+    for a plain speed file or the same press."""
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return []
+    theirs = data.get("problem", {}).get("press") if isinstance(data, dict) else None
+    if not isinstance(theirs, dict):
+        return []
+    a, b = _flat(theirs), _flat(press.to_dict())
+    same = lambda x, y: (math.isclose(x, y, rel_tol=1e-12, abs_tol=0.0)  # noqa: E731
+                         if isinstance(x, (int, float)) and isinstance(y, (int, float)) else x == y)
+    return [f"{k}: {a.get(k)!r} in the file, {b.get(k)!r} here" for k in sorted(a.keys() | b.keys())
+            if not same(a.get(k), b.get(k))]
+
+
+def _flat(d: dict, prefix: str = "") -> dict:
+    """A nested dict's leaves by dotted key."""
+    out = {}
+    for k, v in d.items():
+        out.update(_flat(v, f"{prefix}{k}.") if isinstance(v, dict) else {f"{prefix}{k}": v})
+    return out
 
 
 def _problem_summary(problem: SpeedProblem) -> dict:

@@ -279,33 +279,49 @@ def key_label(key: str) -> str:
     return f"{key} [{unit}]" if unit else key
 
 
+#: A sweep figure's panels: (axis label, [(column, style, legend entry or None for the point's own)]).
+#: The impacts task's rows hold ratios of peaks (model / rigid press) instead of peaks.
+SWEEP_PANELS = (
+    ("peak motor torque [N·m]", (("peak_torque_N_m", "o-", None), ("initial_peak_torque_N_m", "x:", "initial speed"),
+                                 ("rigid_peak_torque_N_m", "--", "rigid-press floor"))),
+    ("peak slider normal force [N]", (("peak_slider_normal_force_N", "o-", None),)),
+    ("peak pin force [N]", (("peak_pin_force_N", "o-", None),)),
+)
+IMPACT_PANELS = tuple(
+    (f"{series.replace('_', ' ')}:\nclearance model / rigid press", ((f"designed_{series}_ratio", "o-", None),
+                                                                    (f"constant_{series}_ratio", "x:", "constant speed")))
+    for series in ("torque", "slider_normal_force", "crank_pin_force", "wrist_pin_force"))
+
+
 def plot_sweep(table, keys: Sequence[str], title: str = "") -> "plt.Figure":
-    """Peaks against the first varied key of a `pressocp.sweep` table, one line per combination of the
-    other keys: motor torque (with the initial speed's and the rigid floor, dashed, for optima), slider
-    normal force and the larger pin force. Failed points are left out."""
-    rows = [("peak_torque_N_m", "peak motor torque [N·m]"), ("peak_slider_normal_force_N", "peak slider normal force [N]"),
-            ("peak_pin_force_N", "peak pin force [N]")]
+    """Peaks against the first varied key of a `pressocp.sweep` table, one colour per combination of
+    the other keys: motor torque (with the initial speed's and the rigid floor, for optima), slider
+    normal force and the larger pin force; for the impacts task, each load's peak on the clearance
+    model over the rigid press's, at the designed speed (and dotted at constant speed). Points not
+    ``ok`` are left out. Raises ValueError when no point has anything to draw."""
     data = table[table["ok"].astype(bool)].copy() if "ok" in table else table.copy()
     if "peak_crank_pin_force_N" in data:
         data["peak_pin_force_N"] = data[["peak_crank_pin_force_N", "peak_wrist_pin_force_N"]].max(axis=1)
+    panels = [(name, [c for c in cols if c[0] in data and data[c[0]].notna().any()])
+              for name, cols in (SWEEP_PANELS if "peak_torque_N_m" in data else IMPACT_PANELS)]
+    panels = [(name, cols) for name, cols in panels if cols]
+    if data.empty or not panels:
+        why = "no point is ok" if data.empty else "its rows hold no peaks or impact ratios"
+        raise ValueError(f"nothing to draw: {why} ({len(table)} rows)")
     x, others = keys[0], list(keys[1:])
     groups = data.groupby(others, sort=True) if others else [((), data)]
-    fig, axes = plt.subplots(len(rows), 1, figsize=(7, 2.4 * len(rows) + 0.6), sharex=True)
+    fig, axes = plt.subplots(len(panels), 1, figsize=(7, 2.4 * len(panels) + 0.6), sharex=True, squeeze=False)
+    axes = axes[:, 0]
     for k, (values, group) in enumerate(groups):
         values = values if isinstance(values, tuple) else (values,)
         label = (", ".join(f"{o} = {v:g}" for o, v in zip(others, values))
                  or ("optimum" if "rigid_peak_torque_N_m" in group else "model"))
         group = group.sort_values(x)
-        for ax, (col, _) in zip(axes, rows):
-            if col in group:
-                ax.plot(group[x], group[col], "o-", color=f"C{k}", label=label)
-        if "initial_peak_torque_N_m" in group:
-            axes[0].plot(group[x], group["initial_peak_torque_N_m"], "x:", color=f"C{k}", lw=0.8,
-                         label="initial speed" if k == 0 else None)
-        if "rigid_peak_torque_N_m" in group:
-            axes[0].plot(group[x], group["rigid_peak_torque_N_m"], "--", color=f"C{k}", lw=0.8,
-                         label="rigid-press floor" if k == 0 else None)
-    for ax, (_, name) in zip(axes, rows):
+        for ax, (_, cols) in zip(axes, panels):
+            for col, style, entry in cols:
+                ax.plot(group[x], group[col], style, color=f"C{k}", lw=1.5 if entry is None else 0.8,
+                        label=label if entry is None else (entry if k == 0 else None))
+    for ax, (name, _) in zip(axes, panels):
         ax.set_ylabel(name, fontsize=8)
         ax.grid(alpha=0.3)
     if "initial_peak_torque_N_m" in data and data["initial_peak_torque_N_m"].max() > 5 * data["peak_torque_N_m"].max():

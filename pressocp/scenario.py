@@ -215,6 +215,9 @@ class Scenario:
         """A copy with dotted keys set, e.g. ``{"problem.stroke_rate_spm": 60, "wrist_pin.clearance":
         5e-5}`` (press fields may leave out ``press.``). Checked like a file. Unless ``name`` is set,
         the copy's name lists the keys set (it titles figures and reports)."""
+        cycle = [k for k in overrides if k in ("problem.stroke_rate_spm", "problem.period_s")]
+        if len(cycle) > 1:
+            raise ScenarioError(f"{' and '.join(cycle)} both set: the cycle is one of them, as in a scenario file")
         data = self.to_dict()
         if overrides and "name" not in overrides:
             data["name"] = f"{self.name}; " + ", ".join(f"{k} = {v}" for k, v in overrides.items())

@@ -1,6 +1,7 @@
 """Bad scenario files and arguments: exit code 2, one message that names the key, nothing solved."""
 
 import json
+import os
 
 import pytest
 
@@ -101,6 +102,14 @@ BAD_ARGS = [
     ("binary scenario file", ["optimize", "{tmp}/binary.toml"], ["binary.toml", "not a text scenario file"]),
     ("--out under a file", ["optimize", "--out", "{tmp}/afile/out"], ["--out", "afile", "is a file"]),
     ("scenario new under a file", ["scenario", "new", "{tmp}/afile/my.toml"], ["scenario new", "is a file"]),
+    ("scenario new onto a pipe", ["scenario", "new", "{tmp}/fifo", "--force"], ["scenario new", "fifo",
+                                                                              "not a regular file"]),
+    ("scenario new through a link to a folder", ["scenario", "new", "{tmp}/dirlink", "--force"],
+     ["dirlink", "a folder", "not a regular file"]),
+    ("the cycle set twice", ["design", "--set", "problem.stroke_rate_spm=40", "--set", "problem.period_s=2"],
+     ["problem.stroke_rate_spm and problem.period_s", "one of them"]),
+    ("a key set twice", ["design", "--set", "slider_mass=100", "--set", "slider_mass=200"],
+     ["--set slider_mass", "twice"]),
 ]
 
 
@@ -114,6 +123,8 @@ def test_bad_arguments_exit_2(tmp_path, capsys, what, argv, words):
     (tmp_path / "afile").write_text("x")
     (tmp_path / "done").mkdir()
     (tmp_path / "done" / "sweep.csv").write_text("slider_mass,ok\n100,True\n")
+    os.mkfifo(tmp_path / "fifo")
+    (tmp_path / "dirlink").symlink_to(tmp_path / "done")
     assert main([a.replace("{tmp}", str(tmp_path)) for a in argv]) == 2
     err = capsys.readouterr().err
     assert err.startswith("pressocp: error:") and "Traceback" not in err
@@ -185,3 +196,52 @@ def test_an_output_folder_holds_one_run(tmp_path, capsys):
     assert not (out / "old.png").exists() and (out / "mine.txt").exists() and (tmp_path / "outside.txt").exists()
     summary = json.loads((out / "summary.json").read_text())
     assert summary["job"] == "design" and all((out / f).exists() for f in summary["files"])
+
+
+def test_a_scenario_written_through_a_link_replaces_its_target_and_keeps_the_link(tmp_path, capsys):
+    target = tmp_path / "real.toml"
+    target.write_text("old")
+    link = tmp_path / "link.toml"
+    link.symlink_to(target)
+    assert main(["scenario", "new", str(link), "--force"]) == 0
+    assert link.is_symlink() and os.readlink(link) == str(target)
+    assert Scenario.load(str(link)).name and target.read_text() != "old"
+
+
+def test_a_result_of_another_press_as_speed_is_simulated_with_a_warning(tmp_path, capsys):
+    """A result file designed for another press is accepted as ``--speed`` (a wear study simulates an
+    optimum on a changed press) with a warning naming each differing parameter; a plain speed file
+    or a result of the same press gives none."""
+    from dataclasses import replace
+
+    from pressocp import FourierSpeed
+    from pressocp.jobs import press_differences
+
+    scenario = Scenario.load("press75")
+    speed = FourierSpeed(scenario.problem.period, [0.0], [0.0], 0.0).to_dict()
+    other = scenario.problem.replace(press=replace(scenario.press, slider_mass=200.0))
+    (tmp_path / "other.json").write_text(json.dumps({"problem": other.to_dict(), "speed": speed}))
+    (tmp_path / "same.json").write_text(json.dumps({"problem": scenario.problem.to_dict(), "speed": speed}))
+    (tmp_path / "plain.json").write_text(json.dumps(speed))
+    diff = press_differences(tmp_path / "other.json", scenario.press)
+    assert diff == ["slider_mass: 200.0 in the file, 150.0 here"]
+    assert press_differences(tmp_path / "same.json", scenario.press) == []
+    assert press_differences(tmp_path / "plain.json", scenario.press) == []
+
+
+def test_atomic_writes_follow_links_and_never_replace_a_device_or_folder(tmp_path):
+    from pressocp.io import NotRegularFile, atomic_write
+
+    target = tmp_path / "target.txt"
+    target.write_text("old")
+    link = tmp_path / "link.txt"
+    link.symlink_to(target)
+    atomic_write(link, "new")
+    assert link.is_symlink() and target.read_text() == "new"
+    os.mkfifo(tmp_path / "fifo")
+    (tmp_path / "folder").mkdir()
+    for path in (tmp_path / "fifo", tmp_path / "folder"):
+        with pytest.raises(NotRegularFile, match="not a regular file: refusing to replace it"):
+            atomic_write(path, "x")
+    assert (tmp_path / "folder").is_dir() and not (tmp_path / "fifo").is_file()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fifo", "folder", "link.txt", "target.txt"]

@@ -301,3 +301,20 @@ def test_candidates_keep_the_lowest_verified_answer_and_record_every_one(smooth,
         Strategy(tension_margin=(0.05, 1.5))
     with pytest.raises(ValueError, match="workers"):
         Strategy(workers=0)
+
+
+def test_an_earlier_stage_stopping_short_does_not_condemn_a_verified_answer():
+    """The rigid stage stops at its iteration cap; the clearance stage, started from its iterate,
+    converges and its answer verifies. The result is judged by that answer: converged, its status
+    naming the rigid stage that stopped, and `optimum_sensitivities` accepts it."""
+    import pressocp as po
+
+    strategy = Strategy(mode="all", rigid=Rigid(samples=200, ipopt={"ipopt.max_iter": 3}), tension_margin=None,
+                        polish_rounds=0, verify_rtol=1e-8)
+    r = optimize_speed(SMOOTH, strategy=strategy, progress=False)
+    assert [s.name for s in r.stages] == ["rigid", "target"]
+    assert not r.stages[0].success and "Maximum_Iterations_Exceeded" in r.stages[0].status
+    assert r.stages[1].success and r.success and r.verified
+    assert "stage 'rigid' stopped (Maximum_Iterations_Exceeded)" in r.status
+    s = po.optimum_sensitivities(r, ("slider_mass",))
+    assert np.isfinite(s.derivative("slider_mass"))

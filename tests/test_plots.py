@@ -64,3 +64,30 @@ def test_the_rigid_optimum_is_a_floor_only_for_the_peak_torque():
 
     assert rigid_torque_level("peak_torque", 108.5) == (108.5, "rigid-press floor ±108.5 N·m")
     assert rigid_torque_level("rms_torque", 106.0)[1].startswith("rigid-press optimum's peak")
+
+
+def test_a_sweep_figure_draws_the_columns_its_rows_have():
+    """An impacts sweep's rows hold ratios, not peaks: its figure draws them, one panel per load; a
+    table with no point ok is refused (the command line then does not claim a figure)."""
+    import pandas as pd
+
+    from pressocp.plots import plot_sweep
+
+    rows = [{"slider_mass": m, "ok": True, **{f"{s}_{load}_ratio": 1.0 + m / 100 + (s == "constant")
+                                              for s in ("constant", "designed")
+                                              for load in ("torque", "slider_normal_force", "crank_pin_force",
+                                                           "wrist_pin_force")}} for m in (100.0, 150.0, 200.0)]
+    fig = plot_sweep(pd.DataFrame(rows), ["slider_mass"])
+    assert len(fig.axes) == 4
+    for ax in fig.axes:
+        lines = [ln for ln in ax.get_lines() if len(ln.get_xdata())]
+        assert len(lines) == 2 and all(list(ln.get_xdata()) == [100.0, 150.0, 200.0] for ln in lines)
+    plt.close(fig)
+    optimum = pd.DataFrame([{"slider_mass": 100.0, "ok": True, "peak_torque_N_m": 1.0, "rigid_peak_torque_N_m": 0.9,
+                             "peak_slider_normal_force_N": 2.0, "peak_crank_pin_force_N": 3.0,
+                             "peak_wrist_pin_force_N": 4.0}])
+    fig = plot_sweep(optimum, ["slider_mass"])
+    assert len(fig.axes) == 3 and max(fig.axes[2].get_lines()[0].get_ydata()) == 4.0
+    plt.close(fig)
+    with pytest.raises(ValueError, match="nothing to draw: no point is ok"):
+        plot_sweep(pd.DataFrame([{**rows[0], "ok": False}]), ["slider_mass"])

@@ -110,7 +110,10 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
             pool.shutdown(wait=False, cancel_futures=True)
     last = next(s for s in reversed(stages) if not s.was_skipped)
     answer = stages[-1]
-    failed = [s for s in stages if not s.success and not s.superseded]
+    # judged by the stage whose answer stands; an earlier stage that stopped short (its answer a start
+    # that a later stage improved on) is recorded, not inherited
+    found = next((s for s in reversed(stages) if not s.was_skipped and not s.superseded), stages[0])
+    earlier = [s for s in stages if not s.success and not s.superseded and s is not found]
     objective = get_objective(problem.objective)
     # the last stage's own verification (same model, same tolerance) when the strategy ran one
     reuse = answer.simulation is not None and answer.model == model.spec.describe()
@@ -123,12 +126,22 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
         problem=problem, model=model.spec, transcription=repr(tr), strategy=repr(strat), speed=answer.speed,
         initial_speed=initial, objective_value=last.objective, verified_objective=objective.value(sim),
         peaks=peaks_of(sim), initial_peaks=peaks_of(init_sim), rigid_peak_torque=_rigid_peak(stages[0], problem),
-        t1=t1, t2=t2, success=not failed,
-        status=answer.status if not failed else f"stage {failed[0].name!r}: {failed[0].status}",
+        t1=t1, t2=t2, success=found.success, status=outcome_status(answer, found, earlier),
         periodic=is_periodic(sim), max_ram_speed_violation=max(ram_speed_violation(sim, problem), 0.0),
         min_omega=answer.speed.min_speed(), iterations=sum(s.iterations for s in stages),
         wall_time=wall, stages=stages, verify_rtol=strat.verify_rtol, simulation=sim,
         initial_simulation=init_sim, timing=timing)
+
+
+def outcome_status(answer: StageResult, found: StageResult, earlier: list[StageResult]) -> str:
+    """The result's status: the answer's stage's (`found`, the last that ran and was not superseded;
+    `answer` is the last stage, which may be a skipped one holding its answer), prefixed with that
+    stage's name when it did not converge, and followed by the earlier stages that stopped short."""
+    status = answer.status if found.success else f"stage {found.name!r}: {found.status}"
+    if earlier and found.success:
+        status += "; before it, " + ", ".join(f"stage {s.name!r} stopped ({s.status})" for s in earlier) + \
+            ", its answer a start that a later stage improved on"
+    return status
 
 
 def _rigid_peak(rigid: StageResult, problem: SpeedProblem) -> float:
