@@ -52,6 +52,12 @@ PERIODIC_TOL = 1e3
 LOOSER = 10.0
 #: A derivative whose error estimate (relative) is at most this is ``resolved``.
 RESOLVED = 0.01
+#: CVODES options of the forward-sensitivity integration. Without the second-order correction of the
+#: augmented system's Newton matrix (each direction solved with the states' own factorisation) the
+#: seed optimum's 11 directions over one cycle at rtol 1e-10 took 8.6 s instead of 31.5 s, the
+#: derivatives the same to 1e-8; CasADi's ``sensitivity_method`` and ``fsens_err_con`` changed
+#: nothing, GMRES was slower (benchmarks/README.md, "AD sensitivities on the seed optimum").
+SENSITIVITY_OPTIONS = {"second_order_correction": False}
 
 
 @dataclass
@@ -163,7 +169,8 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
     n_speed = pv.size - n_parameters
     dae = msym.dae(explicit=True)
     dae.pop("quad")
-    F = ca.integrator("period", "cvodes", dae, 0.0, grid, {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**7})
+    F = ca.integrator("period", "cvodes", dae, 0.0, grid, {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**7,
+                                                           **SENSITIVITY_OPTIONS})
     X0, Pp = ca.MX.sym("x0", msym.nx), ca.MX.sym("p", n_parameters)
     pfull = ca.vertcat(ca.DM(pv[:n_speed]), Pp)
     X = F(x0=X0, p=pfull)["xf"]
