@@ -34,6 +34,8 @@ import casadi as ca
 import numpy as np
 import pandas as pd
 
+from .compile_cache import function_options, use_jit
+from .interrupt import compiling
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
 from .simulate import SimulationError, periodic_state, simulate
@@ -138,6 +140,19 @@ def peak_times(t: np.ndarray, y: np.ndarray, period: float) -> list[float]:
     return times
 
 
+def sensitivity_dae(dae: dict) -> dict | ca.Function:
+    """The explicit ODE for the sensitivity integrator: as a Function compiled with its derivatives
+    when a C compiler is found (CasADi's virtual machine evaluates the forward derivatives of the
+    contact model slowly: on the seed optimum 11 directions over one cycle took 8.9 s interpreted and
+    1.5 s compiled, the same derivatives), else the DAE dict as it is."""
+    if not use_jit("auto", "the sensitivities' right-hand side"):
+        return dae
+    empty = (lambda: ca.SX(0, 1)) if isinstance(dae["x"], ca.SX) else (lambda: ca.MX(0, 1))
+    with compiling():
+        return ca.Function("sensitivity_ode", [dae["t"], dae["x"], empty(), dae["p"], empty()],
+                           [dae["ode"], empty(), empty(), empty()], ca.dyn_in(), ca.dyn_out(), function_options(True))
+
+
 def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tuple[float, int]], x0: np.ndarray,
                      n_parameters: int, rtol: float, periodic: bool) -> tuple[np.ndarray, np.ndarray]:
     """Outputs y at given times and sign(y) dy/dp, by forward sensitivities of one period from `x0`.
@@ -167,10 +182,9 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
     grid = [*times, T] if not times or times[-1] < T else times
     pv = msym.parameters(speed)
     n_speed = pv.size - n_parameters
-    dae = msym.dae(explicit=True)
-    dae.pop("quad")
-    F = ca.integrator("period", "cvodes", dae, 0.0, grid, {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**7,
-                                                           **SENSITIVITY_OPTIONS})
+    dae = msym.dae(explicit=True, work=False)
+    F = ca.integrator("period", "cvodes", sensitivity_dae(dae), 0.0, grid,
+                      {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**7, **SENSITIVITY_OPTIONS})
     X0, Pp = ca.MX.sym("x0", msym.nx), ca.MX.sym("p", n_parameters)
     pfull = ca.vertcat(ca.DM(pv[:n_speed]), Pp)
     X = F(x0=X0, p=pfull)["xf"]
@@ -230,7 +244,7 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     pv = msym.parameters(speed)
     T = speed.period
     x0 = periodic_state(model, speed, "cvodes", rtol, tol=PERIODIC_TOL * rtol)[0] if periodic else model.x0
-    res = simulate(model, speed, method="cvodes", rtol=rtol, n_out=SAMPLES, x0=x0)
+    res = simulate(model, speed, method="cvodes", rtol=rtol, n_out=SAMPLES, x0=x0, work=False)
     t_rel = res.t - res.t[0]
     peaks = {q: [min(max(tq, 0.0), T) for tq in peak_times(t_rel, getattr(res, QUANTITIES[q]), T)]
              for q in quantities}
