@@ -3,9 +3,21 @@
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any
 
 import numpy as np
+
+
+class PlausibilityWarning(UserWarning):
+    """A value inside its range that is implausible against the rest of the press (a mass in grams
+    among masses in kilograms, a speed limit in rpm): most likely a unit slip. The command line's
+    ``--strict`` makes it an error."""
+
+
+def suspect(message: str) -> None:
+    """Warn (`PlausibilityWarning`) about a value that is probably in the wrong unit."""
+    warnings.warn(message, PlausibilityWarning, stacklevel=4)
 
 
 class WrongType(TypeError, ValueError):

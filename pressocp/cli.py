@@ -24,6 +24,7 @@ import argparse
 import os
 import sys
 import tomllib
+import warnings
 from pathlib import Path
 
 #: The scenario every command runs by default.
@@ -146,6 +147,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="override a scenario key, e.g. problem.stroke_rate_spm=60 (repeatable)")
     common.add_argument("--out", type=Path, default=Path("out"), help="output folder (default: out)")
     common.add_argument("--quiet", "-q", action="store_true", help="no progress bars, no report on the terminal")
+    common.add_argument("--strict", action="store_true",
+                        help="refuse values that look like unit slips (a mass in g, a speed limit in rpm)")
     sub.add_parser("optimize", parents=[common], help="optimal crank speed, verified (minutes)")
     sim = sub.add_parser("simulate", parents=[common], help="a speed on the scenario's model")
     sim.add_argument("--speed", type=Path, default=None,
@@ -355,6 +358,7 @@ COMMANDS = ("optimize", "simulate", "design", "impacts", "sweep", "scenario")
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit code (0, 1, 2 or 130)."""
+    from .checks import PlausibilityWarning
     from .io import OutputBusy
     from .scenario import ScenarioError
 
@@ -363,10 +367,17 @@ def main(argv: list[str] | None = None) -> int:
         argv = ["optimize", *argv]  # the main job
     args = _parser().parse_args(argv)
     try:
-        job = _prepare(args)
-    except (InputError, ScenarioError, ValueError) as err:  # names the key, the value and the range
+        with warnings.catch_warnings(record=True) as suspects:  # values that look like unit slips
+            warnings.simplefilter("error" if getattr(args, "strict", False) else "always", PlausibilityWarning)
+            job = _prepare(args)
+    except (InputError, ScenarioError, ValueError, PlausibilityWarning) as err:  # names the key, value and range
         print(f"pressocp: error: {err}", file=sys.stderr)
         return 2
+    for w in suspects:
+        if not issubclass(w.category, PlausibilityWarning):
+            warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+    for message in dict.fromkeys(str(w.message) for w in suspects if issubclass(w.category, PlausibilityWarning)):
+        print(f"pressocp: warning: {message} (--strict makes this an error)", file=sys.stderr)
     try:
         return job()
     except OutputBusy as err:

@@ -38,6 +38,13 @@ MAX_GRAVITY = 100.0  # m/s^2: 0 (a horizontal press) to well above 9.81
 MAX_CRANK_INERTIA = 1e5  # kg m^2: crank, gear and reflected motor of the largest presses
 AREA_MOMENT_RANGE = (1e-14, 1e-1)  # m^4: a 1 mm square rod (8e-14) to a 1 m one (8e-2)
 MAX_COM_RATIO = 2.0  # |crank_com| / crank_radius (a counterweight puts it below 0)
+#: A rod or crank heavier than this many slider masses is suspected of being in grams.
+MAX_PART_RATIO = 10.0
+#: A forming force above this many times the slider's weight is suspected of a unit slip (mN).
+MAX_FORCE_RATIO = 1e5
+#: A contact stiffness outside this factor of its journal's Hertz value is suspected of a unit slip
+#: (the soft stage of multiple shooting divides it by 100).
+HERTZ_FACTOR = 500.0
 #: Largest radial clearance as a fraction of the journal radius.
 MAX_CLEARANCE_FRACTION = 0.1
 #: The rod must be at least this many crank radii long.
@@ -167,6 +174,12 @@ class Bearing:
         n = chk.finite("exponent", self.exponent)
         if not 1.0 <= n <= 3.0:
             raise ValueError(f"exponent must be in [1, 3], got {n!r}")
+        if self.stiffness is not None and n == 1.5:
+            kh = hertz_formula(rj, c)
+            if not kh / HERTZ_FACTOR <= k <= kh * HERTZ_FACTOR:
+                chk.suspect(f"stiffness = {k:g} N/m^1.5 is {k / kh:.3g} x the Hertz stiffness of this journal "
+                            f"({kh:.3g} N/m^1.5 for radius {rj:g} m and clearance {c:g} m): check its unit, N/m^1.5 "
+                            "(1 N/mm^1.5 is 3.16e4 N/m^1.5)")
         if self.damping is not None:
             chk.nonnegative("damping", self.damping)
         chk.choice("law", self.law, LAWS)
@@ -374,6 +387,7 @@ class PressParams:
                 raise ValueError(f"{name} must be a Bearing, got {type(getattr(self, name)).__name__}")
         if not isinstance(self.process_force, ProcessForce):
             raise ValueError("process_force must be a ProcessForce")
+        self._suspect_units()
         H = self.stroke
         for name in ("h_top", "h_bottom"):
             h = getattr(self.process_force, name)
@@ -381,6 +395,21 @@ class PressParams:
                 slip = f": a value in mm? {h:g} mm is {h / 1000:g} m" if -H <= h / 1000 <= 2 * H else ""
                 raise ValueError(f"process_force.{name} must be in [-stroke, 2 x stroke] = [{-H:g}, {2 * H:g}] m "
                                  f"(a height above bottom dead centre), got {h!r}{slip}")
+
+    def _suspect_units(self) -> None:
+        """`PlausibilityWarning` for values inside their ranges that do not fit the rest of the press:
+        a rod or crank `MAX_PART_RATIO` x heavier than the slider (grams?), a forming force
+        `MAX_FORCE_RATIO` x the slider's weight (mN?)."""
+        m = self.slider_mass
+        for name in ("rod_mass", "crank_mass"):
+            v = getattr(self, name)
+            if v > MAX_PART_RATIO * m:
+                chk.suspect(f"{name} = {v:g} kg is {v / m:.3g} x slider_mass ({m:g} kg): a value in g? {v:g} g is "
+                            f"{v / 1000:g} kg")
+        F, W = self.process_force.force, m * max(self.gravity, 9.81)
+        if F > MAX_FORCE_RATIO * W:
+            chk.suspect(f"process_force.force = {F:g} N is {F / W:.3g} x the slider's weight ({W:.4g} N): a value "
+                        f"in mN? {F:g} mN is {F / 1000:g} N")
 
     @property
     def stroke(self) -> float:

@@ -22,6 +22,8 @@ from .speed import DEFAULT_HARMONICS
 MAX_WINDOW_SHARE = 0.8
 #: The mean crank speed in the window may be at most this multiple of the mean speed 2 pi / T.
 MAX_WINDOW_SPEED_RATIO = 3.0
+#: An omega_max above this many times the mean crank speed is suspected of being in rpm.
+MAX_OMEGA_RATIO = 20.0
 
 
 def check_window(window: Any) -> tuple[float, float]:
@@ -138,7 +140,10 @@ class SpeedProblem:
         if self.omega_min is not None:
             chk.in_open_interval("omega_min", self.omega_min, 0.0, wbar, "rad/s")
         if self.omega_max is not None:
-            chk.in_open_interval("omega_max", self.omega_max, wbar, np.inf, "rad/s")
+            w = chk.in_open_interval("omega_max", self.omega_max, wbar, np.inf, "rad/s")
+            if w > MAX_OMEGA_RATIO * wbar:
+                chk.suspect(f"omega_max = {w:g} rad/s is {w / wbar:.3g} x the mean crank speed ({wbar:.4g} rad/s): a "
+                            f"value in rpm? {w:g} rpm is {w * 2 * np.pi / 60:.4g} rad/s")
         if self.alpha_max is not None:
             chk.positive("alpha_max", self.alpha_max, "rad/s^2")
         if self.min_tension is not None:

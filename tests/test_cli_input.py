@@ -110,6 +110,9 @@ BAD_ARGS = [
      ["problem.stroke_rate_spm and problem.period_s", "one of them"]),
     ("a key set twice", ["design", "--set", "slider_mass=100", "--set", "slider_mass=200"],
      ["--set slider_mass", "twice"]),
+    ("a mass in grams, --strict", ["design", "--strict", "--set", "rod_mass=3140"], ["rod_mass", "a value in g?"]),
+    ("a speed limit in rpm, --strict", ["design", "--strict", "--set", "problem.omega_max=400"],
+     ["omega_max", "in rpm?"]),
 ]
 
 

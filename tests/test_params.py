@@ -7,7 +7,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pressocp import Bearing, PressParams, ProcessForce, hertz_internal_stiffness
+from pressocp import Bearing, PressParams, ProcessForce, SpeedProblem, hertz_internal_stiffness
+from pressocp.checks import PlausibilityWarning
 
 
 def test_default_press_values():
@@ -190,3 +191,26 @@ def test_the_wrong_object_is_a_type_error_that_says_what_to_pass(call, match):
     with pytest.raises(TypeError, match=match) as err:
         call(p, prob, s)
     assert isinstance(err.value, ValueError)
+
+
+@pytest.mark.parametrize("make, match", [
+    (lambda: PressParams(rod_mass=3140.0), "rod_mass = 3140 kg .* a value in g\\? 3140 g is 3.14 kg"),
+    (lambda: PressParams(crank_mass=20000.0), "crank_mass = 20000 kg .* a value in g\\?"),
+    (lambda: PressParams(process_force=ProcessForce(force=1e9, h_top=0.05, h_bottom=0.0)),
+     "process_force.force = 1e\\+09 N .* a value in mN\\?"),
+    (lambda: Bearing(stiffness=6e8), "stiffness = 6e\\+08 N/m\\^1.5 is 0.000974 x the Hertz stiffness"),
+    (lambda: SpeedProblem(PressParams(), period=0.8, omega_max=400.0), "omega_max = 400 rad/s .* in rpm\\? 400 rpm is 41.89"),
+])
+def test_a_value_in_range_but_out_of_proportion_warns_of_its_unit(make, match):
+    with pytest.warns(PlausibilityWarning, match=match):
+        make()
+
+
+def test_plausible_values_do_not_warn():
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        PressParams(rod_mass=20.0, crank_mass=100.0, crank_pin=Bearing(stiffness=1e11),
+                    process_force=ProcessForce(force=5e4, h_top=0.05, h_bottom=0.0))
+        SpeedProblem(PressParams(), period=0.8, omega_max=15.0)
