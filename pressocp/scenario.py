@@ -342,7 +342,10 @@ def _problem(table: Any, press: PressParams, where: str) -> SpeedProblem:
             raise ScenarioError(f"{where}problem.stroke_rate_spm must be in (0, 2000) strokes/min, got {spm!r}")
         table["period"] = 60.0 / spm
     elif "period_s" in table:
-        table["period"] = table.pop("period_s")
+        T = table.pop("period_s")
+        if not (isinstance(T, (int, float)) and 0.0 < T < math.inf):
+            raise ScenarioError(f"{where}problem.period_s must be in (0, inf) s, got {T!r}")
+        table["period"] = T
     if "window" in table:
         table["window"] = tuple(table["window"])
     try:
