@@ -24,11 +24,11 @@ from ..speed import FourierSpeed, series
 IPOPT_BASE = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False, "ipopt.max_iter": 300,
               "ipopt.tol": 1e-8, "ipopt.linear_solver": "mumps"}
 #: Rigid transcription: exact Hessian, adaptive barrier (with the monotone one the 15-harmonic
-#: default case stalled at 300 iterations) left in its free mode (``never-monotone-mode``): the rigid
-#: stage of press60 in 72 iterations instead of 142 (4.3 s against 7.5 s), of press75 in 29 instead
-#: of 44, the same optimum to 1e-8. Mehrotra's predictor-corrector did not converge in 25 s.
-IPOPT_RIGID = {**IPOPT_BASE, "ipopt.mu_strategy": "adaptive",
-               "ipopt.adaptive_mu_globalization": "never-monotone-mode"}
+#: default case stalled at 300 iterations). Its free mode (``adaptive_mu_globalization =
+#: never-monotone-mode``) took press60's rigid stage from 142 to 72 iterations, but stopped at other
+#: points of the flat min-max optimum, which re-simulated up to 0.8 % higher on the clearance model
+#: (60 spm, 0.2 mm): not taken (benchmarks/README.md, "Speed of the default calls").
+IPOPT_RIGID = {**IPOPT_BASE, "ipopt.mu_strategy": "adaptive"}
 #: Transcriptions with states, warm-started at a good point: a limited-memory Hessian (an exact one
 #: would need adjoint sensitivities through the integrators, which fail on contact in IDAS; collocation
 #: asks for the exact one), a small initial barrier parameter and
