@@ -5,7 +5,10 @@ from __future__ import annotations
 
 import json
 import os
+import platform
+import sys
 import tempfile
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -18,6 +21,8 @@ import numpy as np
 LOCK_NAME = ".pressocp.lock"
 #: The file a run writes last, listing the run's files: present means the folder holds a complete run.
 SUMMARY_NAME = "summary.json"
+#: The file beside the lock that names the run holding it (process, host, start, command).
+OWNER_NAME = ".pressocp.owner"
 
 
 class OutputBusy(ValueError):
@@ -39,14 +44,28 @@ def output_folder(out: str | Path, clear: bool = True) -> Iterator[Path]:
     try:
         lock.acquire(timeout=0)
     except Timeout:
-        raise OutputBusy(f"{out} is being written by another pressocp run (lock file {out / LOCK_NAME}): "
-                         "wait for it to end, or pass another --out") from None
+        raise OutputBusy(f"{out} is being written by another pressocp run{lock_holder(out)} (lock file "
+                         f"{out / LOCK_NAME}): wait for it to end, or pass another --out") from None
     try:
+        atomic_write(out / OWNER_NAME, json.dumps({"pid": os.getpid(), "host": platform.node(),
+                                                   "started": time.strftime("%Y-%m-%d %H:%M:%S"),
+                                                   "command": " ".join(sys.argv)}) + "\n")
         if clear:
             clear_previous_run(out)
         yield out
     finally:
+        (out / OWNER_NAME).unlink(missing_ok=True)
         lock.release()
+
+
+def lock_holder(out: Path) -> str:
+    """", process 1234 on host, started 2026-11-25 15:20:00: pressocp optimize ..." from the folder's
+    `OWNER_NAME`, or "" when it cannot be read."""
+    try:
+        o = json.loads((out / OWNER_NAME).read_text())
+        return f", process {o['pid']} on {o['host']}, started {o['started']}: {o['command']}"
+    except (OSError, ValueError, KeyError, TypeError):
+        return ""
 
 
 def clear_previous_run(out: Path) -> list[str]:

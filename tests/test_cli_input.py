@@ -248,3 +248,25 @@ def test_atomic_writes_follow_links_and_never_replace_a_device_or_folder(tmp_pat
             atomic_write(path, "x")
     assert (tmp_path / "folder").is_dir() and not (tmp_path / "fifo").is_file()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["fifo", "folder", "link.txt", "target.txt"]
+
+
+def test_a_second_process_on_a_used_out_is_refused_naming_the_first(tmp_path, capsys):
+    """Two real processes: one holds ``--out`` (`output_folder`), the command line run into the same
+    folder exits 2 before solving, naming the holder's process; once the holder ends, the folder is
+    free again."""
+    import subprocess
+    import sys
+
+    out = tmp_path / "out"
+    holder = subprocess.Popen([sys.executable, "-c", "import sys, time\nfrom pressocp.io import output_folder\n"
+                               "with output_folder(sys.argv[1]):\n    print('held', flush=True)\n    time.sleep(60)\n",
+                               str(out)], stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        assert main(["design", "--out", str(out), "-q"]) == 2
+        err = capsys.readouterr().err
+        assert "being written by another pressocp run" in err and f"process {holder.pid} " in err
+    finally:
+        holder.kill()
+        holder.wait()
+    assert main(["design", "--out", str(out), "-q"]) == 0
