@@ -168,8 +168,8 @@ def optimum_summary(scenario: Scenario, result: OcpResult, ideal: SimResult | No
 
 
 #: Columns of the time table in the report: `OcpResult.time_table` key -> heading.
-TIME_COLUMNS = {"wall": "wall", "build": "build", "compile": "compile", "functions": "functions", "linear_solver": "linear solver",
-                "start": "warm start", "checks": "checks"}
+TIME_COLUMNS = {"wall": "wall", "build": "build", "compile": "compile", "functions": "functions",
+                "linear_solver": "linear solver", "start": "warm start", "checks": "checks"}
 
 
 def time_table_text(result: OcpResult) -> str:

@@ -318,3 +318,16 @@ def test_an_earlier_stage_stopping_short_does_not_condemn_a_verified_answer():
     assert "stage 'rigid' stopped (Maximum_Iterations_Exceeded)" in r.status
     s = po.optimum_sensitivities(r, ("slider_mass",))
     assert np.isfinite(s.derivative("slider_mass"))
+
+
+def test_the_standing_stage_skips_superseded_and_skipped_stages(smooth):
+    """`standing_stage`: a polish round not kept leaves a superseded stage and a skipped record after
+    the answer's stage; the answer's stage is the one before them."""
+    from pressocp.ocp.stage import StageResult, standing_stage
+
+    rigid = smooth.stages[0]
+    target = dataclasses.replace(rigid, name="target")
+    dropped = dataclasses.replace(rigid, name="polish_1", superseded="the polish round was not kept")
+    record = StageResult.skipped("polish_1_tightened_1", "not kept", "rigid press", target)
+    assert standing_stage([rigid, target, dropped, record]) is target
+    assert standing_stage([record]) is None

@@ -398,9 +398,10 @@ EVALUATIONS = {"objective": ("nlp_f", "nlp_grad_f"), "constraints": ("nlp_g",), 
 def timing_split(stats: dict, build: float, wall: float, callback: float, compile: float = 0.0) -> dict:
     """Where an IPOPT solve's wall time went, s: ``build`` (nlpsol construction: code generation, link
     and set-up), ``compile`` (the C compiler's time, `pressocp.compile_cache.compile_seconds`; none
-    when every object file came from the cache), the function and derivative evaluations (`EVALUATIONS`, from CasADi's
-    ``t_wall_*`` counters), ``callback`` (the iteration record and progress bar), ``solver`` (the rest
-    of IPOPT's own time: the linear solver, MUMPS, above all) and ``total``."""
+    when every object file came from the cache), the function and derivative evaluations
+    (`EVALUATIONS`, from CasADi's ``t_wall_*`` counters), ``callback`` (the iteration record and
+    progress bar), ``solver`` (the rest of IPOPT's own time: the linear solver, MUMPS, above all) and
+    ``total``."""
     evals = {k: float(sum(stats.get(f"t_wall_{n}", 0.0) for n in names)) for k, names in EVALUATIONS.items()}
     solve = float(stats.get("t_wall_total", wall - build))
     return {"build": build - compile, "compile": compile, **evals, "callback": callback,

@@ -17,7 +17,7 @@ from ..speed import FourierSpeed
 from ..workers import parallel_workers, process_pool
 from .collocation import Collocation
 from .result import OcpResult, peaks_of
-from .stage import StageResult, Transcription
+from .stage import StageResult, Transcription, standing_stage
 from .strategy import Strategy
 from .verify import is_periodic, ram_speed_violation, rigid_reference, screen, verify_speed, window_times
 
@@ -108,11 +108,10 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     finally:
         if pool is not None:
             pool.shutdown(wait=False, cancel_futures=True)
-    last = next(s for s in reversed(stages) if not s.was_skipped)
     answer = stages[-1]
     # judged by the stage whose answer stands; an earlier stage that stopped short (its answer a start
     # that a later stage improved on) is recorded, not inherited
-    found = next((s for s in reversed(stages) if not s.was_skipped and not s.superseded), stages[0])
+    found = standing_stage(stages) or stages[0]
     earlier = [s for s in stages if not s.success and not s.superseded and s is not found]
     objective = get_objective(problem.objective)
     # the last stage's own verification (same model, same tolerance) when the strategy ran one
@@ -124,7 +123,7 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
               "verification_compile": compile_seconds() - c_verify}
     return OcpResult(
         problem=problem, model=model.spec, transcription=repr(tr), strategy=repr(strat), speed=answer.speed,
-        initial_speed=initial, objective_value=last.objective, verified_objective=objective.value(sim),
+        initial_speed=initial, objective_value=found.objective, verified_objective=objective.value(sim),
         peaks=peaks_of(sim), initial_peaks=peaks_of(init_sim), rigid_peak_torque=_rigid_peak(stages[0], problem),
         t1=t1, t2=t2, success=found.success, status=outcome_status(answer, found, earlier),
         periodic=is_periodic(sim), max_ram_speed_violation=max(ram_speed_violation(sim, problem), 0.0),

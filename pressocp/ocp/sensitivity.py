@@ -33,7 +33,7 @@ from .kkt import KktSensitivity, kkt_sensitivity
 from .nlp import ParametricPoint
 from .result import OcpResult
 from .rigid import Rigid
-from .stage import StageResult, WarmStart
+from .stage import StageResult, WarmStart, standing_stage
 
 #: Parameters that move the working window (its heights are fractions of the stroke) or the ideal
 #: press's kinematics: a derivative of the optimum holding the problem fixed does not exist for them.
@@ -145,10 +145,10 @@ class OptimumSensitivities:
 
 
 def answer_stage(result: OcpResult) -> StageResult:
-    """The stage that produced the result's answer (the last that ran)."""
+    """The stage that produced the result's answer (`standing_stage`)."""
     if not result.success:
         raise ValueError(f"the result did not converge ({result.status}): an optimum is needed")
-    return next(s for s in reversed(result.stages) if not s.was_skipped)
+    return standing_stage(result.stages)
 
 
 def per_group(mask: np.ndarray, groups: list) -> dict[str, int]:

@@ -236,3 +236,9 @@ def settings_repr(obj: Any) -> str:
         if default is MISSING or value != default:
             parts.append(f"{f.name}={value!r}")
     return f"{type(obj).__name__}({', '.join(parts)})"
+
+
+def standing_stage(stages: list[StageResult]) -> StageResult | None:
+    """The stage whose answer stands: the last one that ran (not skipped) and was not superseded (a
+    losing candidate, a polish round not kept); None when there is none."""
+    return next((s for s in reversed(stages) if not s.was_skipped and not s.superseded), None)

@@ -49,7 +49,7 @@ from ..speed import FourierSpeed
 from .candidates import run_candidates
 from .rigid import Rigid
 from .shooting import MultipleShooting
-from .stage import Check, StageResult, Transcription, WarmStart, settings_repr
+from .stage import Check, StageResult, Transcription, WarmStart, settings_repr, standing_stage
 from .verify import IMPACT_RATIO, is_periodic, ram_speed_violation, rigid_reference, screen, verify_speed
 
 MODES = ("auto", "all", "continue")
@@ -310,7 +310,7 @@ class Strategy:
         out: list[StageResult] = []
         if polish_model is not None and self.polish_rounds:
             out += self.polish(problem, polish_model, stages[-1], transcription, progress)
-            out += self.relax(problem, polish_model, answer_stage([*stages, *out]), transcription, progress)
+            out += self.relax(problem, polish_model, standing_stage([*stages, *out]), transcription, progress)
         if self.refine_rounds:
             out += self.refine(problem, refine_model, (stages + out)[-1], transcription, progress)
         return out
@@ -554,11 +554,6 @@ class Strategy:
                 step *= REFINE_SHRINK
             rounds.append(st)
         return rounds
-
-
-def answer_stage(stages: list[StageResult]) -> StageResult | None:
-    """The stage whose answer stands: the last one run (not skipped), successful and not superseded."""
-    return next((s for s in reversed(stages) if not s.was_skipped and s.success and not s.superseded), None)
 
 
 def rod_undeformed(model: PressModel, base: PressModel, x: np.ndarray) -> np.ndarray:
