@@ -137,6 +137,7 @@ def plot(rows: list[dict]) -> Path:
     labels = sorted({k[1] for k in last}, key=lambda x: (x != "before", x))
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(13, 5), gridspec_kw={"width_ratios": [1.2, 1]})
     width = 0.8 / max(len(labels), 1)
+    compiles: dict[str, str] = {}
     for j, lab in enumerate(labels):
         for i, s in enumerate(scen):
             row = last.get((s, lab))
@@ -149,16 +150,15 @@ def plot(rows: list[dict]) -> Path:
             a1.annotate(f"{row['median_wall_s']:.0f} s\n{min(pk):.1f} N·m" if pk else "failed",
                         (x, row["median_wall_s"]), ha="center", va="bottom", fontsize=7)
             comp = [c for c in row.get("compile_s", []) if c is not None]
-            if comp:  # the compiler's time in each run: the first with an empty cache, then filled
-                a1.annotate("compile\n" + " / ".join(f"{c:.1f}" for c in comp) + " s", (x, 0.0),
-                            xycoords=("data", "axes fraction"), xytext=(0, 3), textcoords="offset points",
-                            ha="center", va="bottom", fontsize=6)
+            if comp:  # the compiler's time in each run (the first with an empty cache), under the axis
+                compiles[s] = " / ".join(f"{c:.1f}" for c in comp)
     a1.axhline(GOAL_SEED_S, color="g", ls="--", lw=1, label=f"press75 goal {GOAL_SEED_S:.0f} s")
     a1.axhline(MOONSHOT_S, color="g", ls=":", lw=1, label=f"moonshot {MOONSHOT_S:.0f} s")
-    a1.set_xticks(range(len(scen)), scen)
+    a1.set_xticks(range(len(scen)), [f"{sc}\ncompile {compiles[sc]} s" if sc in compiles else sc for sc in scen],
+                  fontsize=8)
     a1.set_ylabel("wall time of the default call, s (median; dots: every run)")
     a1.set_yscale("log")
-    a1.legend(fontsize=8)
+    a1.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=4)
     a1.set_title("Scenario.load(name).optimize(), fresh process each run")
     ticks = []
     for j, lab in enumerate(labels):
@@ -168,8 +168,8 @@ def plot(rows: list[dict]) -> Path:
         for k, (lane, name, t0, t) in enumerate(timeline(stage_times(row))):
             y = j + 0.3 * lane
             a2.barh(y, t, left=t0, height=0.25, color=f"C{k % 10}", edgecolor="w")
-            if t > 6:
-                a2.text(t0 + t / 2, y, f"{name}\n{t:.0f}", ha="center", va="center", fontsize=6)
+            if t > 8:  # the lane says which candidate
+                a2.text(t0 + t / 2, y, f"{name.split('@')[0]}\n{t:.0f}", ha="center", va="center", fontsize=6)
         ticks.append((j, lab))
     a2.axvline(GOAL_SEED_S, color="g", ls="--", lw=1)
     a2.set_yticks([j for j, _ in ticks], [lab for _, lab in ticks])
