@@ -1,6 +1,6 @@
 """Regenerate the benchmarks with one command.
 
-    python -m benchmarks                  the suite, in order (budgets 171 min on 2 cores)
+    python -m benchmarks                  the suite, in order (budgets 176 min on 2 cores)
     python -m benchmarks --archive        the archive: past findings at up to 1.5 h each (budgets 4.7 h)
     python -m benchmarks --list           the benchmarks, their commands and budgets
     python -m benchmarks --only figures stability_quick
@@ -111,6 +111,8 @@ JOBS = (
         "dJ*/dp against the tracked optimum"),
     Job("sweep_parallel", "bench_sweep.py", ("parallel",), 4, "sweep speed-up, 1/2 workers and dask"),
     Job("fuzz", "bench_fuzz.py", (), 5, "600 generated presses, scenario dicts and files, command lines; unit slips"),
+    Job("transaction", "bench_transaction.py", (), 5,
+        "SIGINT and SIGKILL at random moments of optimize into a used --out (20 trials); two runs at once"),
     Job("sweep_continuation_90", "bench_sweep.py",
         ("continuation", "--ram-speed", "-0.15", "--side-by-side", "--rates", "60", "65", "70", "75", "80", "85", "90"),
         10, "warm path against cold starts, 60 -> 90 spm at -0.15 m/s",

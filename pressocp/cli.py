@@ -193,6 +193,21 @@ def flag_reason(summary: dict) -> str:
     return str(summary.get("status", periodic))
 
 
+def interrupted(out: Path, staging: Path | None) -> str:
+    """What an interrupted job left in `out`: its run when the commit had finished (the manifest
+    names this run's staging folder), else the previous run, untouched."""
+    from .io import RunMismatch, read_manifest, staging_run_id
+
+    try:
+        manifest = read_manifest(out) if out.is_dir() else None
+    except RunMismatch:
+        manifest = None
+    if staging is not None and manifest is not None and manifest.get("run_id") == staging_run_id(staging):
+        return f"this run had finished writing; {out} holds it"
+    held = f"the previous run (run {manifest.get('run_id')})" if manifest else "the previous run, if any"
+    return f"nothing of this run was written; {out} holds {held}"
+
+
 def check_writable(folder: Path, what: str) -> None:
     """InputError unless `folder` can be written or created: its nearest existing ancestor must be a
     folder this process may write into. Checked before any solve (a folder is not created here)."""
@@ -208,7 +223,7 @@ def check_writable(folder: Path, what: str) -> None:
 def _prepare(args: argparse.Namespace):
     """Check the input and return the job to run (a callable giving its exit code). Every bad value
     raises here, before anything is solved."""
-    from .io import NotRegularFile, atomic_write, check_regular, output_folder
+    from .io import MANIFEST_NAME, NotRegularFile, atomic_write, check_regular, output_folder
 
     if args.command == "scenario":
         if args.action == "new":
@@ -238,23 +253,34 @@ def _prepare(args: argparse.Namespace):
     matplotlib.use("Agg")  # files only; the library itself never picks a backend
     from . import jobs
 
+    for name in (*jobs.OUTPUT_NAMES, MANIFEST_NAME, "sweep.csv", "sweep.png"):  # each replaced by a regular file
+        try:
+            check_regular(out / name)
+        except NotRegularFile as err:
+            raise InputError(f"--out: {err}") from None
+
     if args.command == "sweep":
         return _prepare_sweep(args, scenario, out)
     if args.command == "simulate":
         speed = jobs.read_speed(args.speed) if args.speed is not None else None
         scenario.check_speed(speed, "--speed")
         warn_other_press(args.speed, scenario)
-        job = lambda: jobs.simulate_job(scenario, out, speed, str(args.speed) if args.speed else "rigid design")  # noqa: E731
+        job = lambda folder: jobs.simulate_job(scenario, folder, speed,  # noqa: E731
+                                               str(args.speed) if args.speed else "rigid design")
     elif args.command == "design":
-        job = lambda: jobs.design_job(scenario, out)  # noqa: E731
+        job = lambda folder: jobs.design_job(scenario, folder)  # noqa: E731
     elif args.command == "impacts":
-        job = lambda: jobs.impacts_job(scenario, out)  # noqa: E731
+        job = lambda folder: jobs.impacts_job(scenario, folder)  # noqa: E731
     else:
-        job = lambda: jobs.optimize_job(scenario, out, progress=not args.quiet)  # noqa: E731
+        job = lambda folder: jobs.optimize_job(scenario, folder, progress=not args.quiet)  # noqa: E731
 
     def run() -> int:
-        with output_folder(out):
-            report = job()
+        folder = None
+        try:
+            with output_folder(out) as folder:  # the job writes into a staging folder, committed at the end
+                report = job(folder)
+        except KeyboardInterrupt:
+            raise KeyboardInterrupt(interrupted(out, folder)) from None
         if not args.quiet:
             print(report.text)
             print(f"  wrote {', '.join(p.name for p in report.files)} to {out}/")
@@ -302,7 +328,7 @@ def parse_vary(items: list[str], path: bool) -> dict | list:
 def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
     """Check a sweep's input (every point) and return the job that runs it."""
     from . import jobs, plots
-    from .io import atomic_write, output_folder
+    from .io import atomic_write, output_folder, run_id, write_manifest
     from .sweeps import points_of, sweep
     from .workers import process_pool
 
@@ -322,8 +348,11 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
     keys = list(points[0])
 
     def run() -> int:
-        with output_folder(out, clear=False):  # a resumed sweep continues its sweep.csv
-            return sweep_job()
+        try:
+            with output_folder(out, transaction=False):  # a resumed sweep continues its sweep.csv
+                return sweep_job()
+        except KeyboardInterrupt:
+            raise KeyboardInterrupt(f"{csv} holds the points finished so far; --resume continues the sweep") from None
 
     def sweep_job() -> int:
         pool = None if args.workers is None else process_pool(args.workers)
@@ -342,6 +371,7 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
         text = f"{scenario.name}: {args.task} at {len(table)} points, {failed} not ok"
         atomic_write(out / "report.txt", text + "\n\n" + table.drop(columns=["speed"], errors="ignore")
                      .to_string(index=False) + "\n")
+        write_manifest(out, run_id(), [n for n in ("sweep.csv", "sweep.png", "report.txt") if (out / n).is_file()])
         if not args.quiet:
             cols = [c for c in [*keys, "ok", "peak_torque_N_m", "initial_peak_torque_N_m", "rigid_peak_torque_N_m",
                                 "peak_slider_normal_force_N", "wall_time_s", "error"] if c in table]
@@ -359,7 +389,7 @@ COMMANDS = ("optimize", "simulate", "design", "impacts", "sweep", "scenario")
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the exit code (0, 1, 2 or 130)."""
     from .checks import PlausibilityWarning
-    from .io import OutputBusy
+    from .io import NotRegularFile, OutputBusy
     from .scenario import ScenarioError
 
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -380,12 +410,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f"pressocp: warning: {message} (--strict makes this an error)", file=sys.stderr)
     try:
         return job()
-    except OutputBusy as err:
+    except (OutputBusy, NotRegularFile) as err:  # the folder taken, or a file of it made a folder meanwhile
         print(f"pressocp: error: {err}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("pressocp: interrupted (files written so far are complete; the rest were not written)",
-              file=sys.stderr)
+    except KeyboardInterrupt as err:
+        print(f"pressocp: interrupted{f': {err}' if str(err) else ''}", file=sys.stderr)
         return 130
 
 

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from .design import design_speed
-from .io import SUMMARY_NAME, atomic_write, write_json
+from .io import SUMMARY_NAME, RunMismatch, atomic_write, check_run_file, write_json
 from .objectives import get as get_objective
 from .params import PressParams
 from .ocp.result import PEAK_SERIES, OcpResult, versions
@@ -30,6 +30,9 @@ FIGURES = {
     "loads.png": PEAK_SERIES,
     "journals.png": ("crank_pin_eccentricity", "wrist_pin_eccentricity"),
 }
+#: Every file a job may write into its folder (checked to be placeable before a job runs).
+OUTPUT_NAMES = ("results.csv", "speed.json", "result.json", *FIGURES, "design.png", "impacts.png", "report.txt",
+                SUMMARY_NAME)
 
 
 @dataclass
@@ -66,7 +69,10 @@ def read_speed(path: str | Path) -> FourierSpeed:
     (`OcpResult.to_json`, its ``speed``). Raises ValueError naming the file."""
     path = Path(path)
     try:
+        check_run_file(path)
         data = json.loads(path.read_text(encoding="utf-8"))
+    except RunMismatch as err:
+        raise ValueError(f"--speed: {err}") from None
     except FileNotFoundError:
         raise ValueError(f"--speed: no such file {path}") from None
     except IsADirectoryError:

@@ -395,6 +395,10 @@ class PressParams:
                 slip = f": a value in mm? {h:g} mm is {h / 1000:g} m" if -H <= h / 1000 <= 2 * H else ""
                 raise ValueError(f"process_force.{name} must be in [-stroke, 2 x stroke] = [{-H:g}, {2 * H:g}] m "
                                  f"(a height above bottom dead centre), got {h!r}{slip}")
+        pf = self.process_force
+        if pf.force > 0.0 and (pf.h_top <= 0.0 or pf.h_bottom >= H):
+            chk.suspect(f"process_force acts for heights in [{pf.h_bottom:g}, {pf.h_top:g}] m, outside the stroke [0, "
+                        f"{H:g}] m: it never acts. Heights are above bottom dead centre, in m")
 
     def _suspect_units(self) -> None:
         """`PlausibilityWarning` for values inside their ranges that do not fit the rest of the press:

@@ -15,7 +15,7 @@ import numpy as np
 from . import checks as chk
 from .objectives import OBJECTIVES
 from .params import PressParams
-from .rigid import crank_angle_at_height
+from .rigid import crank_angle_at_height, rigid_kinematics
 from .speed import DEFAULT_HARMONICS
 
 #: The working window may take at most this share of the period.
@@ -58,6 +58,55 @@ def ram_speed_range(press: PressParams, period: float, window: tuple[float, floa
     return -fastest, -slowest
 
 
+#: Margin on the window's crank speed and acceleration needs before a speed limit is refused: the
+#: needs are those of the ideal press, and clearances or a flexible rod shift them slightly.
+LIMIT_MARGIN = 0.01
+
+
+def window_crank_speeds(press: PressParams, ram_speed: float, tol: float, window: tuple[float, float],
+                        n: int = 201) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Crank speeds the window needs on the ideal press: at each crank angle theta of the window, the
+    ram speed |dh/dt| = omega |dh/dtheta| within ``|ram_speed| -+ tol`` needs omega in
+    [(|v| - tol) / |dh/dtheta|, (|v| + tol) / |dh/dtheta|].
+
+    Returns
+    -------
+    theta, lowest, highest : ndarray
+        Crank angles across the window (rad) and the least and greatest crank speed there (rad/s).
+    """
+    th0, th1 = crank_angle_at_height(press, np.array(window) * press.stroke, "down")
+    theta = np.linspace(th0, th1, n)
+    slope = np.abs(rigid_kinematics(press, theta, 1.0)["ram_velocity"])  # |dh/dtheta|, m/rad
+    v = abs(ram_speed)
+    return theta, (v - tol) / slope, (v + tol) / slope
+
+
+def check_speed_limits(problem: "SpeedProblem") -> None:
+    """ValueError when the crank speed limits leave no speed that holds the ram speed over the window
+    (on the ideal press, with `LIMIT_MARGIN`): omega_max below the speed the window needs somewhere,
+    omega_min above it, or alpha_max below the least peak acceleration any such speed has (the speed
+    must rise from its least value at the window's start to its least value at its end:
+    |alpha| >= (lowest(end)^2 - highest(start)^2) / (2 x the window's crank angle))."""
+    theta, lowest, highest = window_crank_speeds(problem.press, problem.ram_speed, problem.tol, problem.window)
+    where = lambda k: f"h = {float(rigid_kinematics(problem.press, theta[k])['ram_height']):.4g} m"  # noqa: E731
+    v = f"{problem.ram_speed:g} m/s"
+    if problem.omega_max is not None and problem.omega_max < (1 - LIMIT_MARGIN) * lowest.max():
+        need = lowest.max()
+        raise ValueError(f"omega_max must be in [{need:.4g}, inf) rad/s, got {problem.omega_max!r}: the crank must "
+                         f"turn at {need:.4g} rad/s at {where(int(np.argmax(lowest)))} for the ram to move at {v} "
+                         "in the window; raise omega_max or lower |ram_speed|")
+    if problem.omega_min is not None and problem.omega_min > (1 + LIMIT_MARGIN) * highest.min():
+        need = highest.min()
+        raise ValueError(f"omega_min must be in (0, {need:.4g}] rad/s, got {problem.omega_min!r}: the crank must "
+                         f"turn at most {need:.4g} rad/s at {where(int(np.argmin(highest)))} for the ram to "
+                         f"move at {v} in the window")
+    rise = (lowest[-1] ** 2 - highest[0] ** 2) / (2 * abs(theta[-1] - theta[0]))
+    if problem.alpha_max is not None and rise > 0 and problem.alpha_max < (1 - LIMIT_MARGIN) * rise:
+        raise ValueError(f"alpha_max must be in [{rise:.4g}, inf) rad/s^2, got {problem.alpha_max!r}: holding the "
+                         f"ram at {v} over the window, the crank speed rises from {highest[0]:.4g} rad/s or less to "
+                         f"{lowest[-1]:.4g} rad/s or more, which needs at least {rise:.4g} rad/s^2")
+
+
 def check_ram_speed(press: PressParams, period: float, ram_speed: float, window: tuple[float, float]) -> float:
     """Validate a window ram speed: negative and within `ram_speed_range` (ValueError otherwise)."""
     v = chk.finite("ram_speed", ram_speed)
@@ -66,8 +115,9 @@ def check_ram_speed(press: PressParams, period: float, ram_speed: float, window:
     fastest, slowest = ram_speed_range(press, period, window)
     if not fastest <= v <= slowest:
         raise ValueError(
-            f"ram_speed must be in [{fastest:.4g}, {slowest:.4g}] m/s for period={period:g} s and window="
-            f"({window[0]:g}, {window[1]:g}): the crank cannot deliver {v!r} m/s over that window at that period "
+            f"ram_speed must be in [{fastest:.4g}, {slowest:.4g}] m/s for period={period:g} s, window="
+            f"({window[0]:g}, {window[1]:g}), crank_radius={press.crank_radius:g} m (a stroke of {press.stroke:g} m) "
+            f"and rod_length={press.rod_length:g} m: the crank cannot deliver {v!r} m/s over that window at that period "
             f"(the window may take at most {MAX_WINDOW_SHARE:.0%} of the period and the crank may cross it at most "
             f"{MAX_WINDOW_SPEED_RATIO:g}x faster than its mean speed)"
         )
@@ -153,6 +203,7 @@ class SpeedProblem:
                                  "so its axial force must change sign")
         if self.max_pin_force is not None:
             chk.in_open_interval("max_pin_force", self.max_pin_force, self.hanging_weight, np.inf, "N")
+        check_speed_limits(self)
 
     # Derived values ------------------------------------------------------------------------------
     @property

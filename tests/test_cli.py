@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from pressocp.io import LOCK_NAME
+from pressocp.io import LOCK_NAME, MANIFEST_NAME
 
 from pressocp.cli import main
 from pressocp.speed import FourierSpeed
@@ -46,7 +46,8 @@ def test_optimize_writes_every_file(rigid_optimum):
     # on the ideal press the answer is the rigid optimum: the floor itself, below the design's peak
     assert summary["peak_torque_N_m"] == pytest.approx(summary["rigid_peak_torque_N_m"], rel=1e-9)
     assert summary["peak_torque_N_m"] < summary["initial_peak_torque_N_m"]
-    assert set(summary["files"]) == {p.name for p in out.iterdir()} - {LOCK_NAME}
+    assert set(summary["files"]) == {p.name for p in out.iterdir()} - {LOCK_NAME, MANIFEST_NAME}
+    assert set(json.loads((out / MANIFEST_NAME).read_text())["files"]) == set(summary["files"])
     for png in ("speed.png", "loads.png"):
         assert (out / png).stat().st_size > 20_000
 

@@ -178,9 +178,9 @@ def test_a_flagged_result_says_why():
 
 
 def test_an_output_folder_holds_one_run(tmp_path, capsys):
-    """A run first removes the previous run's files (those its summary.json lists, then the summary),
-    so an interrupted run never leaves an old summary beside new results; other files stay. While a
-    run holds the folder's lock, a second run into it exits 2 before writing anything."""
+    """A run replaces the previous run's files (a folder written before manifests: those its
+    summary.json lists, never a path out of the folder); other files stay. While a run holds the
+    folder's lock, a second run into it exits 2 before writing anything."""
     from filelock import FileLock
 
     from pressocp.io import LOCK_NAME

@@ -214,3 +214,50 @@ def test_plausible_values_do_not_warn():
         PressParams(rod_mass=20.0, crank_mass=100.0, crank_pin=Bearing(stiffness=1e11),
                     process_force=ProcessForce(force=5e4, h_top=0.05, h_bottom=0.0))
         SpeedProblem(PressParams(), period=0.8, omega_max=15.0)
+
+
+def test_a_process_force_window_outside_the_stroke_warns():
+    with pytest.warns(PlausibilityWarning, match=r"process_force acts for heights in \[0.12, 0.15\] m, outside"):
+        PressParams(process_force=ProcessForce(force=1e4, h_top=0.15, h_bottom=0.12))  # stroke 0.1 m
+
+
+def window_needs(press, v, tol, window):
+    """Crank speeds the window needs, from the slider-crank's height written out here:
+    h = r (1 + cos th) + sqrt(l^2 - r^2 sin^2 th) - l, on the downstroke th in (0, pi)."""
+    r, l = press.crank_radius, press.rod_length
+    th = np.linspace(1e-6, np.pi - 1e-6, 200001)
+    h = r * (1 + np.cos(th)) + np.sqrt(l**2 - r**2 * np.sin(th) ** 2) - l
+    dh = np.abs(-r * np.sin(th) - r**2 * np.sin(th) * np.cos(th) / np.sqrt(l**2 - r**2 * np.sin(th) ** 2))
+    inside = (h <= window[0] * 2 * r) & (h >= window[1] * 2 * r)
+    return ((abs(v) - tol) / dh[inside]).max(), ((abs(v) + tol) / dh[inside]).min()
+
+
+def test_speed_limits_that_leave_no_speed_for_the_window_are_refused_naming_the_need():
+    """omega_max below the crank speed the window's ram speed needs (or omega_min above it) has no
+    solution: refused before any solve, naming the need; 1 % under the need (the margin for
+    clearances and a flexible rod) is accepted."""
+    press = PressParams()
+    base = SpeedProblem(press, period=0.8)
+    most, least = window_needs(press, base.ram_speed, base.tol, base.window)
+    SpeedProblem(press, period=0.8, omega_max=0.995 * most)
+    with pytest.raises(ValueError, match=rf"omega_max must be in \[{most:.4g}, inf\) rad/s, got .*raise omega_max"):
+        SpeedProblem(press, period=0.8, omega_max=0.98 * most)
+    if least < 2 * np.pi / 0.8:  # omega_min must be below the mean speed anyway
+        with pytest.raises(ValueError, match=rf"omega_min must be in \(0, {least:.4g}\] rad/s"):
+            SpeedProblem(press, period=0.8, omega_min=1.02 * least)
+
+
+def test_an_acceleration_limit_below_what_the_window_needs_is_refused():
+    """Across the window the crank speed rises from at most (|v|+tol)/|h'| at its start to at least
+    (|v|-tol)/|h'| at its end; no speed does that with |alpha| below the rise of omega^2 / 2 over the
+    window's crank angle."""
+    press = PressParams()
+    p = SpeedProblem(press, period=0.8)
+    r, l, v = press.crank_radius, press.rod_length, abs(p.ram_speed)
+    ang = [math.acos(((h - r - l) ** 2 + r**2 - l**2) / (2 * r * (h - r - l))) for h in p.window_heights]
+    slope = [r * math.sin(a) + r**2 * math.sin(a) * math.cos(a) / math.sqrt(l**2 - r**2 * math.sin(a) ** 2) for a in ang]
+    rise = (((v - p.tol) / slope[1]) ** 2 - ((v + p.tol) / slope[0]) ** 2) / (2 * (ang[1] - ang[0]))
+    assert rise > 0
+    SpeedProblem(press, period=0.8, alpha_max=rise)
+    with pytest.raises(ValueError, match=rf"alpha_max must be in \[{rise:.4g}, inf\) rad/s\^2"):
+        SpeedProblem(press, period=0.8, alpha_max=0.9 * rise)

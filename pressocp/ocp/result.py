@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io import write_json
+from ..io import check_run_file, write_json
 from ..model import ModelSpec
 from ..problem import SpeedProblem
 from ..result import SimResult
@@ -235,9 +235,11 @@ class OcpResult:
 
     @classmethod
     def from_json(cls, path: str | Path) -> "OcpResult":
-        """Read a file written by `to_json`."""
+        """Read a file written by `to_json`. In an output folder with a manifest, the folder is checked
+        first (`pressocp.io.check_run_file`): a file of a mixed or changed run raises `RunMismatch`."""
         path = Path(path)
         try:
+            check_run_file(path)
             data = json.loads(path.read_text())
         except FileNotFoundError:
             raise FileNotFoundError(f"no result file at {path}") from None
