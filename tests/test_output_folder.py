@@ -44,7 +44,8 @@ def write_run(out, files, kill_at=-1):
 
 def contents(out):
     """The folder's visible files and their text, hashed by this test (not by the code under test)."""
-    return {p.name: p.read_text() for p in out.iterdir() if not p.name.startswith(".") and p.name != MANIFEST_NAME}
+    return {p.name: p.read_text() for p in out.iterdir()
+            if p.is_file() and not p.name.startswith(".") and p.name != MANIFEST_NAME}
 
 
 @pytest.mark.parametrize("kill_at", range(5))  # 3 files + the manifest: 4 moves; 4 = not killed

@@ -222,12 +222,14 @@ def test_a_process_force_window_outside_the_stroke_warns():
 
 
 def window_needs(press, v, tol, window):
-    """Crank speeds the window needs, from the slider-crank's height written out here:
-    h = r (1 + cos th) + sqrt(l^2 - r^2 sin^2 th) - l, on the downstroke th in (0, pi)."""
+    """Crank speeds the window needs, from the slider-crank's height written out here (the wrist pin
+    below the crank axis, at y = r cos th - sqrt(l^2 - r^2 sin^2 th); h = y + r + l), on the downstroke
+    th in (0, pi)."""
     r, l = press.crank_radius, press.rod_length
     th = np.linspace(1e-6, np.pi - 1e-6, 200001)
-    h = r * (1 + np.cos(th)) + np.sqrt(l**2 - r**2 * np.sin(th) ** 2) - l
-    dh = np.abs(-r * np.sin(th) - r**2 * np.sin(th) * np.cos(th) / np.sqrt(l**2 - r**2 * np.sin(th) ** 2))
+    root = np.sqrt(l**2 - r**2 * np.sin(th) ** 2)
+    h = r * np.cos(th) - root + r + l
+    dh = np.abs(-r * np.sin(th) + r**2 * np.sin(th) * np.cos(th) / root)
     inside = (h <= window[0] * 2 * r) & (h >= window[1] * 2 * r)
     return ((abs(v) - tol) / dh[inside]).max(), ((abs(v) + tol) / dh[inside]).min()
 
@@ -236,15 +238,22 @@ def test_speed_limits_that_leave_no_speed_for_the_window_are_refused_naming_the_
     """omega_max below the crank speed the window's ram speed needs (or omega_min above it) has no
     solution: refused before any solve, naming the need; 1 % under the need (the margin for
     clearances and a flexible rod) is accepted."""
+    from pressocp.problem import ram_speed_range
+
     press = PressParams()
-    base = SpeedProblem(press, period=0.8)
-    most, least = window_needs(press, base.ram_speed, base.tol, base.window)
-    SpeedProblem(press, period=0.8, omega_max=0.995 * most)
+    fast = 0.8 * ram_speed_range(press, 0.8, (0.7, 0.3))[0]  # the window crossed at about 2.4 x the mean speed
+    base = SpeedProblem(press, period=0.8, ram_speed=fast)
+    most, _ = window_needs(press, base.ram_speed, base.tol, base.window)
+    assert most > 2 * np.pi / 0.8  # omega_max must exceed the mean speed anyway
+    SpeedProblem(press, period=0.8, ram_speed=fast, omega_max=0.995 * most)
     with pytest.raises(ValueError, match=rf"omega_max must be in \[{most:.4g}, inf\) rad/s, got .*raise omega_max"):
-        SpeedProblem(press, period=0.8, omega_max=0.98 * most)
-    if least < 2 * np.pi / 0.8:  # omega_min must be below the mean speed anyway
-        with pytest.raises(ValueError, match=rf"omega_min must be in \(0, {least:.4g}\] rad/s"):
-            SpeedProblem(press, period=0.8, omega_min=1.02 * least)
+        SpeedProblem(press, period=0.8, ram_speed=fast, omega_max=0.98 * most)
+    slow = SpeedProblem(press, period=0.8)
+    _, least = window_needs(press, slow.ram_speed, slow.tol, slow.window)
+    assert least < 2 * np.pi / 0.8  # omega_min must be below the mean speed anyway
+    SpeedProblem(press, period=0.8, omega_min=1.005 * least)
+    with pytest.raises(ValueError, match=rf"omega_min must be in \(0, {least:.4g}\] rad/s"):
+        SpeedProblem(press, period=0.8, omega_min=1.02 * least)
 
 
 def test_an_acceleration_limit_below_what_the_window_needs_is_refused():
@@ -252,12 +261,13 @@ def test_an_acceleration_limit_below_what_the_window_needs_is_refused():
     (|v|-tol)/|h'| at its end; no speed does that with |alpha| below the rise of omega^2 / 2 over the
     window's crank angle."""
     press = PressParams()
-    p = SpeedProblem(press, period=0.8)
+    p = SpeedProblem(press, period=0.8, window=(0.4, 0.05))  # near bottom dead centre: the speed must rise
     r, l, v = press.crank_radius, press.rod_length, abs(p.ram_speed)
     ang = [math.acos(((h - r - l) ** 2 + r**2 - l**2) / (2 * r * (h - r - l))) for h in p.window_heights]
-    slope = [r * math.sin(a) + r**2 * math.sin(a) * math.cos(a) / math.sqrt(l**2 - r**2 * math.sin(a) ** 2) for a in ang]
+    slope = [abs(-r * math.sin(a) + r**2 * math.sin(a) * math.cos(a) / math.sqrt(l**2 - r**2 * math.sin(a) ** 2))
+             for a in ang]
     rise = (((v - p.tol) / slope[1]) ** 2 - ((v + p.tol) / slope[0]) ** 2) / (2 * (ang[1] - ang[0]))
     assert rise > 0
-    SpeedProblem(press, period=0.8, alpha_max=rise)
+    p.replace(alpha_max=rise)
     with pytest.raises(ValueError, match=rf"alpha_max must be in \[{rise:.4g}, inf\) rad/s\^2"):
-        SpeedProblem(press, period=0.8, alpha_max=0.9 * rise)
+        p.replace(alpha_max=0.9 * rise)
