@@ -5,7 +5,9 @@
 
 A first run fills the folder. Each trial then starts the same command into it, waits a random time
 (uniform over 1.1 x the first run's wall time, so some runs finish before the signal) and sends
-SIGINT or SIGKILL (alternately). Afterwards the folder is read as a user's script would, with this
+SIGINT or SIGKILL (alternately): SIGINT to the process group, as Ctrl-C in a terminal; SIGKILL to
+the process alone, whose worker processes must then end too (a run waits at most 120 s for them,
+and counts them as outliving it otherwise). Afterwards the folder is read as a user's script would, with this
 file's own check (not the package's): the manifest's every file present with its SHA-256, and no
 other visible file but a marker the user left. Outcomes:
 
@@ -69,14 +71,24 @@ def folder_state(out: Path) -> tuple[str | None, str]:
 def trial(scenario: str, out: Path, delay: float, sig: signal.Signals, before: str) -> dict:
     """One run into `out`, `sig` after `delay` s; the folder's state afterwards."""
     t0 = time.perf_counter()
-    proc = subprocess.Popen(command(scenario, out), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(command(scenario, out), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
     try:
         proc.wait(timeout=delay)
     except subprocess.TimeoutExpired:
-        proc.send_signal(sig)
-    _, err = proc.communicate(timeout=120)
+        if sig == signal.SIGINT:
+            os.killpg(proc.pid, sig)  # as Ctrl-C in a terminal: the process and its workers
+        else:
+            proc.send_signal(sig)  # as kill -9 or the OOM killer: the process alone; its workers must follow
+    try:
+        _, err = proc.communicate(timeout=120)
+        orphans = False
+    except subprocess.TimeoutExpired:  # the stderr pipe held open by workers that outlived the run
+        orphans = True
+        os.killpg(proc.pid, signal.SIGKILL)
+        _, err = proc.communicate()
     row = {"signal": sig.name, "delay_s": delay, "exit": proc.returncode, "run_s": time.perf_counter() - t0,
-           "message": err.strip().splitlines()[-1] if err.strip() else ""}
+           "message": err.strip().splitlines()[-1] if err.strip() else "", "workers_outlived_run": orphans}
     run, state = folder_state(out)
     if state == "commit pending":
         from pressocp.io import check_folder
@@ -88,22 +100,36 @@ def trial(scenario: str, out: Path, delay: float, sig: signal.Signals, before: s
         row["outcome"] = "old run" if run == before else "new run"
     else:
         row["outcome"] = "mixed"
-    row.update(state=state, run_id=run, traceback="Traceback" in err)
+    # a Ctrl-C during the interpreter's start-up ends in Python's own KeyboardInterrupt traceback (exit
+    # -2), before the package can catch it; any other traceback is a failure
+    startup = proc.returncode == -signal.SIGINT and err.strip().endswith("KeyboardInterrupt")
+    worker = "concurrent/futures/process.py" in err and "KeyboardInterrupt" in err
+    row.update(state=state, run_id=run, traceback="Traceback" in err and not startup and not worker,
+               startup_interrupt=startup, worker_tracebacks=worker)
     return row
+
+
+def holds(out: Path, pid: int) -> bool:
+    """Whether the folder's owner file names process `pid`."""
+    try:
+        return json.loads((out / ".pressocp.owner").read_text())["pid"] == pid
+    except (OSError, ValueError, KeyError):
+        return False
 
 
 def concurrent(scenario: str, out: Path) -> dict:
     """Two runs started together on `out`: one refused (exit 2, naming the holder), one finishing."""
     t0 = time.perf_counter()
     first = subprocess.Popen(command(scenario, out), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    while not (out / ".pressocp.owner").exists() and first.poll() is None and time.perf_counter() - t0 < 60:
-        time.sleep(0.05)  # until the first holds the folder
+    while not holds(out, first.pid) and first.poll() is None and time.perf_counter() - t0 < 60:
+        time.sleep(0.05)  # until the first holds the folder (an owner file a killed run left names another)
     t1 = time.perf_counter()
     second = subprocess.run(command(scenario, out), capture_output=True, text=True, timeout=120)
     refused_s = time.perf_counter() - t1
     _, err_first = first.communicate(timeout=600)
     run, state = folder_state(out)
-    return {"first_exit": first.returncode, "second_exit": second.returncode, "second_refused_after_s": refused_s,
+    return {"first_exit": first.returncode, "first_message": err_first.strip()[-300:],
+            "second_exit": second.returncode, "second_refused_after_s": refused_s,
             "second_message": second.stderr.strip(), "names_holder": f"process {first.pid} " in second.stderr,
             "first_run_s": time.perf_counter() - t0, "folder_afterwards": state,
             "ok": second.returncode == 2 and f"process {first.pid} " in second.stderr and refused_s < 2.0
@@ -180,7 +206,11 @@ def main() -> int:
     OUT.mkdir(exist_ok=True)
     (OUT / "transaction.json").write_text(json.dumps(data, indent=1) + "\n")
     print(plot(data))
-    failed = data["outcomes"]["mixed"] or data["tracebacks"] or not both["ok"]
+    data["workers_outlived_run"] = sum(r["workers_outlived_run"] for r in trials)
+    data["startup_interrupts"] = sum(r["startup_interrupt"] for r in trials)
+    data["worker_tracebacks"] = sum(r["worker_tracebacks"] for r in trials)
+    (OUT / "transaction.json").write_text(json.dumps(data, indent=1) + "\n")
+    failed = data["outcomes"]["mixed"] or data["tracebacks"] or not both["ok"] or data["workers_outlived_run"]
     return 1 if failed else 0
 
 
