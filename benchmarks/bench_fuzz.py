@@ -90,9 +90,13 @@ def some(rng: random.Random, fields: dict) -> dict:
     return {k: value(rng, v) for k, v in fields.items() if rng.random() < 0.3}
 
 
+#: A scenario key and the problem field it sets, which the problem's own messages name.
+ALIASES = {"period_s": "period=", "stroke_rate_spm": "period="}
+
+
 def names(err: BaseException, given: list[str]) -> bool:
     text = str(err)
-    return any(g in text or g.split(".")[-1] in text for g in given)
+    return any(g in text or g.split(".")[-1] in text or ALIASES.get(g.split(".")[-1], "\0") in text for g in given)
 
 
 def finite_design(problem: po.SpeedProblem) -> bool:

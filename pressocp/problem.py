@@ -115,7 +115,8 @@ def check_ram_speed(press: PressParams, period: float, ram_speed: float, window:
     fastest, slowest = ram_speed_range(press, period, window)
     if not fastest <= v <= slowest:
         raise ValueError(
-            f"ram_speed must be in [{fastest:.4g}, {slowest:.4g}] m/s for period={period:g} s, window="
+            f"ram_speed must be in [{fastest:.4g}, {slowest:.4g}] m/s for period={period:g} s (stroke_rate_spm="
+            f"{60 / period:.4g}), window="
             f"({window[0]:g}, {window[1]:g}), crank_radius={press.crank_radius:g} m (a stroke of {press.stroke:g} m) "
             f"and rod_length={press.rod_length:g} m: the crank cannot deliver {v!r} m/s over that window at that period "
             f"(the window may take at most {MAX_WINDOW_SHARE:.0%} of the period and the crank may cross it at most "
