@@ -253,7 +253,7 @@ def _prepare(args: argparse.Namespace):
     matplotlib.use("Agg")  # files only; the library itself never picks a backend
     from . import jobs
 
-    for name in (*jobs.OUTPUT_NAMES, MANIFEST_NAME, "sweep.csv", "sweep.png"):  # each replaced by a regular file
+    for name in (*jobs.OUTPUT_NAMES, *SWEEP_FILES, MANIFEST_NAME):  # each replaced by a regular file
         try:
             check_regular(out / name)
         except NotRegularFile as err:
@@ -371,7 +371,7 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
         text = f"{scenario.name}: {args.task} at {len(table)} points, {failed} not ok"
         atomic_write(out / "report.txt", text + "\n\n" + table.drop(columns=["speed"], errors="ignore")
                      .to_string(index=False) + "\n")
-        write_manifest(out, run_id(), [n for n in ("sweep.csv", "sweep.png", "report.txt") if (out / n).is_file()])
+        write_manifest(out, run_id(), [n for n in SWEEP_FILES if (out / n).is_file()])
         if not args.quiet:
             cols = [c for c in [*keys, "ok", "peak_torque_N_m", "initial_peak_torque_N_m", "rigid_peak_torque_N_m",
                                 "peak_slider_normal_force_N", "wall_time_s", "error"] if c in table]
@@ -382,6 +382,8 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
     return run
 
 
+#: The files a sweep writes into its folder: its table (resumed from), figure and report.
+SWEEP_FILES = ("sweep.csv", "sweep.png", "report.txt")
 #: Subcommands; a command line that starts with none of them runs ``optimize``.
 COMMANDS = ("optimize", "simulate", "design", "impacts", "sweep", "scenario")
 

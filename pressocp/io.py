@@ -265,8 +265,13 @@ def check_folder(folder: str | Path) -> dict | None:
     folder = Path(folder)
     recover(folder)
     manifest = read_manifest(folder)
-    if manifest is None:
-        return None
+    if manifest is not None:
+        verify_manifest(folder, manifest)
+    return manifest
+
+
+def verify_manifest(folder: Path, manifest: dict) -> None:
+    """Raise `RunMismatch`, naming them, unless every file `manifest` lists is in `folder` with its hash."""
     missing = [n for n in manifest["files"] if not (folder / n).is_file()]
     changed = [n for n, h in manifest["files"].items() if n not in missing and sha256(folder / n) != h]
     if missing or changed:
@@ -274,7 +279,6 @@ def check_folder(folder: str | Path) -> dict | None:
                                      f"changed {', '.join(changed)}" if changed else "") if s)
         raise RunMismatch(f"{folder} does not hold the run its {MANIFEST_NAME} lists (run {manifest.get('run_id')}): "
                           f"{what}. The files were changed after the run or come from two runs; run the job again")
-    return manifest
 
 
 def check_run_file(path: str | Path) -> None:
@@ -285,7 +289,7 @@ def check_run_file(path: str | Path) -> None:
     recover(path.parent)
     manifest = read_manifest(path.parent)
     if manifest is not None and path.name in manifest["files"]:
-        check_folder(path.parent)
+        verify_manifest(path.parent, manifest)
 
 
 def file_mode() -> int:

@@ -86,7 +86,10 @@ def check_speed_limits(problem: "SpeedProblem") -> None:
     (on the ideal press, with `LIMIT_MARGIN`): omega_max below the speed the window needs somewhere,
     omega_min above it, or alpha_max below the least peak acceleration any such speed has (the speed
     must rise from its least value at the window's start to its least value at its end:
-    |alpha| >= (lowest(end)^2 - highest(start)^2) / (2 x the window's crank angle))."""
+    |alpha| >= (lowest(end)^2 - highest(start)^2) / (2 x the window's crank angle)). Nothing is
+    computed when none of the three limits is given."""
+    if problem.omega_max is None and problem.omega_min is None and problem.alpha_max is None:
+        return
     theta, lowest, highest = window_crank_speeds(problem.press, problem.ram_speed, problem.tol, problem.window)
     where = lambda k: f"h = {float(rigid_kinematics(problem.press, theta[k])['ram_height']):.4g} m"  # noqa: E731
     v = f"{problem.ram_speed:g} m/s"
