@@ -29,6 +29,14 @@ CACHE_ENV = "PRESSOCP_CACHE_DIR"
 #: caller cannot see that SIGINT: CasADi runs the compiler through ``system()``, which ignores SIGINT
 #: in its caller, so a Ctrl-C during a compile would otherwise be lost (`compile_interrupted`).
 INTERRUPT_ENV = "PRESSOCP_COMPILE_INTERRUPTED"
+#: Shell prefix of the compile and link commands (CasADi runs them through ``/bin/sh -c``). The shell
+#: records a SIGINT in the flag file (`INTERRUPT_ENV`) and exits 130 once its command has ended; the
+#: command (`pressocp.jitcc`) starts with SIGINT ignored, until its own handler is in place. Python takes
+#: tens of milliseconds to get there, and a cached compile is mostly that start-up: without the shell's
+#: record a Ctrl-C there ended the compile unrecorded ("Linking failed", exit 1) with a traceback of the
+#: compiler's interpreter. A Ctrl-C in that start-up lets that one compile finish first.
+RECORD_INTERRUPT = (f"trap ': > \"${INTERRUPT_ENV}\"; exit 130' INT; run() ( trap '' INT; exec \"$@\" ); run "
+                    if os.name == "posix" else "")
 #: Environment variable naming the file to which `pressocp.jitcc` appends the seconds of every compile
 #: it runs (a cache hit runs none), so a caller can report its compile time (`compile_seconds`).
 COMPILE_LOG_ENV = "PRESSOCP_COMPILE_LOG"
@@ -152,8 +160,8 @@ def jit_options() -> dict:
         except OSError:  # an unwritable cache folder: compile without it
             folder = None
     script = Path(__file__).with_name("jitcc.py")  # a link runs as it is, but a SIGINT during it is recorded too
-    compiler = linker = " ".join(shlex.quote(str(a)) for a in (sys.executable, "-s", script,
-                                                               NO_CACHE if folder is None else folder, cc))
+    compiler = linker = RECORD_INTERRUPT + " ".join(shlex.quote(str(a)) for a in (
+        sys.executable, "-s", script, NO_CACHE if folder is None else folder, cc))
     os.environ[INTERRUPT_ENV] = str(interrupt_flag())  # for the compiler's process (`compile_interrupted`)
     os.environ[COMPILE_LOG_ENV] = str(compile_log())  # and where it logs its time (`compile_seconds`)
     _remove_log_at_exit()

@@ -1,7 +1,8 @@
 """Ctrl-C through CasADi: SUNDIALS and IPOPT run in C++ and poll Python for signals; CasADi turns a
 KeyboardInterrupt raised there into an integrator failure or IPOPT's "User_Requested_Stop". Inside
 `interruptible` a SIGINT is remembered, and `interruptible` raises `KeyboardInterrupt` when the call
-returns, so a Ctrl-C always stops the program instead of becoming a failed or stopped result."""
+returns, so a Ctrl-C always stops the program instead of becoming a failed or stopped result.
+"""
 
 from __future__ import annotations
 
@@ -14,11 +15,30 @@ from .compile_cache import compile_interrupted
 
 
 @contextmanager
+def sigint_held() -> Iterator[None]:
+    """Within the block SIGINT is blocked in the calling thread, and so in every process it starts (a
+    blocked signal stays blocked across fork and exec). A SIGINT that arrives meanwhile is not lost: it
+    waits, and this thread receives it when the block ends (another thread of the process may take it
+    at once). A child receives it when it unblocks SIGINT, which the workers of
+    `pressocp.workers.process_pool` do once their handler is installed (``/bin/sh`` clears the mask
+    at its start, so a command run through ``system()`` is not protected). No-op where the platform
+    has no signal masks."""
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+@contextmanager
 def compiling() -> Iterator[None]:
     """Around a CasADi call that may run the C compiler (a JIT function's construction, or an NLP's
     whose derivatives are compiled): a Ctrl-C that stopped the compile, which the caller cannot see
     (`pressocp.compile_cache.compile_interrupted`), raises `KeyboardInterrupt`, whether the call failed
-    ("Compilation failed") or returned."""
+    ("Compilation failed", "Linking failed") or returned."""
     try:
         yield
     except RuntimeError:

@@ -5,16 +5,26 @@ processes. Each worker's BLAS/OpenMP pools would otherwise start a thread per co
 would fight over the cores (measured: 8 simulations on 2 workers took as long as on 1). The workers
 are spawned (a fresh interpreter: no forked native thread state) with the thread-count variables
 below set to 1 unless the user set them.
+
+Ctrl-C in a terminal reaches the workers too. A worker running a task raises `KeyboardInterrupt`
+there (its caller receives it from the task's future); an idle worker, or one still starting, ignores
+it and ends when the pool is shut down: no traceback of a worker reaches the user. Shutting the pool
+down with ``cancel_futures=True`` also interrupts the tasks still running, whose results nobody will
+read (a Ctrl-C sent to the main process alone, as a notebook's interrupt button does).
 """
 
 from __future__ import annotations
 
 import multiprocessing
 import os
+import signal
 import sys
-from collections.abc import Iterator
-from concurrent.futures import ProcessPoolExecutor
+from collections.abc import Callable, Iterator
+from concurrent.futures import Future, ProcessPoolExecutor
 from contextlib import contextmanager
+from typing import Any
+
+from .interrupt import sigint_held
 
 #: Set (to "1") in every worker of `process_pool`: a worker owns one core and starts no pool of its own.
 WORKER_ENV = "PRESSOCP_WORKER"
@@ -79,15 +89,76 @@ def die_with_parent(parent: int) -> None:
         os._exit(1)
 
 
-def process_pool(workers: int, start: int | None = None) -> ProcessPoolExecutor:
+class TaskState:
+    """Whether this worker process runs a task now (`run_task`), read by its SIGINT handler."""
+
+    busy = False
+
+
+def run_task(fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Any:
+    """``fn(*args, **kwargs)`` in a worker, marked busy meanwhile: a SIGINT then interrupts it."""
+    TaskState.busy = True
+    try:
+        return fn(*args, **kwargs)
+    finally:
+        TaskState.busy = False
+
+
+def interrupt_task(signum: int, frame: Any) -> None:
+    """A worker's SIGINT handler: `KeyboardInterrupt` in the task it runs; ignored while idle."""
+    if TaskState.busy:
+        raise KeyboardInterrupt
+
+
+def worker_started(parent: int) -> None:
+    """A worker's initializer: it ends with its parent (`die_with_parent`), and Ctrl-C interrupts its
+    tasks only (`interrupt_task`). The worker was started with SIGINT held (`WorkerPool.submit`); a
+    SIGINT that came during its start-up is delivered once the handler is in place, and ignored."""
+    die_with_parent(parent)
+    signal.signal(signal.SIGINT, interrupt_task)
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+
+
+class WorkerPool(ProcessPoolExecutor):
+    """A `ProcessPoolExecutor` whose workers stop their task on Ctrl-C and are otherwise quiet (see the
+    module's docstring); made by `process_pool`."""
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future:
+        """As `ProcessPoolExecutor.submit`. A worker started here (the pool starts them on demand)
+        runs one native thread (`single_threaded_children`), does not import ``__main__``
+        (`main_module_hidden`) and begins with SIGINT held until its handler is installed
+        (`worker_started`)."""
+        with single_threaded_children(), main_module_hidden(), sigint_held():
+            return super().submit(run_task, fn, *args, **kwargs)
+
+    def interrupt(self) -> None:
+        """Send SIGINT to every live worker: running tasks raise `KeyboardInterrupt`, idle workers
+        ignore it."""
+        for process in list((self._processes or {}).values()):  # ProcessPoolExecutor's own table
+            try:
+                if process.is_alive():
+                    os.kill(process.pid, signal.SIGINT)
+            except (OSError, ValueError):  # ended meanwhile
+                pass
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        """As `ProcessPoolExecutor.shutdown`; with `cancel_futures` the running tasks are interrupted
+        too (`interrupt`), so a shutdown after Ctrl-C or an error does not wait for their ends."""
+        if cancel_futures:
+            self.interrupt()
+        super().shutdown(wait=wait, cancel_futures=cancel_futures)
+
+
+def process_pool(workers: int, start: int | None = None) -> WorkerPool:
     """A pool of at most `workers` spawned processes, one native thread each (`single_threaded_children`),
     that do not import the parent's ``__main__`` (`main_module_hidden`): its tasks must be functions
-    of installed modules, and that end when this process dies (`die_with_parent`). `start` of them
-    (default all) are started here, and import pressocp while the caller goes on; the others start
-    when a task finds no idle worker."""
-    with single_threaded_children(), main_module_hidden():
-        pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"),
-                                   initializer=die_with_parent, initargs=(os.getpid(),))
-        for _ in range(workers if start is None else min(start, workers)):
-            pool.submit(os.getpid)
+    of installed modules, that end when this process dies (`die_with_parent`), and whose tasks, not
+    the workers themselves, a Ctrl-C interrupts (`WorkerPool`). `start` of them (default all) are
+    started here, and import pressocp while the caller goes on; the others start when a task finds no
+    idle worker."""
+    pool = WorkerPool(workers, mp_context=multiprocessing.get_context("spawn"),
+                      initializer=worker_started, initargs=(os.getpid(),))
+    for _ in range(workers if start is None else min(start, workers)):
+        pool.submit(os.getpid)
     return pool

@@ -82,3 +82,27 @@ def test_a_ctrl_c_during_a_compile_is_not_lost(tmp_path):
     with pytest.raises(RuntimeError, match="not a compile"):  # no flag: the error stands
         with compiling():
             raise RuntimeError("not a compile")
+
+
+def test_a_ctrl_c_before_the_compiler_handles_it_is_recorded_by_its_shell(tmp_path):
+    """CasADi runs the compile command through /bin/sh; the command starts with SIGINT ignored until
+    pressocp/jitcc.py installs its handler (tens of milliseconds of Python start-up, most of a cached
+    compile). A SIGINT in that time is recorded by the shell's trap (`RECORD_INTERRUPT`) once the
+    command ends: exit 130 and the flag file, with no traceback. Here the command is ``sleep``, which
+    never installs a handler, so the whole command is that window."""
+    from pressocp import compile_cache
+
+    flag = tmp_path / "interrupted"
+    env = {**os.environ, compile_cache.INTERRUPT_ENV: str(flag)}
+    proc = subprocess.Popen(["/bin/sh", "-c", compile_cache.RECORD_INTERRUPT + "sleep 2"], env=env,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        time.sleep(0.5)
+        os.killpg(proc.pid, signal.SIGINT)
+        assert proc.wait(timeout=60) == 130
+    finally:
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    assert flag.exists() and "Traceback" not in proc.stderr.read()

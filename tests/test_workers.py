@@ -5,6 +5,9 @@ import os
 import subprocess
 import sys
 import textwrap
+import time
+
+import pytest
 
 from pressocp.workers import THREAD_VARIABLES, WORKER_ENV, parallel_workers, process_pool
 
@@ -47,3 +50,48 @@ def test_a_script_without_a_main_guard_runs_once(tmp_path):
     out = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120, cwd=tmp_path)
     assert out.returncode == 0, out.stderr
     assert out.stdout.count("top level ran") == 1 and "True" in out.stdout
+
+
+def test_a_cancelling_shutdown_interrupts_the_running_task():
+    """A shutdown with cancel_futures=True (after Ctrl-C in the main process alone, as a notebook's
+    interrupt button sends it) interrupts the task still running instead of waiting for it."""
+    pool = process_pool(1)
+    try:
+        assert pool.submit(os.getpid).result() != os.getpid()  # the worker is up
+        running = pool.submit(time.sleep, 600)
+        while not running.running():
+            time.sleep(0.05)
+        time.sleep(0.5)  # the worker has taken the task (running() is set as it is queued)
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+    with pytest.raises(KeyboardInterrupt):
+        running.result()
+
+
+def test_a_terminal_ctrl_c_leaves_idle_and_starting_workers_quiet(tmp_path):
+    """Ctrl-C reaches every process of the terminal's group: workers that are starting (SIGINT held
+    until their handler is in place) and idle workers ignore it, print no traceback and go on
+    serving; the main process gets its KeyboardInterrupt."""
+    script = tmp_path / "ctrl_c.py"
+    script.write_text(textwrap.dedent("""
+        import os, signal, time
+        from pressocp.workers import process_pool
+        if __name__ == "__main__":
+            pool = process_pool(2)
+            caught = 0
+            for pause in (0.0, 3.0):  # while the workers start; then while they wait idle
+                time.sleep(pause)
+                try:
+                    os.killpg(0, signal.SIGINT)
+                    time.sleep(5)
+                except KeyboardInterrupt:
+                    caught += 1
+            pids = {pool.submit(os.getpid).result() for _ in range(6)}
+            pool.shutdown()
+            print("caught", caught, "served", os.getpid() not in pids, flush=True)
+    """))
+    out = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120, cwd=tmp_path,
+                         start_new_session=True)
+    assert out.returncode == 0, out.stderr
+    assert "caught 2 served True" in out.stdout
+    assert "Traceback" not in out.stderr and "KeyboardInterrupt" not in out.stderr, out.stderr
