@@ -113,6 +113,8 @@ JOBS = (
     Job("fuzz", "bench_fuzz.py", (), 5, "600 generated presses, scenario dicts and files, command lines; unit slips"),
     Job("transaction", "bench_transaction.py", (), 5,
         "SIGINT and SIGKILL at random moments of optimize into a used --out (20 trials); two runs at once"),
+    Job("transaction_sigint", "bench_transaction.py", ("--sigint-window", "2", "6"), 4,
+        "Ctrl-C while press60's compiles and links run (20 trials): exit 130, no worker traceback"),
     Job("sweep_continuation_90", "bench_sweep.py",
         ("continuation", "--ram-speed", "-0.15", "--side-by-side", "--rates", "60", "65", "70", "75", "80", "85", "90"),
         9, "warm path against cold starts, 60 -> 90 spm at -0.15 m/s",

@@ -34,6 +34,25 @@ def sigint_held() -> Iterator[None]:
 
 
 @contextmanager
+def interrupt_deferred() -> Iterator[None]:
+    """Ctrl-C held back while the block runs: a SIGINT that arrives meanwhile raises `KeyboardInterrupt`
+    when the block ends (as it does in Python code, whichever thread the kernel delivered it to).
+    Outside the main thread, or where SIGINT is ignored, it changes nothing."""
+    previous = signal.getsignal(signal.SIGINT)
+    if threading.current_thread() is not threading.main_thread() or previous in (signal.SIG_IGN, None):
+        yield
+        return
+    hit: list = []
+    signal.signal(signal.SIGINT, lambda signum, frame: hit.append(True))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if hit:
+        raise KeyboardInterrupt
+
+
+@contextmanager
 def compiling() -> Iterator[None]:
     """Around a CasADi call that may run the C compiler (a JIT function's construction, or an NLP's
     whose derivatives are compiled): a Ctrl-C that stopped the compile, which the caller cannot see

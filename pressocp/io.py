@@ -17,10 +17,8 @@ import json
 import os
 import platform
 import shutil
-import signal
 import sys
 import tempfile
-import threading
 import time
 import uuid
 from collections.abc import Iterator
@@ -29,6 +27,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from .interrupt import interrupt_deferred
 
 
 #: Lock file of an output folder while a run writes into it.
@@ -185,19 +185,6 @@ def previous_files(out: Path) -> list[str]:
     return [n for n in dict.fromkeys(names) if isinstance(n, str) and Path(n).name == n and n not in ("", ".", "..")]
 
 
-@contextmanager
-def _sigint_deferred() -> Iterator[None]:
-    """Ctrl-C held back while the block runs (delivered when it ends), in the main thread."""
-    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
-        yield
-        return
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
-
-
 def commit(staging: Path, out: Path) -> None:
     """Commit the run in `staging` into `out` (whose lock the caller holds): write its manifest, check
     that no file it replaces is a folder or device (else raise before moving anything), rename it to
@@ -209,7 +196,7 @@ def commit(staging: Path, out: Path) -> None:
             check_regular(out / name)
         except NotRegularFile as err:
             raise NotRegularFile(f"{err}; the run's files were not placed, the folder keeps its previous run") from None
-    with _sigint_deferred():
+    with interrupt_deferred():
         shutil.rmtree(out / COMMIT_NAME, ignore_errors=True)  # recover() ran: an empty leftover
         os.replace(staging, out / COMMIT_NAME)
         roll_forward(out)

@@ -106,3 +106,26 @@ def test_a_ctrl_c_before_the_compiler_handles_it_is_recorded_by_its_shell(tmp_pa
         except ProcessLookupError:
             pass
     assert flag.exists() and "Traceback" not in proc.stderr.read()
+
+
+def test_a_deferred_interrupt_lets_the_block_finish_then_stops():
+    """`interrupt_deferred` (an output folder's commit): a SIGINT during the block is raised when the
+    block ends, also while another thread, which the kernel may deliver the signal to, is running."""
+    import threading
+
+    from pressocp.interrupt import interrupt_deferred
+
+    stop = threading.Event()
+    other = threading.Thread(target=stop.wait, daemon=True)
+    other.start()
+    finished = []
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            with interrupt_deferred():
+                os.kill(os.getpid(), signal.SIGINT)
+                time.sleep(0.2)  # the handler runs here, in Python code of the block
+                finished.append(True)
+    finally:
+        stop.set()
+    assert finished == [True]
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
