@@ -332,9 +332,12 @@ def impacts_job(scenario: Scenario, out: Path) -> JobReport:
              save(plot_impact_study(st), out / "impacts.png")]
     rows = [["model / ideal joints", "torque", "normal force", "crank pin", "wrist pin"],
             *([f"{k} speed", *(f"×{r[n]:.2f}" for n in PEAK_SERIES)] for k, r in ratios.items())]
+    missing = st.not_periodic()
     text = "\n".join([f"{scenario.name}: impacts on the {where}", f"  {describe_problem(scenario.problem)}", "",
-                      format_table(rows), "", f"  {wall:.1f} s"])
-    return _finish("impacts", out, summary, text, "", files, True)
+                      format_table(rows), "",
+                      *(f"  not periodic: the {k} speed's response is the 6th cycle from rest ({why})"
+                        for k, why in missing.items()), f"  {wall:.1f} s"])
+    return _finish("impacts", out, summary, text, "", files, not missing)
 
 
 __all__ = ["FIGURES", "JobReport", "optimum_summary", "simulate_speed", "simulation_summary", "design_job", "impacts_job", "optimize_job", "read_speed", "simulate_job"]

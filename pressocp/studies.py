@@ -15,7 +15,7 @@ from . import beam
 from .design import SpeedDesign, design_speed
 from .model import ModelSpec, build_model
 from .ocp.result import PEAK_SERIES
-from .ocp.verify import verify_speed
+from .ocp.verify import is_periodic, verify_speed
 from .params import PressParams
 from .problem import SpeedProblem
 from .result import SimResult
@@ -44,6 +44,12 @@ class ImpactStudy:
     constant_rigid: SimResult
     designed: SimResult
     designed_rigid: SimResult
+
+    def not_periodic(self) -> dict[str, str]:
+        """The responses (``constant``, ``designed``) that are not periodic steady states, each with
+        the reason (`pressocp.ocp.verify.is_periodic`); empty when both are."""
+        found = {"constant": is_periodic(self.constant), "designed": is_periodic(self.designed)}
+        return {k: v for k, v in found.items() if v is not True}
 
     def ratios(self) -> dict[str, dict[str, float]]:
         """Peak model value / peak rigid value for each load, for both speeds."""

@@ -102,7 +102,10 @@ def run_point(task: str, scenario: Scenario, speed: FourierSpeed | None = None,
             st = impact_study(scenario.problem, scenario.model, rtol=scenario.solver.verify_rtol)
             summary = {f"{label}_{load}_ratio": r for label, ratios in st.ratios().items()
                        for load, r in ratios.items()}
-            row.update(ok=True, speed=json.dumps(st.design.speed.to_dict()))
+            missing = st.not_periodic()
+            row.update(ok=not missing, speed=json.dumps(st.design.speed.to_dict()),
+                       **({"error": "not periodic: " + "; ".join(f"{k}: {v}" for k, v in missing.items())}
+                          if missing else {}))
         row.update({k: v for k, v in summary.items() if isinstance(v, (bool, int, float, str))
                     and k not in ("job", "scenario", "speed")})
     except (ValueError, ArithmeticError, RuntimeError) as err:  # solver and model failures: a row

@@ -303,15 +303,28 @@ def test_candidates_keep_the_lowest_verified_answer_and_record_every_one(smooth,
         Strategy(workers=0)
 
 
-def test_an_earlier_stage_stopping_short_does_not_condemn_a_verified_answer():
+def test_an_earlier_stage_stopping_short_does_not_condemn_a_verified_answer(tmp_path, monkeypatch):
     """The rigid stage stops at its iteration cap; the clearance stage, started from its iterate,
     converges and its answer verifies. The result is judged by that answer: converged, its status
-    naming the rigid stage that stopped, and `optimum_sensitivities` accepts it."""
+    naming the rigid stage that stopped, `optimum_sensitivities` accepts it, and ``pressocp
+    optimize`` (the same chain, on a scenario of the same scene) exits 0 with the run marked
+    converged and verified."""
     import pressocp as po
+    from pressocp.cli import main
 
     strategy = Strategy(mode="all", rigid=Rigid(samples=200, ipopt={"ipopt.max_iter": 3}), tension_margin=None,
                         polish_rounds=0, verify_rtol=1e-8)
-    r = optimize_speed(SMOOTH, strategy=strategy, progress=False)
+    scene = tmp_path / "smooth.toml"
+    scene.write_text('name = "smooth"\n[problem]\nstroke_rate_spm = 60\nram_speed = -0.15\nn_harmonics = 4\n'
+                     '[solver]\nverify_rtol = 1e-8\n')
+    assert po.Scenario.load(scene).problem == SMOOTH  # the scenario is the scene below
+    results = []
+    monkeypatch.setattr(po.Scenario, "optimize", lambda self, progress=True: results.append(
+        optimize_speed(self.problem, strategy=strategy, progress=False)) or results[-1])
+    assert main(["optimize", str(scene), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["converged"] and summary["verified"] and not summary["stages"][0]["success"]
+    r = results[0]
     assert [s.name for s in r.stages] == ["rigid", "target"]
     assert not r.stages[0].success and "Maximum_Iterations_Exceeded" in r.stages[0].status
     assert r.stages[1].success and r.success and r.verified
