@@ -110,7 +110,7 @@ JOBS = (
     Job("optimum_tracking", "bench_optimum_tracking.py", ("press75", "--steps", "1e-3", "2e-2"), 2,
         "dJ*/dp against the tracked optimum"),
     Job("sweep_parallel", "bench_sweep.py", ("parallel",), 4, "sweep speed-up, 1/2 workers and dask"),
-    Job("fuzz", "bench_fuzz.py", (), 5, "600 generated presses, scenario dicts and files, command lines; unit slips"),
+    Job("fuzz", "bench_fuzz.py", (), 7, "600 generated presses, scenario dicts and files, command lines, and 60 command lines run as processes; unit slips"),
     Job("transaction", "bench_transaction.py", (), 5,
         "SIGINT and SIGKILL at random moments of optimize into a used --out (20 trials); two runs at once"),
     Job("transaction_sigint", "bench_transaction.py", ("--sigint-window", "2", "6"), 4,

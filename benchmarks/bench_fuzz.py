@@ -10,7 +10,16 @@ Each case ends in one of:
   field, key or file the case set;
 * ``refused, unnamed``: refused with a message that names none of them;
 * ``internal error``: any other exception, or a traceback on the command line;
-* ``non-finite``: accepted, with a NaN or inf in its design or response.
+* ``non-finite``: accepted, with a NaN or inf in its design or response;
+* ``exit 1 on bad input``: a command line refused with exit 1 (the code of a solve that did not
+  converge) instead of 2;
+* ``refused after 2 s``: (the "process" family) refused, but more than 2 s after the process
+  started.
+
+The "process" family runs each case as its own ``python -m pressocp`` process, as a user's shell
+does: generated ``--set`` values and scenario files, and bad ``--out`` and ``--speed`` arguments to
+``optimize`` and ``simulate`` (which would start solving if they were not refused first); its time
+is the process's whole wall time, start-up included.
 
 The unit slips of issue #30's list are run one by one: each must be refused or warned
 (`pressocp.checks.PlausibilityWarning`). Writes results/fuzz.json and results/fuzz.png.
@@ -43,7 +52,13 @@ PRESS = {"crank_radius": 0.05, "rod_length": 0.25, "crank_inertia": 0.5, "crank_
 BEARING = {"clearance": 1e-4, "journal_radius": 0.04, "stiffness": 1e10, "damping": 1e3, "tangential_damping": 1e3}
 PROBLEM = {"period": 0.8, "ram_speed": -0.1, "omega_max": 20.0, "max_pin_force": 1e4}
 SPECIAL = [0.0, -0.0, math.nan, math.inf, -math.inf, True, "0.1", "x", None, [1.0], "", 1e308, -1e-308]
-OUTCOMES = ("accepted", "refused, named", "refused, unnamed", "internal error", "non-finite")
+OUTCOMES = ("accepted", "refused, named", "refused, unnamed", "internal error", "non-finite", "exit 1 on bad input",
+            "refused after 2 s")
+#: A refusal of a command line must come within this many seconds of the process's start (issue #30).
+REFUSAL_LIMIT_S = 2.0
+#: A "process" case still running after this many seconds has passed every check and is solving: it
+#: is stopped and counted as accepted.
+SOLVING_S = 6.0
 #: Issue #30's unit slips: (what, API call). Each must raise or warn.
 SLIPS = {
     "rod_mass in g": lambda: po.PressParams(rod_mass=3140.0),
@@ -140,7 +155,9 @@ def dict_case(rng: random.Random) -> tuple[str, str]:
         return "internal error", f"{type(err).__name__}: {str(err)[:200]}"
 
 
-def toml_case(rng: random.Random, folder: Path) -> tuple[str, str]:
+def toml_file(rng: random.Random, folder: Path) -> tuple[Path, str]:
+    """A scenario file with one line mutated (a value, a key, the line dropped) or random bytes; its
+    path and the key of the mutated line."""
     lines = GOOD_TOML.splitlines()
     i = rng.choice([k for k, ln in enumerate(lines) if "=" in ln and not ln.startswith("name")])
     key = lines[i].split("=")[0].strip()
@@ -157,6 +174,11 @@ def toml_case(rng: random.Random, folder: Path) -> tuple[str, str]:
         path.write_bytes(bytes(rng.randrange(256) for _ in range(rng.randint(1, 200))))
     else:
         path.write_text("\n".join(lines) + "\n")
+    return path, key
+
+
+def toml_case(rng: random.Random, folder: Path) -> tuple[str, str]:
+    path, key = toml_file(rng, folder)
     try:
         sc = po.Scenario.load(str(path))
         return ("accepted" if finite_design(sc.problem) else "non-finite"), ""
@@ -189,9 +211,59 @@ def cli_case(rng: random.Random, folder: Path) -> tuple[str, str, float]:
     text = err_text.getvalue()
     if "Traceback" in text or code not in (0, 1, 2):
         return "internal error", text[-300:], seconds
-    if code == 0:
-        return "accepted", "", seconds
-    return ("refused, named" if key.split(".")[-1] in text else "refused, unnamed"), text.strip()[:200], seconds
+    return classify(code, text, [key]) + (seconds,)
+
+
+def classify(code: int, text: str, given: list[str]) -> tuple[str, str]:
+    """A command line's outcome from its exit code and stderr: exit 0 (and 1 without an error message:
+    ran, did not converge) is accepted; exit 2 is a refusal, named when the message names one of
+    `given`; exit 1 with an error message is a refusal with the wrong code."""
+    if "Traceback" in text or code not in (0, 1, 2):
+        return "internal error", text[-300:]
+    if code == 0 or (code == 1 and "error:" not in text):
+        return "accepted", ""
+    if code == 1:
+        return "exit 1 on bad input", text.strip()[:200]
+    named = any(g in text or g.split(".")[-1] in text or ALIASES.get(g.split(".")[-1], "\0") in text for g in given)
+    return ("refused, named" if named else "refused, unnamed"), text.strip()[:200]
+
+
+def process_case(rng: random.Random, folder: Path) -> tuple[str, str, float]:
+    """One generated bad command line run as ``python -m pressocp``; (outcome, message, wall s)."""
+    import subprocess
+    import sys
+
+    kind = rng.choice(["set", "file", "out", "speed"])
+    if kind == "set":
+        key = rng.choice([f"press.{k}" for k in PRESS] + ["problem.stroke_rate_spm", "problem.ram_speed",
+                                                          "problem.window", "solver.verify_rtol", "solver.elements"])
+        token = rng.choice(["nan", "inf", "-1", "0", "1e9", '"x"', "true", "x"])
+        argv, given = [rng.choice(["optimize", "simulate", "design"]), "--set", f"{key}={token}"], [key]
+    elif kind == "file":
+        path, key = toml_file(rng, folder)
+        argv, given = ["optimize", str(path)], [path.name, key]
+    elif kind == "out":
+        blocker = folder / f"afile{rng.randrange(10**6)}"
+        blocker.write_text("a file\n")
+        argv, given = ["optimize", "press60", "--out", str(blocker / "out")], ["--out"]
+    else:
+        n, omega = rng.choice([(20, 8.0), (15, -1.0), (3, 7.85)])
+        speed = folder / f"speed{rng.randrange(10**6)}.json"
+        speed.write_text(json.dumps(po.FourierSpeed(rng.choice([0.8, 1.3]), [omega * 0.9] + [0.0] * (n - 1),
+                                                    [0.0] * n).to_dict() | {"a0": omega}))
+        argv, given = ["simulate", "press75", "--speed", str(speed)], ["--speed", speed.name]
+    argv += ["--out", str(folder / "out"), "-q"] if "--out" not in argv else ["-q"]
+    t0 = time.perf_counter()
+    try:  # a case still running after SOLVING_S passed every check and is solving: accepted
+        done = subprocess.run([sys.executable, "-m", "pressocp", *argv], capture_output=True, text=True,
+                              timeout=SOLVING_S, cwd=folder)
+    except subprocess.TimeoutExpired:
+        return "accepted", "", time.perf_counter() - t0
+    seconds = time.perf_counter() - t0
+    outcome, message = classify(done.returncode, done.stderr, given)
+    if outcome.startswith("refused") and seconds > REFUSAL_LIMIT_S:
+        outcome = "refused after 2 s"
+    return outcome, message or " ".join(argv[:4]), seconds
 
 
 def slips() -> dict:
@@ -219,7 +291,7 @@ def plot(data: dict) -> Path:
     left = np.zeros(len(families))
     for k, outcome in enumerate(OUTCOMES):
         n = np.array([data["families"][f]["counts"].get(outcome, 0) for f in families])
-        ax.barh(families, n, left=left, color=f"C{[2, 0, 1, 3, 4][k]}", label=outcome)
+        ax.barh(families, n, left=left, color=f"C{[2, 0, 1, 3, 4, 5, 6][k]}", label=outcome)
         left += n
     ax.set_xlabel("cases")
     slipped = sum(v["outcome"] == "accepted silently" for v in data["unit_slips"].values())
@@ -235,6 +307,7 @@ def plot(data: dict) -> Path:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--cases", type=int, default=150, help="cases per family (API, dict, TOML, command line)")
+    ap.add_argument("--processes", type=int, default=60, help="cases of the process family (one process each)")
     ap.add_argument("--seed", type=int, default=30)
     args = ap.parse_args()
     rng = random.Random(args.seed)
@@ -244,12 +317,12 @@ def main() -> None:
         warnings.simplefilter("ignore")  # plausibility warnings are counted in the slips table
         folder = Path(tmp)
         runs = {"API": lambda: api_case(rng), "dict": lambda: dict_case(rng), "TOML": lambda: toml_case(rng, folder),
-                "command line": lambda: cli_case(rng, folder)}
+                "command line": lambda: cli_case(rng, folder), "process": lambda: process_case(rng, folder)}
         for family, run in runs.items():
             counts: dict[str, int] = {}
             examples: dict[str, list[str]] = {}
             slowest = 0.0
-            for _ in range(args.cases):
+            for _ in range(args.processes if family == "process" else args.cases):
                 outcome, message, *rest = run()
                 counts[outcome] = counts.get(outcome, 0) + 1
                 if outcome != "accepted" and len(examples.setdefault(outcome, [])) < 5:
@@ -257,9 +330,9 @@ def main() -> None:
                 if rest and outcome != "accepted":
                     slowest = max(slowest, rest[0])
             families[family] = {"counts": counts, "examples": examples,
-                                **({"slowest_refusal_s": slowest} if family == "command line" else {})}
+                                **({"slowest_refusal_s": slowest} if family in ("command line", "process") else {})}
             print(family, counts, flush=True)
-    data = {**stamp(), "cases": args.cases * len(families), "seed": args.seed,
+    data = {**stamp(), "cases": sum(sum(f["counts"].values()) for f in families.values()), "seed": args.seed,
             "wall_time_s": time.perf_counter() - t_start, "families": families, "unit_slips": slips()}
     OUT.mkdir(exist_ok=True)
     (OUT / "fuzz.json").write_text(json.dumps(data, indent=1, default=str) + "\n")
