@@ -230,6 +230,14 @@ def test_a_result_of_another_press_as_speed_is_simulated_with_a_warning(tmp_path
     assert diff == ["slider_mass: 200.0 in the file, 150.0 here"]
     assert press_differences(tmp_path / "same.json", scenario.press) == []
     assert press_differences(tmp_path / "plain.json", scenario.press) == []
+    from pressocp.cli import warn_other_press  # what `simulate --speed` and `sweep --speed` print first
+
+    capsys.readouterr()
+    warn_other_press(str(tmp_path / "other.json"), scenario)
+    assert "was designed for another press" in capsys.readouterr().err and "slider_mass: 200.0" in diff[0]
+    for quiet in ("same.json", "plain.json"):
+        warn_other_press(str(tmp_path / quiet), scenario)
+        assert capsys.readouterr().err == ""
 
 
 def test_atomic_writes_follow_links_and_never_replace_a_device_or_folder(tmp_path):
