@@ -14,6 +14,7 @@ variable, so worker processes started afterwards use the same folder.
 from __future__ import annotations
 
 import atexit
+import hashlib
 import os
 import shlex
 import shutil
@@ -144,6 +145,31 @@ def compile_seconds() -> float:
 @lru_cache(maxsize=1)
 def _remove_log_at_exit() -> None:
     atexit.register(lambda: compile_log().unlink(missing_ok=True))
+
+
+def prepared_record(*parts: str) -> Path | None:
+    """The file that records in the cache folder that the functions `parts` describe were compiled into
+    it (named by the SHA-256 of `parts`, CasADi's version and `FLAGS`); None when the cache is off. It
+    lets a caller skip compiling ahead what the cache holds; a record whose object files were removed
+    since costs only the compile it was meant to save, in the solve that then compiles."""
+    folder = cache_dir()
+    if folder is None:
+        return None
+    import casadi as ca
+
+    key = hashlib.sha256("\n".join((ca.__version__, *FLAGS, *parts)).encode()).hexdigest()
+    return folder / "prepared" / key
+
+
+def write_prepared_record(record: Path | None) -> None:
+    """Create `record` (`prepared_record`), if it is not None and the folder is writable."""
+    if record is None:
+        return
+    try:
+        record.parent.mkdir(parents=True, exist_ok=True)
+        record.touch()
+    except OSError:  # an unwritable cache folder: the next call prepares again
+        pass
 
 
 def jit_options() -> dict:

@@ -137,3 +137,50 @@ def test_the_cache_folder_is_configurable_and_can_be_off(monkeypatch, tmp_path):
     assert compile_cache.cache_dir() == tmp_path / "xdg" / "pressocp" / "jit"
     compile_cache.set_cache_dir(tmp_path / "set")
     assert os.environ[compile_cache.CACHE_ENV] == str(tmp_path / "set")
+
+
+PREPARE = textwrap.dedent("""
+    import sys
+    from pressocp import Collocation, PressParams, SpeedProblem, WarmStart, build_model, design_speed
+    from pressocp.compile_cache import compile_seconds
+    problem = SpeedProblem(PressParams(), period=1.0, ram_speed=-0.15, n_harmonics=4)
+    model = build_model(problem.press, clearance=("wrist_pin",), n_harmonics=4)
+    speed = design_speed(problem).speed
+    tr = Collocation(elements=20, jit=True, ipopt={"ipopt.max_iter": 1})
+    if sys.argv[1] == "prepare":
+        print(tr.prepare(problem, model, speed))
+    else:
+        stage = tr.solve(problem, model, WarmStart(speed))
+        print(stage.timing["compile"], compile_seconds())
+""")
+
+
+@needs_cc
+def test_a_solve_after_prepare_in_another_process_compiles_nothing(tmp_path):
+    """`Collocation.prepare` compiles what a solve compiles, from the model at rest and without solving:
+    a solve in another process then runs the compiler for no source (the compiler's own log), while
+    without the preparation the same solve compiles."""
+    logging_compiler(tmp_path)
+    env = {**os.environ, "PATH": f"{tmp_path}{os.pathsep}{os.environ['PATH']}"}
+    run = lambda what, cache: subprocess.run(  # noqa: E731
+        [sys.executable, "-c", PREPARE, what], env={**env, compile_cache.CACHE_ENV: str(cache)},
+        capture_output=True, text=True, check=True, cwd=tmp_path).stdout.split()
+    prepared = float(run("prepare", tmp_path / "cache")[-1])
+    n = len(compiles(tmp_path))
+    assert prepared > 0.0 and n >= 1
+    assert [float(x) for x in run("solve", tmp_path / "cache")] == [0.0, 0.0]
+    assert len(compiles(tmp_path)) == n
+    unprepared = [float(x) for x in run("solve", tmp_path / "other")]
+    assert unprepared[0] > 0.0 and len(compiles(tmp_path)) > n
+
+
+def test_a_prepared_record_is_named_by_its_parts_and_absent_without_a_cache(monkeypatch, tmp_path):
+    monkeypatch.setenv(compile_cache.CACHE_ENV, str(tmp_path))
+    a, b = compile_cache.prepared_record("a", "b"), compile_cache.prepared_record("a", "c")
+    assert a != b and a == compile_cache.prepared_record("a", "b") and a.parent == tmp_path / "prepared"
+    assert not a.exists()
+    compile_cache.write_prepared_record(a)
+    assert a.exists() and not b.exists()
+    monkeypatch.setenv(compile_cache.CACHE_ENV, "off")
+    assert compile_cache.prepared_record("a", "b") is None
+    compile_cache.write_prepared_record(None)

@@ -281,11 +281,26 @@ class Collocation(StateSettings):
         """Whether this solve compiles (``jit``, or "auto" and a C compiler is present)."""
         return use_jit(self.jit, "collocation")
 
+    def prepare(self, problem: SpeedProblem, model: PressModel, speed: FourierSpeed) -> float:
+        """Compile what a solve of `problem` on `model` compiles (the point function and the
+        derivatives the NLP builds of it) into the compile cache, without solving: a solve in any
+        process afterwards compiles nothing. It builds the NLP of `solve` from `speed` with the
+        model at rest at every point (no simulation: the states change no compiled code) and stops
+        IPOPT before its first iteration. Returns the compile seconds (0 without `jit`)."""
+        if not self.use_jit():
+            return 0.0
+        c0 = compile_seconds()
+        rest = np.tile(np.asarray(model.x0, float)[:, None], (1, self.grid(problem.period, model.rod).points.size))
+        replace(self, ipopt={**self.ipopt, "ipopt.max_iter": 0}).solve(problem, model, WarmStart(speed), "prepare",
+                                                                       states=rest)
+        return compile_seconds() - c0
+
     def solve(self, problem: SpeedProblem, model: PressModel, start: WarmStart, name: str = "target",
-              progress: bool = False) -> StageResult:
-        """One collocation stage on `model`, warm-started at the start speed's periodic response. A
-        model that carries press parameters (``build_model(..., parameters=...)``) puts them into the
-        NLP's p, and the stage holds the NLP at its solution (``StageResult.point``)."""
+              progress: bool = False, *, states: np.ndarray | None = None) -> StageResult:
+        """One collocation stage on `model`, warm-started at the start speed's periodic response (or
+        at `states`, scaled, nx x the grid's points, when given). A model that carries press
+        parameters (``build_model(..., parameters=...)``) puts them into the NLP's p, and the stage
+        holds the NLP at its solution (``StageResult.point``)."""
         check_states(problem, model)
         grid = self.grid(problem.period, model.rod)
         K, d, n, T = grid.elements, grid.degree, problem.n_harmonics, problem.period
@@ -295,7 +310,9 @@ class Collocation(StateSettings):
         c = ca.MX.sym("c", 2 * n)
         zi, wi = grid.layout(model.nx, 3)
         point = start.point if start.point is not None and start.point.grid == (K, d) else None
-        if point is None:
+        if states is not None:
+            warm = {"periodic_warm_start": False, "reason": "states given"}
+        elif point is None:
             states, warm = warm_states(model, start, grid.points, 1e-9)
         else:  # the same NLP's solution: its states, and no simulation
             states, warm = point.w[2 * n + 1 :][zi], {"primal_dual_warm_start": True}

@@ -92,8 +92,10 @@ class OcpResult:
         The verification responses (not saved in JSON; `resimulate` recomputes).
     timing : dict
         Wall time outside the stages, s: ``verification`` (the answer's and the initial speed's
-        re-simulations; ``verification_compile`` of it compiling their output functions) and ``other``
-        (set-up, the initial design); `time_table` adds the stages.
+        re-simulations; ``verification_compile`` of it compiling their output functions), ``other``
+        (set-up, the initial design) and, when the clearance stages' functions were compiled ahead in a
+        worker alongside the rigid stage, ``prepare`` (``prepare_compile`` of it compiling); `time_table`
+        adds the stages.
     """
 
     problem: SpeedProblem
@@ -186,7 +188,7 @@ class OcpResult:
                          "functions": sum(t.get(k, 0.0) for k in EVALUATIONS),
                          "linear_solver": t.get("solver", 0.0), "start": t.get("start", 0.0),
                          "checks": t.get("checks", 0.0)})
-        for key in ("verification", "other"):
+        for key in ("prepare", "verification", "other"):
             if key in self.timing:
                 rows.append({"stage": key, "iterations": 0, "wall": self.timing[key], "build": 0.0,
                              "compile": self.timing.get(f"{key}_compile", 0.0), "functions": 0.0,

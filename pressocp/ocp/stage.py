@@ -225,6 +225,11 @@ class Transcription(Protocol):
     def solve(self, problem: SpeedProblem, model: PressModel, start: WarmStart, name: str = ...,
               progress: bool = ...) -> StageResult: ...
 
+    def prepare(self, problem: SpeedProblem, model: PressModel, speed: FourierSpeed) -> float:
+        """Compile into the compile cache what a solve on `model` compiles, without solving, and return
+        the compile seconds (`optimize_speed` runs it in a worker while the rigid stage runs). Optional:
+        a transcription without it compiles in its solves."""
+
 
 def settings_repr(obj: Any) -> str:
     """``Name(field=value, ...)`` of a settings dataclass, the fields at their default left out."""

@@ -38,7 +38,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .. import checks as chk
-from ..model import PressModel, build_model
+from ..model import ModelSpec, PressModel, build_model
 from ..objectives import get as get_objective
 from ..params import PressParams
 from ..problem import SpeedProblem
@@ -180,13 +180,19 @@ class Strategy:
             return stages
         if not model.clearance:  # a flexible rod between ideal joints: no clearance stages
             return stages + self.flexible_only(problem, model, rigid, transcription, progress)
-        base = model if model.rod == "rigid" else build_model(model.params, "rigid", model.clearance, 4,
-                                                               model.n_harmonics)
+        base = model if model.rod == "rigid" else self.clearance_spec(model.spec).build(model.params,
+                                                                                     model.n_harmonics)
         rigid.check = self.check(base, rigid, problem)
         stages += self.rigid_rod_stages(problem, base, rigid, transcription, initial, progress, pool)
         if model.rod != "flexible" or not all(st.success or st.superseded for st in stages):
             return stages
         return stages + self.on_flexible_rod(problem, model, base, stages[-1], transcription, progress)
+
+    @staticmethod
+    def clearance_spec(spec: ModelSpec) -> ModelSpec:
+        """The model level of the clearance stages for a target model level: its clearances on a rigid
+        rod (a flexible rod follows them, `on_flexible_rod`)."""
+        return spec if spec.rod == "rigid" else ModelSpec("rigid", spec.clearance, 4)
 
     def rigid_rod_stages(self, problem: SpeedProblem, base: PressModel, rigid: StageResult,
                          transcription: Transcription, initial: FourierSpeed, progress: bool,
