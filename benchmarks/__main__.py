@@ -87,6 +87,8 @@ JOBS = (
     Job("ocp_seed", "bench_ocp.py", ("seed", "--repeat", "3"), 3, "default call, 75 spm scene"),
     Job("speed", "bench_speed.py", ("--repeat", "3", "--cold-first"), 13,
         "the bundled scenarios' default calls, each in a fresh process, compile cache empty then filled"),
+    Job("speed_cold", "bench_speed.py", ("--scenarios", "press75", "--repeat", "3", "--cold-all", "--label", "cold"),
+        4, "press75's default call, each run in a fresh process with an empty compile cache"),
     Job("verification", "bench_verification.py", (), 1,
         "the seed optimum's final verification, this version (with --before-python: against another)"),
     Job("ocp_seed_collocation", "bench_ocp.py", ("seed_collocation", "--repeat", "3"), 7,

@@ -1,10 +1,11 @@
 """The bundled scenarios' default calls, each run in a fresh process, timed from the parent.
 
     python benchmarks/bench_speed.py [--scenarios press75 press60 ...] [--repeat 3] [--label after]
-                                     [--python EXE] [--cold-first]
+                                     [--python EXE] [--cold-first | --cold-all]
 
 Every run is ``Scenario.load(name).optimize(progress=False)`` in a new Python process (import and
-set-up included, as a user starts it). ``--cold-first``: the first run of each scenario uses an empty
+set-up included, as a user starts it). ``--cold-all``: every run with an empty compile cache of its
+own. ``--cold-first``: the first run of each scenario uses an empty
 compile cache (``PRESSOCP_CACHE_DIR`` in a fresh folder: the compile paid), the others the cache it
 left (a second process with the same model). ``--python EXE`` runs another interpreter, e.g. a
 virtual environment with an earlier version of the package installed (the "before" rows; it must
@@ -67,15 +68,18 @@ def run_once(name: str, env: dict, python: str) -> dict:
     return {"wall_s": wall, **json.loads(line[0][len("RESULT"):])}
 
 
-def measure(name: str, repeat: int, label: str, python: str, cold_first: bool) -> dict:
+def measure(name: str, repeat: int, label: str, python: str, cold_first: bool, cold_all: bool = False) -> dict:
     env = dict(os.environ)
     runs = []
     with tempfile.TemporaryDirectory(prefix="pressocp-cache-") as cache:
         for k in range(repeat):
-            if cold_first:
+            if cold_all:  # a new empty cache for every run
+                env["PRESSOCP_CACHE_DIR"] = os.path.join(cache, f"run{k}")
+            elif cold_first:
                 env["PRESSOCP_CACHE_DIR"] = cache  # empty for the first run, filled by it for the others
             r = run_once(name, env, python)
-            r["compile_cache"] = "empty" if cold_first and k == 0 else ("filled" if cold_first else "user's")
+            r["compile_cache"] = "empty" if cold_all or (cold_first and k == 0) else (
+                "filled" if cold_first else "user's")
             runs.append(r)
             print(f"{name} [{label}] run {k + 1}: {r['wall_s']:.1f} s, peak "
                   f"{r.get('peak_torque', float('nan')):.4f} N m, verified {r.get('verified')}, compile "
@@ -189,6 +193,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--label", default="after")
     ap.add_argument("--python", default=sys.executable, help="the interpreter that runs the calls")
+    ap.add_argument("--cold-all", action="store_true", help="every run with an empty compile cache of its own")
     ap.add_argument("--cold-first", action="store_true", help="the first run of each scenario with an empty "
                     "compile cache, the others with what it left")
     ap.add_argument("--plot-only", action="store_true")
@@ -196,7 +201,7 @@ def main(argv: list[str] | None = None) -> int:
     OUT.mkdir(exist_ok=True)
     if not a.plot_only:
         for name in a.scenarios:
-            row = measure(name, a.repeat, a.label, a.python, a.cold_first)
+            row = measure(name, a.repeat, a.label, a.python, a.cold_first, a.cold_all)
             with ROWS.open("a") as f:
                 f.write(json.dumps(row) + "\n")
     rows = [json.loads(x) for x in ROWS.read_text().splitlines() if x.strip()]
