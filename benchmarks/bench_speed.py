@@ -114,10 +114,14 @@ def stage_times(row: dict) -> list[tuple[str, float]]:
 def timeline(parts: list[tuple[str, float]]) -> list[tuple[int, str, float, float]]:
     """(lane, stage, start, length) of each stage: a candidate's stages (``name@margin``) one after the
     other on a lane of their own from the end of the stages before them (they ran side by side), the
+    "prepare" (compiled ahead in a worker from the call's start) on a lane of its own from 0, the
     others on lane 0 after everything before them."""
     lanes: dict[str, int] = {}
     out, t_common, ends = [], 0.0, {}
     for name, t in parts:
+        if name == "prepare":
+            out.append((lanes.setdefault(name, len(lanes)), name, 0.0, t))
+            continue
         if "@" in name:
             m = name.split("@", 1)[1]
             lane = lanes.setdefault(m, len(lanes))
