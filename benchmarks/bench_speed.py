@@ -197,8 +197,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--label", default="after")
     ap.add_argument("--python", default=sys.executable, help="the interpreter that runs the calls")
-    ap.add_argument("--cold-all", action="store_true", help="every run with an empty compile cache of its own")
-    ap.add_argument("--cold-first", action="store_true", help="the first run of each scenario with an empty "
+    cold = ap.add_mutually_exclusive_group()
+    cold.add_argument("--cold-all", action="store_true", help="every run with an empty compile cache of its own")
+    cold.add_argument("--cold-first", action="store_true", help="the first run of each scenario with an empty "
                     "compile cache, the others with what it left")
     ap.add_argument("--plot-only", action="store_true")
     a = ap.parse_args(argv)

@@ -97,16 +97,17 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     # runs here; the initial speed's response is simulated there meanwhile, in a worker of its own
     # (spawned on demand: only when that response still runs as the candidates start, as on a
     # flexible rod, where it takes longer than the rigid stage, and no candidate waits for it)
-    # The clearance stages' compiled functions are compiled ahead into the compile cache, in a worker
-    # of their own, while the rigid stage runs: the candidates then find them there (75 spm seed, empty
-    # cache: both chains compiled the same 7.5 s side by side after their no-reversal stage). A record
-    # in the cache (`prepared_record`) skips that when it was done before.
+    # The clearance stages' compiled functions are compiled ahead into the compile cache, in the
+    # worker that then simulates the initial speed, while the rigid stage runs: the candidates find
+    # them there (75 spm seed, empty cache: both chains compiled the same 7.5 s side by side after their
+    # no-reversal stage). A record in the cache (`prepared_record`) skips that when it was done before;
+    # with the cache off there is nowhere to compile ahead into.
     workers = min(parallel_workers(strat.workers), len(strat.margins))
     parallel = workers > 1 and bool(model.clearance)
     spec = strat.clearance_spec(model.spec)
-    record = prepared_record(repr(tr), repr(problem), repr(spec))
-    ahead = parallel and tr.has_states and callable(getattr(tr, "prepare", None)) and \
-        (record is None or not record.exists())
+    preparable = parallel and tr.has_states and callable(getattr(tr, "prepare", None))
+    record = prepared_record(repr(tr), repr(problem), repr(spec)) if preparable else None
+    ahead = record is not None and not record.exists()
     pool = process_pool(workers + 1, start=workers) if parallel else None
     timing: dict = {}
     try:
@@ -117,7 +118,7 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
         t_verify, c_verify = time.perf_counter(), compile_seconds()
         init_sim = initial_response(model, problem, initial, strat.verify_rtol) if init_job is None \
             else init_job.result()
-        if isinstance(init_sim, tuple):
+        if ahead:
             init_sim, (timing["prepare"], timing["prepare_compile"]) = init_sim
     finally:
         if pool is not None:
