@@ -73,9 +73,9 @@ def _stats(raw: dict, wall: float) -> dict:
 
 def integrate(model, method, x0, p, grid, rtol, atol, max_steps, step, work=True):
     """Integrate from t = 0 over `grid` (the first entry > 0). Returns (X, Qf, stats); Qf has no rows
-    without `work` (no quadratures integrated; scipy always integrates them)."""
+    without `work` (no quadratures integrated, by any method)."""
     if method.startswith("scipy"):
-        return _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps)
+        return _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps, work)
     F = _integrator(model, method, grid, rtol, atol, max_steps, step, work)
     args = {"x0": x0, "p": p}
     if method == "idas":
@@ -120,11 +120,12 @@ def first_line(err: Exception) -> str:
     return (useful or lines or ["integrator error"])[-1].strip()[:500]
 
 
-def _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps):
+def _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps, work=True):
     from scipy.integrate import BDF, Radau  # baseline only
 
-    nx, nq = model.nx, model.quad.numel()
-    rhs = ca.Function("rhs", [model.t, model.x, model.p], [ca.vertcat(model.ode_explicit, model.quad)])
+    nx, nq = model.nx, (model.quad.numel() if work else 0)
+    rhs = ca.Function("rhs", [model.t, model.x, model.p],
+                      [ca.vertcat(model.ode_explicit, model.quad) if work else model.ode_explicit])
     xa = ca.SX.sym("xa", nx + nq)
     rhs_aug = ca.Function("rhs_aug", [model.t, xa], [rhs(model.t, xa[:nx], p)])
     jac = ca.Function("rhs_jacobian", [model.t, xa], [ca.jacobian(rhs_aug(model.t, xa), xa)])
@@ -334,7 +335,7 @@ def simulate(
     max_steps: int = 10**7,
     step: float = FIXED_STEP,
     x0: np.ndarray | None = None,
-    work: bool = True,
+    work: bool = False,
 ) -> SimResult:
     """Simulate the press over time.
 
@@ -366,8 +367,9 @@ def simulate(
     x0 : ndarray, optional
         Scaled initial state; default the model's consistent initial state (journals centred).
     work : bool
-        Integrate the work quadratures (motor, contact, process and damping work in ``energy``); they
-        cost 30-48 % of an integration. Without them, a periodic run of one cycle at rtol <= 1e-8 by
+        Integrate the work quadratures (motor, contact, process and damping work in ``energy``). Off
+        unless asked for: they cost 30-48 % of an integration. Without them, a periodic run of one
+        cycle at rtol <= 1e-8 by
         IDAS or CVODES (atol = rtol) is the periodic search's own last cycle (`periodic_orbit`, settled
         to max(1e-5, 1000 rtol) instead of `periodic_state`'s max(1e-4, 100 rtol)), not a cycle
         integrated again.
@@ -376,8 +378,8 @@ def simulate(
     -------
     SimResult
         Includes ``stats`` (wall_time, steps, rhs evaluations, failures) and ``energy``
-        (kinetic and potential energy at start and end, and with `work` the motor, contact and
-        process work, J).
+        (kinetic and potential energy at start and end, and with `work` the motor, contact,
+        process and damping work, J).
 
     Raises
     ------

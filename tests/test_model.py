@@ -60,7 +60,7 @@ def test_energy_balance_with_clearances(rod, impact_speed):
     """W_motor + W_process = dT + dV + contact work (stored + dissipated) + rod damping work."""
     m = build_model(PressParams(), rod=rod, n_elements=2)
     r = simulate(m, impact_speed, t_end=0.8 if rod == "rigid" else 0.3, method="cvodes",
-                 rtol=1e-10 if rod == "rigid" else 1e-9)
+                 rtol=1e-10 if rod == "rigid" else 1e-9, work=True)
     E = r.energy
     dE = E["kinetic_end"] + E["potential_end"] - E["kinetic_start"] - E["potential_start"]
     imbalance = E["motor_work"] + E["process_work"] - dE - E["contact_work"] - E["rod_damping_work"]
@@ -203,7 +203,7 @@ def test_periodic_orbit_is_a_periodic_solution():
     quadratures. Reference: the classic path at rtol 1e-10 (states 1e-3 of the clearance, peak 1e-5)."""
     m = build_model(PressParams())
     s = FourierSpeed.constant(0.8)
-    ref = simulate(m, s, periodic=True, method="cvodes", rtol=1e-10, n_out=2001)
+    ref = simulate(m, s, periodic=True, method="cvodes", rtol=1e-10, n_out=2001, work=True)
     assert "motor_work" in ref.energy
     fast = simulate(m, s, periodic=True, method="cvodes", rtol=1e-9, n_out=2001, work=False)
     assert "motor_work" not in fast.energy and fast.stats["steps"] > 0
