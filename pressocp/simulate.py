@@ -44,8 +44,26 @@ HINT = (
 )
 
 
+#: Integrators kept per model (`_integrator`), the oldest dropped first.
+KEPT_INTEGRATORS = 8
+
+
 def _integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, atol: float,
                 max_steps: int, step: float, work: bool = True) -> ca.Function:
+    """The CasADi integrator of `model` over `grid`, built once per model and settings (MEASURE) and
+    kept in ``model.functions`` (the last `KEPT_INTEGRATORS`)."""
+    grid = np.asarray(grid, float)
+    key = ("integrator", method, grid.tobytes(), float(rtol), float(atol), int(max_steps), float(step), bool(work))
+    kept = model.functions.setdefault("integrators", {})
+    if key not in kept:
+        if len(kept) >= KEPT_INTEGRATORS:
+            kept.pop(next(iter(kept)))
+        kept[key] = _build_integrator(model, method, grid, rtol, atol, max_steps, step, work)
+    return kept[key]
+
+
+def _build_integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, atol: float,
+                      max_steps: int, step: float, work: bool) -> ca.Function:
     explicit = method != "idas"
     dae = model.dae(explicit=explicit, work=work)
     opts: dict[str, Any] = {}
