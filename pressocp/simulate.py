@@ -11,7 +11,7 @@ import casadi as ca
 import numpy as np
 
 from . import checks as chk
-from .compile_cache import jit_options, use_jit
+from .compile_cache import function_options, jit_options, use_jit
 from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, QUADRATURE_NAMES, PressModel
 from .result import SimResult
@@ -53,7 +53,8 @@ def _integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, a
     """The CasADi integrator of `model` over `grid`, built once per model and settings (MEASURE) and
     kept in ``model.functions`` (the last `KEPT_INTEGRATORS`)."""
     grid = np.asarray(grid, float)
-    key = ("integrator", method, grid.tobytes(), float(rtol), float(atol), int(max_steps), float(step), bool(work))
+    key = ("integrator", method, grid.tobytes(), float(rtol), float(atol), int(max_steps), float(step), bool(work),
+           COMPILE_DAE["enabled"])
     kept = model.functions.setdefault("integrators", {})
     if key not in kept:
         if len(kept) >= KEPT_INTEGRATORS:
@@ -62,10 +63,29 @@ def _integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, a
     return kept[key]
 
 
+def compiled_dae(dae: dict) -> ca.Function:
+    """The DAE dict as a `casadi.Function` in the integrator's own form (inputs `casadi.dyn_in`,
+    outputs `casadi.dyn_out`), compiled with its derivatives through the compile cache: the
+    integrator then evaluates the right-hand side and its Jacobian as machine code instead of on
+    CasADi's virtual machine."""
+    sym = type(dae["x"])
+    empty = sym(0, 1)
+    ins = [dae["t"], dae["x"], dae.get("z", empty), dae["p"], empty]
+    outs = [dae["ode"], dae.get("alg", empty), dae.get("quad", empty), empty]
+    with compiling():
+        return ca.Function("press_dae", ins, outs, ca.dyn_in(), ca.dyn_out(), function_options(True))
+
+
+#: Compile the right-hand side of the simulations (`compiled_dae`); set by `compile_simulations`.
+COMPILE_DAE = {"enabled": False}
+
+
 def _build_integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, atol: float,
                       max_steps: int, step: float, work: bool) -> ca.Function:
     explicit = method != "idas"
     dae = model.dae(explicit=explicit, work=work)
+    if COMPILE_DAE["enabled"] and method in ("idas", "cvodes") and use_jit("auto", "the simulation's DAE"):
+        dae = compiled_dae(dae)
     opts: dict[str, Any] = {}
     if method in ("idas", "cvodes"):
         opts.update(reltol=rtol, abstol=atol, max_num_steps=max_steps)

@@ -214,6 +214,20 @@ def test_periodic_orbit_is_a_periodic_solution():
     assert fast.peak("torque") == pytest.approx(ref.peak("torque"), rel=1e-5)
 
 
+def test_a_kept_integrator_gives_the_same_bits():
+    """The second simulation with the same settings reuses the first's integrator and returns the
+    same numbers to the bit; other settings build another."""
+    m = build_model(PressParams())
+    s = FourierSpeed.constant(0.8)
+    a = simulate(m, s, method="cvodes", rtol=1e-7, n_out=201)
+    kept = dict(m.functions["integrators"])
+    b = simulate(m, s, method="cvodes", rtol=1e-7, n_out=201)
+    assert m.functions["integrators"] == kept and len(kept) == 1
+    assert np.array_equal(a.states, b.states) and np.array_equal(a.torque, b.torque)
+    simulate(m, s, method="cvodes", rtol=1e-8, n_out=201)
+    assert len(m.functions["integrators"]) == 2
+
+
 def test_settling_cycles_expected_to_settle():
     """Which settling cycles are integrated on the output grid: worked by hand from the rule (the first
     unless from rest, the second, later ones when residual x contraction <= tol)."""
