@@ -11,8 +11,10 @@ share the cores and each timing is its own. Its output goes to ``results/logs/<n
 each run, ``results/runs.json`` records the command, date, machine, wall time, exit status and the
 result files it created or changed (by content; a file rewritten unchanged is not listed), and the
 table between the ``runs`` markers in ``benchmarks/README.md`` is rewritten from it (a ``note``
-added by hand to a record of runs.json is shown with its status). The other tables of that README
-are measurements with their discussion, written by hand from the JSON files; the table says which
+added by hand to a record of runs.json is shown with its status). So is the table between the
+``goals`` markers: the open issues' "must show" goals, each read from its result file with the
+file's date and a verdict (`benchmarks/status.py`). The other tables of that README are
+measurements with their discussion, written by hand from the JSON files; the runs table says which
 files each run refreshed and when.
 
 Every job has a time budget (`Job.minutes`); one still running after 1.5 x its budget
@@ -28,6 +30,7 @@ from __future__ import annotations
 
 import argparse
 import hashlib
+import importlib.util
 import json
 import os
 import signal
@@ -38,6 +41,19 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from pressocp.report import stamp
+
+
+def _load_status():
+    """benchmarks/status.py, by path (this file runs as ``python -m benchmarks`` and is loaded by path in
+    the tests)."""
+    spec = importlib.util.spec_from_file_location("benchmarks_status", Path(__file__).resolve().parent / "status.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # its dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module
+
+
+goal_status = _load_status()
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
@@ -205,6 +221,7 @@ def write_readme(runs: dict) -> None:
     else:
         text = text.rstrip("\n") + "\n\n## Latest runs of `python -m benchmarks`\n\n" + block + "\n"
     README.write_text(text)
+    goal_status.write_readme(README, RESULTS)  # the open issues' goals, from the result files as they are now
 
 
 #: A job is stopped when it runs this many times its budget (`Job.minutes`).

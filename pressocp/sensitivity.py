@@ -34,11 +34,10 @@ import casadi as ca
 import numpy as np
 import pandas as pd
 
-from .compile_cache import function_options, use_jit
-from .interrupt import compiling
+from .compile_cache import use_jit
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
-from .simulate import SimulationError, periodic_state, simulate
+from .simulate import SimulationError, compiled_dae, periodic_state, simulate
 from .speed import FourierSpeed
 
 #: Quantities (peak magnitudes) and the model output they are the peak of.
@@ -145,12 +144,7 @@ def sensitivity_dae(dae: dict) -> dict | ca.Function:
     when a C compiler is found (CasADi's virtual machine evaluates the forward derivatives of the
     contact model slowly: on the seed optimum 11 directions over one cycle took 8.9 s interpreted and
     1.5 s compiled, the same derivatives), else the DAE dict as it is."""
-    if not use_jit("auto", "the sensitivities' right-hand side"):
-        return dae
-    empty = (lambda: ca.SX(0, 1)) if isinstance(dae["x"], ca.SX) else (lambda: ca.MX(0, 1))
-    with compiling():
-        return ca.Function("sensitivity_ode", [dae["t"], dae["x"], empty(), dae["p"], empty()],
-                           [dae["ode"], empty(), empty(), empty()], ca.dyn_in(), ca.dyn_out(), function_options(True))
+    return compiled_dae(dae) if use_jit("auto", "the sensitivities' right-hand side") else dae
 
 
 def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tuple[float, int]], x0: np.ndarray,

@@ -56,6 +56,7 @@ def test_runs_are_recorded_and_the_table_rewritten(tmp_path, monkeypatch):
     assert "| arch (archive) | `arch.py` | not run by this command yet" in text
     assert text.startswith("# Benchmarks\n\nA hand-written table.\n")
     assert text.count(runner.BEGIN) == 1 and "**failed (3)**" in text and "`x.json`" in text
+    assert text.count(runner.goal_status.BEGIN) == 1 and "| #28 |" in text  # the goals, from tmp_path's results
     assert (results / "logs" / "ok.log").exists()
     assert runner.main(["--only", "ok"]) == 0  # rewritten in place, the failed run still listed
     again = readme.read_text()

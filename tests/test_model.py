@@ -12,7 +12,7 @@ import scipy.linalg as sla
 
 from pressocp import Bearing, FourierSpeed, PressParams, beam, rigid_response
 from pressocp.model import build_model
-from pressocp.simulate import SimulationError, simulate
+from pressocp.simulate import SimulationError, expect_settled, periodic_orbit, simulate
 from pressocp.studies import simeon_crank
 
 FLORES_PERIOD = 60.0 / 5000.0
@@ -60,7 +60,7 @@ def test_energy_balance_with_clearances(rod, impact_speed):
     """W_motor + W_process = dT + dV + contact work (stored + dissipated) + rod damping work."""
     m = build_model(PressParams(), rod=rod, n_elements=2)
     r = simulate(m, impact_speed, t_end=0.8 if rod == "rigid" else 0.3, method="cvodes",
-                 rtol=1e-10 if rod == "rigid" else 1e-9)
+                 rtol=1e-10 if rod == "rigid" else 1e-9, work=True)
     E = r.energy
     dE = E["kinetic_end"] + E["potential_end"] - E["kinetic_start"] - E["potential_start"]
     imbalance = E["motor_work"] + E["process_work"] - dE - E["contact_work"] - E["rod_damping_work"]
@@ -203,7 +203,7 @@ def test_periodic_orbit_is_a_periodic_solution():
     quadratures. Reference: the classic path at rtol 1e-10 (states 1e-3 of the clearance, peak 1e-5)."""
     m = build_model(PressParams())
     s = FourierSpeed.constant(0.8)
-    ref = simulate(m, s, periodic=True, method="cvodes", rtol=1e-10, n_out=2001)
+    ref = simulate(m, s, periodic=True, method="cvodes", rtol=1e-10, n_out=2001, work=True)
     assert "motor_work" in ref.energy
     fast = simulate(m, s, periodic=True, method="cvodes", rtol=1e-9, n_out=2001, work=False)
     assert "motor_work" not in fast.energy and fast.stats["steps"] > 0
@@ -212,3 +212,41 @@ def test_periodic_orbit_is_a_periodic_solution():
     assert np.max(np.abs((fast.states - ref.states) / scale)) < 1e-3  # scaled: eccentricity / clearance
     assert np.max(np.abs((fast.states[:, -1] - fast.states[:, 0]) / m.x_scale)) <= 1e-4  # periodic to its tol
     assert fast.peak("torque") == pytest.approx(ref.peak("torque"), rel=1e-5)
+
+
+def test_a_kept_integrator_gives_the_same_bits():
+    """The second simulation with the same settings reuses the first's integrator and returns the
+    same numbers to the bit; other settings build another."""
+    m = build_model(PressParams())
+    s = FourierSpeed.constant(0.8)
+    a = simulate(m, s, method="cvodes", rtol=1e-7, n_out=201)
+    kept = dict(m.functions["integrators"])
+    b = simulate(m, s, method="cvodes", rtol=1e-7, n_out=201)
+    assert len(kept) == 1 and all(m.functions["integrators"][k] is f for k, f in kept.items())
+    assert np.array_equal(a.states, b.states) and np.array_equal(a.torque, b.torque)
+    simulate(m, s, method="cvodes", rtol=1e-8, n_out=201)
+    assert len(m.functions["integrators"]) == 2
+
+
+def test_settling_cycles_expected_to_settle():
+    """Which settling cycles are integrated on the output grid: worked by hand from the rule (the first
+    unless from rest, the second, later ones when residual x contraction <= tol)."""
+    assert expect_settled([], 1e-6, from_rest=False) and not expect_settled([], 1e-6, from_rest=True)
+    assert expect_settled([0.3], 1e-6, from_rest=True)  # the second cycle
+    assert not expect_settled([0.3, 1e-3], 1e-6, from_rest=True)  # next ~ 1e-3 * (1e-3 / 0.3) = 3.3e-6
+    assert expect_settled([0.3, 1e-4], 1e-6, from_rest=True)  # next ~ 3.3e-8
+
+
+def test_the_orbit_does_not_depend_on_which_cycles_are_sampled():
+    """From rest with the transient integrated without the output grid, and from a start already on
+    the orbit (its first, coarse, cycle settles and is integrated again on the grid): the same
+    sampled orbit as the search that samples every cycle, to well within its tolerance."""
+    m = build_model(PressParams())
+    s = FourierSpeed.constant(0.8)
+    times = np.linspace(0.0, 0.8, 401)
+    every, info = periodic_orbit(m, s, times, "cvodes", 1e-9, tol=1e-6)
+    rest, info_rest = periodic_orbit(m, s, times, "cvodes", 1e-9, tol=1e-6, from_rest=True)
+    assert info_rest["cycles"] == info["cycles"] >= 2
+    assert np.max(np.abs(rest - every)) < 1e-6
+    on, info_on = periodic_orbit(m, s, times, "cvodes", 1e-9, x_start=every[:, 0], tol=1e-6, from_rest=True)
+    assert info_on["cycles"] == 1 and np.max(np.abs(on - every)) < 1e-6

@@ -1,0 +1,92 @@
+"""benchmarks/status.py: the open issues' goals read from result files, with verdicts that follow the
+issues' wording (a peak higher than before by any amount is a miss) and "not measured" where a file
+is missing. The result files here are written by hand, with values whose verdicts are known."""
+
+import importlib.util
+import json
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+_spec = importlib.util.spec_from_file_location("benchmarks_status_test", ROOT / "benchmarks" / "status.py")
+status = importlib.util.module_from_spec(_spec)
+sys.modules[_spec.name] = status  # dataclasses look their module up
+_spec.loader.exec_module(status)
+
+
+def speed_row(scenario, label, walls, peaks, date, verified=True, compile_s=None):
+    return {"scenario": scenario, "label": label, "run": {"date": date}, "median_wall_s": sorted(walls)[len(walls) // 2],
+            "wall_s": walls, "peaks": peaks, "all_verified": verified,
+            "compile_s": compile_s if compile_s is not None else [5.0] + [0.0] * (len(walls) - 1)}
+
+
+def write_jsonl(path, rows):
+    path.write_text("".join(json.dumps(r) + "\n" for r in rows))
+
+
+def by_goal(rows, start):
+    return [r for r in rows if r.goal.startswith(start)]
+
+
+def test_missing_files_are_not_measured(tmp_path):
+    rows = status.rows(tmp_path)
+    assert rows and all(r.verdict.startswith("not measured") for r in rows)
+
+
+def test_speed_goals(tmp_path):
+    write_jsonl(tmp_path / "speed.jsonl", [
+        speed_row("press75", "after", [50.0, 40.0, 44.0], [145.5] * 3, "d1"),          # median 44 s: met
+        speed_row("press75", "cold", [46.0, 47.0, 45.5], [145.5] * 3, "d2"),           # median 46 s: missed
+        speed_row("press60", "before", [30.0], [76.0], "d0"),
+        speed_row("press60", "after", [14.0, 14.0, 14.0], [76.0001] * 3, "d3"),        # 2.14 x, peak +1.3e-6
+        speed_row("large_press", "before", [100.0], [500.0], "d0"),
+        speed_row("large_press", "after", [49.0, 49.0, 49.0], [499.0] * 3, "d4"),      # 2.04 x, lower
+        speed_row("slender_rod", "before", [100.0], [70.0], "d0"),
+        speed_row("slender_rod", "after", [51.0, 51.0, 51.0], [69.0] * 3, "d5", compile_s=[9.0, 0.0, 1.2]),
+    ])
+    rows = status.rows(tmp_path)
+    seed = by_goal(rows, "press75 default call")
+    assert [r.verdict for r in seed] == ["met", "**not met**"]
+    assert "median **44.0 s**" in seed[0].measured and "d1" in seed[0].source
+    press60 = by_goal(rows, "press60")[0]
+    assert press60.verdict.startswith("**not met**") and "higher by 1.3e-06" in press60.verdict
+    assert "(2.1 ×)" in press60.measured
+    assert by_goal(rows, "large_press")[0].verdict == "met"
+    assert by_goal(rows, "slender_rod")[0].verdict == "**not met**"  # 1.96 x
+    second = by_goal(rows, "the same model in a second process")[0]
+    assert second.verdict == "**not met**" and "at most 1.20 s" in second.measured
+
+
+def test_suite_sweep_and_verification_goals(tmp_path):
+    (tmp_path / "runs.json").write_text(json.dumps({
+        "suite": {"date": "d6", "jobs": 33, "wall_time_s": 2.5 * 3600, "failed": []},
+        "simulation": {"date": "d7"}}))
+    (tmp_path / "sweep_optima.json").write_text(json.dumps({
+        "date": "d8", "median_s": 310.0, "all_verified": True,
+        "runs": [{"wall_time_s": w} for w in (300.0, 310.0, 320.0)]}))
+    (tmp_path / "verification.json").write_text(json.dumps({
+        "date": "d9", "runs": {"after": {"median_s": 0.5, "peaks": {"torque": 100.0002}},
+                               "before": {"median_s": 1.6, "peaks": {"torque": 100.0}}}}))
+    (tmp_path / "simulation.json").write_text(json.dumps({"equal_accuracy": {
+        "clearance@0.01": {"idas": {"rtol": 1e-6, "time_per_cycle_s": 0.1},
+                           "scipy-radau": {"rtol": 1e-5, "time_per_cycle_s": 2.5}, "radau_over_idas": 25.0},
+        "clearance@0.001": {"idas": {"rtol": 1e-6, "time_per_cycle_s": 0.1},
+                            "scipy-radau": {"rtol": 1e-7, "time_per_cycle_s": 1.9}, "radau_over_idas": 19.0}}}))
+    rows = status.rows(tmp_path)
+    suite = by_goal(rows, "`python -m benchmarks`")[0]
+    assert suite.verdict == "met" and "**150 min**" in suite.measured
+    assert by_goal(rows, "a sweep of 8 optima")[0].verdict == "**not met**"  # median 310 s > 300 s
+    ver = by_goal(rows, "the seed optimum's final verification")[0]
+    assert ver.verdict == "**not met**" and "3.20 ×" in ver.measured and "in the same run" in ver.measured  # the peak 2e-6 off
+    radau = by_goal(rows, "seed clearance model")[0]
+    assert radau.verdict == "**not met**" and "d7" in radau.source  # 19 x at 0.1 %
+
+
+def test_the_readme_block_is_replaced_in_place(tmp_path):
+    readme = tmp_path / "README.md"
+    readme.write_text("# Benchmarks\n\nBy hand.\n")
+    status.write_readme(readme, tmp_path)
+    status.write_readme(readme, tmp_path)
+    text = readme.read_text()
+    assert text.startswith("# Benchmarks\n\nBy hand.\n") and text.count(status.BEGIN) == 1
+    assert "| #28 |" in text and "| #29 |" in text
