@@ -373,7 +373,7 @@ def simulate(
     max_steps: int = 10**7,
     step: float = FIXED_STEP,
     x0: np.ndarray | None = None,
-    work: bool = False,
+    work: bool = True,
 ) -> SimResult:
     """Simulate the press over time.
 
@@ -405,9 +405,9 @@ def simulate(
     x0 : ndarray, optional
         Scaled initial state; default the model's consistent initial state (journals centred).
     work : bool
-        Integrate the work quadratures (motor, contact, process and damping work in ``energy``). Off
-        unless asked for: they cost 30-48 % of an integration. Without them, a periodic run of one
-        cycle at rtol <= 1e-8 by
+        Integrate the work quadratures (motor, contact, process and damping work in ``energy``); they
+        cost 30-48 % of an integration, so a run that reads no work should say False. Without them, a
+        periodic run of one cycle at rtol <= 1e-8 by
         IDAS or CVODES (atol = rtol) is the periodic search's own last cycle (`periodic_orbit`, settled
         to max(1e-5, 1000 rtol) instead of `periodic_state`'s max(1e-4, 100 rtol)), not a cycle
         integrated again.

@@ -240,13 +240,15 @@ def test_settling_cycles_expected_to_settle():
 def test_the_orbit_does_not_depend_on_which_cycles_are_sampled():
     """From rest with the transient integrated without the output grid, and from a start already on
     the orbit (its first, coarse, cycle settles and is integrated again on the grid): the same
-    sampled orbit as the search that samples every cycle, to well within its tolerance."""
+    sampled orbit as the search that samples every cycle, within its tolerance. (At rtol 1e-9 the
+    cycle-to-cycle residual of this orbit stalls at 0.5-2e-6, the integration's noise: 1e-5 is a
+    tolerance the search reaches in 3 cycles either way.)"""
     m = build_model(PressParams())
     s = FourierSpeed.constant(0.8)
     times = np.linspace(0.0, 0.8, 401)
-    every, info = periodic_orbit(m, s, times, "cvodes", 1e-9, tol=1e-6)
-    rest, info_rest = periodic_orbit(m, s, times, "cvodes", 1e-9, tol=1e-6, from_rest=True)
+    every, info = periodic_orbit(m, s, times, "cvodes", 1e-9, tol=1e-5)
+    rest, info_rest = periodic_orbit(m, s, times, "cvodes", 1e-9, tol=1e-5, from_rest=True)
     assert info_rest["cycles"] == info["cycles"] >= 2
-    assert np.max(np.abs(rest - every)) < 1e-6
-    on, info_on = periodic_orbit(m, s, times, "cvodes", 1e-9, x_start=every[:, 0], tol=1e-6, from_rest=True)
-    assert info_on["cycles"] == 1 and np.max(np.abs(on - every)) < 1e-6
+    assert np.max(np.abs(rest - every)) < 1e-5
+    on, info_on = periodic_orbit(m, s, times, "cvodes", 1e-9, x_start=every[:, 0], tol=1e-5, from_rest=True)
+    assert info_on["cycles"] == 1 and np.max(np.abs(on - every)) < 1e-5
