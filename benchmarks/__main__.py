@@ -8,7 +8,8 @@
 
 Each benchmark runs as its own process (`sys.executable`), one after the other, so that no two
 share the cores and each timing is its own. Its output goes to ``results/logs/<name>.log``. After
-each run, ``results/runs.json`` records the command, date, machine, wall time, exit status and the
+each run, ``results/runs.json`` records the command, date, machine (with `CALIBRATION`'s time just
+before the job), wall time, exit status and the
 result files it created or changed (by content; a file rewritten unchanged is not listed), and the
 table between the ``runs`` markers in ``benchmarks/README.md`` is rewritten from it (a ``note``
 added by hand to a record of runs.json is shown with its status). So is the table between the
@@ -206,8 +207,9 @@ def table(runs: dict) -> str:
         if r.get("note"):  # written by hand in runs.json: what the record alone does not say
             status += f": {r['note']}"
         files = ", ".join(f"`{f}`" for f in r["files"]) or "none"
+        cal = f", calibration {r['calibration_s']:.2f} s" if r.get("calibration_s") else ""
         lines.append(f"| {name} | `{' '.join([job.script, *job.args])}` | {r['date']} | {r['machine']} "
-                     f"({r['cpus']}) | {r['wall_time_s'] / 60:.1f} min | {status} | {files} |")
+                     f"({r['cpus']}{cal}) | {r['wall_time_s'] / 60:.1f} min | {status} | {files} |")
     return "\n".join(lines)
 
 
@@ -222,6 +224,36 @@ def write_readme(runs: dict) -> None:
         text = text.rstrip("\n") + "\n\n## Latest runs of `python -m benchmarks`\n\n" + block + "\n"
     README.write_text(text)
     goal_status.write_readme(README, RESULTS)  # the open issues' goals, from the result files as they are now
+
+
+#: A fixed workload like the benchmarks' own (an IPOPT solve of a 3000-variable Rosenbrock chain, a
+#: stiff CVODES integration), run in a fresh process before every job: its median time of 3 says how
+#: fast the machine is at that moment. Timings of different runs compare only through it (the same
+#: "2-core VM" ran 1.4-2 x slower on 2026-11-26 than on 2026-11-25).
+CALIBRATION = """
+import statistics, time
+import casadi as ca
+def once():
+    t = time.perf_counter()
+    x = ca.SX.sym("x", 3000)
+    f = ca.sum1(100 * (x[1:] - x[:-1] ** 2) ** 2 + (1 - x[:-1]) ** 2)
+    ca.nlpsol("s", "ipopt", {"x": x, "f": f}, {"print_time": 0, "ipopt.print_level": 0, "ipopt.sb": "yes"})(x0=[0.5] * 3000)
+    z = ca.SX.sym("z", 2)
+    F = ca.integrator("F", "cvodes", {"x": z, "ode": ca.vertcat(z[1], 100 * (1 - z[0] ** 2) * z[1] - z[0])}, 0, 3000,
+                      {"reltol": 1e-10, "abstol": 1e-10, "max_num_steps": 10**7})
+    F(x0=[2, 0])
+    return time.perf_counter() - t
+print(statistics.median(once() for _ in range(3)))
+"""
+
+
+def calibrate() -> float | None:
+    """Seconds of `CALIBRATION` in a fresh process (None when it fails)."""
+    try:
+        out = subprocess.run([sys.executable, "-c", CALIBRATION], capture_output=True, text=True, timeout=120)
+        return float(out.stdout.strip().splitlines()[-1])
+    except (subprocess.SubprocessError, ValueError, IndexError):
+        return None
 
 
 #: A job is stopped when it runs this many times its budget (`Job.minutes`).
@@ -240,6 +272,7 @@ def run(job: Job, budget_factor: float = BUDGET_FACTOR) -> dict:
     logs.mkdir(parents=True, exist_ok=True)
     for name in job.fresh:  # a script that resumes from these would not recompute them
         (RESULTS / name).unlink(missing_ok=True)
+    speed_now = calibrate()
     started, before, wall0 = stamp(), result_contents(), time.perf_counter()
     limit = budget_factor * job.minutes * 60.0
     with open(logs / f"{job.name}.log", "w") as log:
@@ -257,7 +290,8 @@ def run(job: Job, budget_factor: float = BUDGET_FACTOR) -> dict:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
             raise
-    return {"command": " ".join([job.script, *job.args]), **started, "budget_min": job.minutes,
+    return {"command": " ".join([job.script, *job.args]), **started, "calibration_s": speed_now,
+            "budget_min": job.minutes,
             "wall_time_s": time.perf_counter() - wall0, "exit_status": status,
             "over_budget": status == OVER_BUDGET, "files": result_files(before)}
 
@@ -307,4 +341,8 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except KeyboardInterrupt:  # the running job was stopped with its process group (`run`)
+        print("python -m benchmarks: interrupted; the jobs that finished are recorded", file=sys.stderr)
+        sys.exit(130)

@@ -50,11 +50,13 @@ KEPT_INTEGRATORS = 8
 
 def _integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, atol: float,
                 max_steps: int, step: float, work: bool = True) -> ca.Function:
-    """The CasADi integrator of `model` over `grid`, built once per model and settings (MEASURE) and
-    kept in ``model.functions`` (the last `KEPT_INTEGRATORS`)."""
+    """The CasADi integrator of `model` over `grid`, built once per model and settings and kept in
+    ``model.functions`` (the last `KEPT_INTEGRATORS`): building one took 20 ms on the rigid rod and
+    0.1 s on a 2-element rod (2026-11-26), paid again by every call of a sweep or a repeated check.
+    The right-hand side stays on CasADi's virtual machine: compiled (`compiled_dae`) a cycle took
+    the same time to 2 % on both (docs/decisions/2026-11-26-simulation-costs.md)."""
     grid = np.asarray(grid, float)
-    key = ("integrator", method, grid.tobytes(), float(rtol), float(atol), int(max_steps), float(step), bool(work),
-           COMPILE_DAE["enabled"])
+    key = ("integrator", method, grid.tobytes(), float(rtol), float(atol), int(max_steps), float(step), bool(work))
     kept = model.functions.setdefault("integrators", {})
     if key not in kept:
         if len(kept) >= KEPT_INTEGRATORS:
@@ -65,9 +67,9 @@ def _integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, a
 
 def compiled_dae(dae: dict) -> ca.Function:
     """The DAE dict as a `casadi.Function` in the integrator's own form (inputs `casadi.dyn_in`,
-    outputs `casadi.dyn_out`), compiled with its derivatives through the compile cache: the
-    integrator then evaluates the right-hand side and its Jacobian as machine code instead of on
-    CasADi's virtual machine."""
+    outputs `casadi.dyn_out`), compiled with its derivatives through the compile cache. It pays where
+    the integrator differentiates the right-hand side in many directions (the forward sensitivities:
+    11 directions over one cycle 8.9 s interpreted, 1.5 s compiled), not in a plain simulation."""
     sym = type(dae["x"])
     empty = sym(0, 1)
     ins = [dae["t"], dae["x"], dae.get("z", empty), dae["p"], empty]
@@ -76,16 +78,10 @@ def compiled_dae(dae: dict) -> ca.Function:
         return ca.Function("press_dae", ins, outs, ca.dyn_in(), ca.dyn_out(), function_options(True))
 
 
-#: Compile the right-hand side of the simulations (`compiled_dae`); set by `compile_simulations`.
-COMPILE_DAE = {"enabled": False}
-
-
 def _build_integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, atol: float,
                       max_steps: int, step: float, work: bool) -> ca.Function:
     explicit = method != "idas"
     dae = model.dae(explicit=explicit, work=work)
-    if COMPILE_DAE["enabled"] and method in ("idas", "cvodes") and use_jit("auto", "the simulation's DAE"):
-        dae = compiled_dae(dae)
     opts: dict[str, Any] = {}
     if method in ("idas", "cvodes"):
         opts.update(reltol=rtol, abstol=atol, max_num_steps=max_steps)

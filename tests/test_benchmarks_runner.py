@@ -36,6 +36,7 @@ def test_runs_are_recorded_and_the_table_rewritten(tmp_path, monkeypatch):
                                       "(Path(__file__).parent / 'results' / 'a.json').write_text('{}')\n")
     (tmp_path / "same.py").write_text("from pathlib import Path\n"
                                       "(Path(__file__).parent / 'results' / 'same.json').write_text('[1]')\n")
+    monkeypatch.setattr(runner, "calibrate", lambda: 0.5)  # the real one starts CasADi in a process per job
     for name, value in (("HERE", tmp_path), ("RESULTS", results), ("README", readme), ("RUNS", results / "runs.json"),
                         ("JOBS", (runner.Job("ok", "ok.py", (), 0.1, "writes x.json", fresh=("resumed.csv",)),
                                   runner.Job("bad", "bad.py", ("--flag",), 0.1, "fails"),
@@ -47,7 +48,7 @@ def test_runs_are_recorded_and_the_table_rewritten(tmp_path, monkeypatch):
     assert runs["ok"]["exit_status"] == 0 and runs["ok"]["files"] == ["x.json"]
     assert runs["same"]["exit_status"] == 0 and runs["same"]["files"] == []  # rewritten, unchanged
     assert runs["bad"]["exit_status"] == 3 and runs["bad"]["command"] == "bad.py --flag"
-    assert {"date", "machine", "cpus", "wall_time_s"} <= set(runs["ok"])
+    assert {"date", "machine", "cpus", "wall_time_s"} <= set(runs["ok"]) and runs["ok"]["calibration_s"] == 0.5
     assert not (results / "resumed.csv").exists() and "arch" not in runs and not (results / "a.json").exists()
     suite = runs[runner.SUITE]  # the whole suite's run, the archive left out
     assert suite["jobs"] == 3 and suite["failed"] == ["bad"] and suite["budget_min"] == pytest.approx(0.3)
@@ -78,6 +79,7 @@ def test_a_job_over_its_budget_is_stopped_and_recorded(tmp_path, monkeypatch):
     (tmp_path / "README.md").write_text("# Benchmarks\n")
     finished = tmp_path / "finished"
     (tmp_path / "slow.py").write_text(f"import pathlib, time\ntime.sleep(60)\npathlib.Path({str(finished)!r}).touch()\n")
+    monkeypatch.setattr(runner, "calibrate", lambda: None)  # a failed calibration is recorded as None
     for name, value in (("HERE", tmp_path), ("RESULTS", results), ("README", tmp_path / "README.md"),
                         ("RUNS", results / "runs.json"), ("JOBS", (runner.Job("slow", "slow.py", (), 0.01, "sleeps"),))):
         monkeypatch.setattr(runner, name, value)
@@ -86,6 +88,11 @@ def test_a_job_over_its_budget_is_stopped_and_recorded(tmp_path, monkeypatch):
     assert run["over_budget"] and run["exit_status"] == runner.OVER_BUDGET and not finished.exists()
     assert "**over budget**" in (tmp_path / "README.md").read_text()
     assert "stopped after" in (results / "logs" / "slow.log").read_text()
+
+
+def test_the_calibration_runs():
+    """The machine's calibration workload runs in a fresh process and takes a positive time."""
+    assert runner.calibrate() > 0.0
 
 
 @pytest.mark.parametrize("job", runner.JOBS, ids=lambda job: job.name)
