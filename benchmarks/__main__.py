@@ -215,14 +215,7 @@ def table(runs: dict) -> str:
 
 def write_readme(runs: dict) -> None:
     """Replace the text between the markers of benchmarks/README.md (added at its end when missing)."""
-    text = README.read_text()
-    block = f"{BEGIN}\n{table(runs)}\n{END}"
-    if BEGIN in text and END in text:
-        head, rest = text.split(BEGIN, 1)
-        text = head + block + rest.split(END, 1)[1]
-    else:
-        text = text.rstrip("\n") + "\n\n## Latest runs of `python -m benchmarks`\n\n" + block + "\n"
-    README.write_text(text)
+    goal_status.replace_block(README, (BEGIN, END), table(runs), "Latest runs of `python -m benchmarks`")
     goal_status.write_readme(README, RESULTS)  # the open issues' goals, from the result files as they are now
 
 

@@ -262,16 +262,23 @@ def table(folder: Path = RESULTS) -> str:
     return "\n".join(lines)
 
 
+def replace_block(readme: Path, markers: tuple[str, str], body: str, heading: str) -> None:
+    """Replace the text between `markers` (begin, end) of `readme` with `body`; when they are missing,
+    add them with `body` at its end under a ``## heading``."""
+    begin, end = markers
+    text = readme.read_text()
+    block = f"{begin}\n{body}\n{end}"
+    if begin in text and end in text:
+        head, rest = text.split(begin, 1)
+        text = head + block + rest.split(end, 1)[1]
+    else:
+        text = text.rstrip("\n") + f"\n\n## {heading}\n\n" + block + "\n"
+    readme.write_text(text)
+
+
 def write_readme(readme: Path, folder: Path = RESULTS) -> None:
     """Replace the goals block of `readme` (added at its end when missing) with the table of `folder`."""
-    text = readme.read_text()
-    block = f"{BEGIN}\n{table(folder)}\n{END}"
-    if BEGIN in text and END in text:
-        head, rest = text.split(BEGIN, 1)
-        text = head + block + rest.split(END, 1)[1]
-    else:
-        text = text.rstrip("\n") + "\n\n## The open issues' goals, from the last runs\n\n" + block + "\n"
-    readme.write_text(text)
+    replace_block(readme, (BEGIN, END), table(folder), "The open issues' goals, from the last runs")
 
 
 if __name__ == "__main__":
