@@ -39,6 +39,28 @@ def test_rigid_optimum_constraints_and_improvement(small):
     assert r.speed.n_harmonics == 6 and r.history and r.history[-1] == pytest.approx(r.objective, rel=1e-6)
 
 
+def test_a_warm_start_with_multipliers_stays_and_follows_moved_bounds(small):
+    """From its own optimum with its multipliers the same NLP is solved again in a few iterations
+    at the same objective; holding more of the ram-speed tolerance (backoff 0.99 instead of 0.9)
+    the warm start reaches an objective no higher, with the window still held on a dense grid of
+    the hand-written kinematics; a point of another grid is not used."""
+    prob, r = small
+    assert r.nlp is not None and r.nlp.grid == ("rigid", 200, 40)
+    settings = Rigid(samples=200, window_samples=40)
+    again = settings.solve(prob, start=WarmStart(r.speed, point=r.nlp))
+    assert again.success and again.details["warm"] and again.iterations <= 10
+    assert again.objective == pytest.approx(r.objective, rel=1e-6)
+    moved = Rigid(samples=200, window_samples=40, backoff=0.99).solve(prob, start=WarmStart(r.speed, point=r.nlp))
+    assert moved.success and moved.details["warm"] and moved.objective <= r.objective * (1 + 1e-9)
+    p = prob.press
+    t = np.linspace(moved.t1, moved.t1 + prob.window_duration, 3001)
+    dt = 1e-6
+    v = (exact_height(p, moved.speed.theta(t + dt)) - exact_height(p, moved.speed.theta(t - dt))) / (2 * dt)
+    assert np.max(np.abs(v - prob.ram_speed)) <= prob.tol * 1.05
+    other = Rigid(samples=300, window_samples=40).solve(prob, start=WarmStart(r.speed, point=r.nlp))
+    assert not other.details["warm"]
+
+
 def test_window_widened_by_the_ram_drop_of_a_clearance_model():
     """For a clearance model the rigid window starts the model's ram drop (the two clearances) higher
     and is that much longer, so the model's lower-hanging ram is covered from its window entry on."""

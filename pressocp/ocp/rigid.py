@@ -23,7 +23,7 @@ from ..rigid import crank_angle_at_height, inverse_dynamics, rigid_response
 from ..speed import FourierSpeed
 from .nlp import (IPOPT_RIGID, Constraints, add_kinematic_window, add_objective, add_pin_cap, add_speed_bounds,
                   lifted_crank, scaled_crank_start, solve_nlp)
-from .stage import StageResult, WarmStart, settings_repr
+from .stage import NlpPoint, StageResult, WarmStart, settings_repr
 
 #: Outputs of the ideal press at one sample, besides the crank motion.
 LOAD_OUTPUTS = ("torque", "slider_normal_force", "crank_pin_force", "wrist_pin_force", "crank_pin_tension",
@@ -94,7 +94,9 @@ class Rigid:
             Press parameters it carries (`PressModel.symbols`) become the NLP's p, and the stage holds
             the NLP at its solution (``StageResult.point``); a bearing's parameters do not enter.
         start : WarmStart, optional
-            Start speed; default the kinematic design (`design_speed`).
+            Start speed; default the kinematic design (`design_speed`). With a ``point`` of a rigid
+            stage on the same samples (`grid`), the NLP starts there with its multipliers and its
+            objective scale: the same NLP, other bounds allowed (``backoff``).
         name : str
             Stage name in records and the progress bar.
         progress : bool
@@ -124,6 +126,8 @@ class Rigid:
             t1_0 = float(np.interp(th1, initial.theta(tg), tg))
         t1_0 = float(np.clip(t1_0, 0.0, T - duration))
 
+        point = start.point if start is not None and start.point is not None \
+            and start.point.grid == self.grid() else None
         c, s, t1 = ca.MX.sym("c", 2 * n), ca.MX.sym("s"), ca.MX.sym("t1")
         symbols = () if model is None else model.symbols
         q = ca.MX.sym("q", len(symbols)) if symbols else ca.MX(0, 1)
@@ -133,7 +137,7 @@ class Rigid:
         jit = use_jit(self.jit, "the rigid stage")
         y = dict(zip(LOAD_OUTPUTS, loads_function(P, symbols, jit).map(N)(W[0, :], W[1, :], W[2, :], q)))
         y.update(theta=W[0, :], omega=W[1, :])
-        scale = objective.value(rigid_response(P.press, initial, ts))
+        scale = objective.value(rigid_response(P.press, initial, ts)) if point is None else point.scale
         f = add_objective(cons, objective, y, s, scale)
         add_kinematic_window(cons, P, c, t1, duration, self.window_samples, self.backoff, h_start, jit)
         add_speed_bounds(cons, P, W[1, :], W[2, :])
@@ -143,13 +147,14 @@ class Rigid:
         add_pin_cap(cons, P, y)
         w = ca.vertcat(c, s, t1, ca.vec(Wv))
         W0 = scaled_crank_start(initial, ts).ravel(order="F")
-        w0 = np.concatenate([initial.coefficients, [scale, t1_0], W0])
+        w0 = np.concatenate([initial.coefficients, [scale, t1_0], W0]) if point is None else point.w
         lbw = np.concatenate([np.full(2 * n, -np.inf), [0.0, 0.0], np.full(W0.size, -np.inf)])
         ubw = np.concatenate([np.full(2 * n, np.inf), [np.inf, T - duration], np.full(W0.size, np.inf)])
         out = solve_nlp(f"rigid_{name}", w, f, cons, w0, lbw, ubw, {**IPOPT_RIGID, **oracle_options(jit), **self.ipopt},
                         objective, scale,
                         desc=f"{name} (rigid press, {N} samples)", progress=progress,
-                        parameters=(q, model.nominal) if symbols else None)
+                        parameters=(q, model.nominal) if symbols else None,
+                        multipliers=None if point is None else (point.lam_x, point.lam_g))
         speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
         sampled = rigid_response(P.press, speed, ts)
         return StageResult(
@@ -159,5 +164,11 @@ class Rigid:
             t1=float(out.w[2 * n + 1]), history=out.history, barrier=out.barrier, iteration_log=out.iteration_log,
             violations_start=out.violations_start, violations=out.violations,
             details={"window_extension_m": drop, "min_tension_N": P.min_tension, "samples": N,
-                     "window_samples": self.window_samples, "backoff": self.backoff}, timing=dict(out.timing),
-            point=out.point)
+                     "window_samples": self.window_samples, "backoff": self.backoff, "warm": point is not None},
+            timing=dict(out.timing), point=out.point,
+            nlp=None if out.lam_x is None or not out.success else
+            NlpPoint(out.w, out.lam_x, out.lam_g, np.arange(self.window_samples), scale, self.grid()))
+
+    def grid(self) -> tuple:
+        """What a warm start's `NlpPoint` must match: the samples of the loads and of the window."""
+        return ("rigid", self.samples, self.window_samples)
