@@ -5,7 +5,7 @@ ram speed -0.1 m/s over h/H 0.7 -> 0.3), one cycle from its periodic steady stat
 and tolerance: wall time per cycle (median of repeats) and the relative error of the peak motor
 torque against a CVODES rtol 1e-10 reference. "Equal accuracy" compares the cheapest run of each
 method whose peak-torque error is below a target. No method integrates the work quadratures (nothing
-here reads them; until 2026-11-26 every method did).
+here reads them).
 
 Writes benchmarks/results/simulation.json and simulation.png.
 

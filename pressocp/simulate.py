@@ -241,8 +241,9 @@ def periodic_orbit(model: PressModel, speed: FourierSpeed, times: np.ndarray, me
     in the same integrations: a settling cycle expected to settle is integrated on `times`, and the
     first cycle that ends within `tol` of where it started is the answer (its states at `times`, the
     start state being the periodic one). A cycle that is not expected to settle integrates only its
-    end state: a dense output grid makes CVODES take more steps (12 152 against 6 770 on the seed
-    model for 20 001 and 201 samples). Expected to settle: the first cycle unless `from_rest`, the
+    end state: a dense output grid can make CVODES take more steps (12 152 against 6 770 for 20 001
+    and 201 samples on one scene; none more at the 75 spm seed optimum, 27 000 either way).
+    Expected to settle: the first cycle unless `from_rest`, the
     second, and later ones whose residual, shrunk by the last cycle's contraction, would be within
     `tol`. When a cycle without the grid settles, or Newton's method had to finish the search, one
     more cycle is integrated on `times` from its state.
@@ -402,11 +403,10 @@ def simulate(
         Scaled initial state; default the model's consistent initial state (journals centred).
     work : bool
         Integrate the work quadratures (motor, contact, process and damping work in ``energy``); they
-        cost 30-48 % of an integration, so a run that reads no work should say False. Without them, a
-        periodic run of one cycle at rtol <= 1e-8 by
-        IDAS or CVODES (atol = rtol) is the periodic search's own last cycle (`periodic_orbit`, settled
-        to max(1e-5, 1000 rtol) instead of `periodic_state`'s max(1e-4, 100 rtol)), not a cycle
-        integrated again.
+        cost 30-48 % of an integration, so a run that reads no work should say False. Without them,
+        a periodic run of one cycle at rtol <= 1e-8 by IDAS or CVODES (atol = rtol) is the periodic
+        search's own last cycle (`periodic_orbit`, settled to max(1e-5, 1000 rtol) instead of
+        `periodic_state`'s max(1e-4, 100 rtol)), not a cycle integrated again.
 
     Returns
     -------
