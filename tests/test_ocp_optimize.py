@@ -13,6 +13,7 @@ import pytest
 from pressocp import (FourierSpeed, OcpResult, PressParams, Rigid, SimResult, SpeedProblem, Strategy,
                       build_model, optimize_speed, simulate)
 from pressocp.problem import in_window
+from pressocp.simulate import periodic_state
 
 SMOOTH = SpeedProblem(PressParams(), period=1.0, ram_speed=-0.15, n_harmonics=4)
 
@@ -32,13 +33,24 @@ def smooth():
     return optimize_speed(SMOOTH, strategy=Strategy(rigid=Rigid(samples=200), verify_rtol=1e-8), progress=False)
 
 
+def rigid_verified(result) -> float:
+    """The periodic re-simulation of a result's rigid-stage answer on its model, which its relaxed
+    stage compared with."""
+    assert result.stages[1].name == "relaxed"
+    return result.stages[1].details["previous_verified_value"]
+
+
 def test_auto_accepts_a_verified_rigid_optimum(smooth):
     """At 60 spm and -0.15 m/s the rigid optimum does not impact: "auto" re-simulates it on the
     clearance model, finds it within 2 % of the floor with the ram speed in tolerance over the
-    model's own window, and skips the clearance stage."""
+    model's own window, and skips the clearance stage. The rigid NLP is then re-solved holding more
+    of the ram-speed tolerance, and the answer is whichever of the two re-simulates lower."""
     r = smooth
     assert r.success and r.verified
-    assert [s.name for s in r.stages] == ["rigid", "target"] and r.stages[1].status.startswith("skipped")
+    assert [s.name for s in r.stages] == ["rigid", "relaxed", "target"] and r.stages[2].status.startswith("skipped")
+    relaxed = r.stages[1]
+    assert relaxed.details["previous_verified_value"] >= r.verified_objective
+    assert relaxed.details["verified_value"] >= r.verified_objective
     assert r.peak_torque <= 1.02 * r.rigid_peak_torque
     # an independent periodic simulation (IDAS, another tolerance) of the answer
     model = build_model(SMOOTH.press, n_harmonics=4)
@@ -150,8 +162,9 @@ def test_polish_keeps_only_a_verified_improvement(smooth):
     assert replay.calls == 2 and [s.name for s in rounds] == ["polish_1", "polish_2"]
     kept, dropped = rounds
     assert not kept.was_skipped and kept.speed is best.speed
-    # the round's check against the result's own final verification (both periodic at rtol 1e-8)
-    assert kept.details["verified_value"] == pytest.approx(smooth.peak_torque, rel=1e-3)
+    # the round's check against the result's own verification of the rigid answer (both periodic at
+    # rtol 1e-8; the result's answer is the relaxed one)
+    assert kept.details["verified_value"] == pytest.approx(rigid_verified(smooth), rel=1e-3)
     # the detuned start's ram leaves its speed tolerance: it sets no bar to beat
     start = simulate(model, detuned.speed, periodic=True, method="cvodes", rtol=1e-8, n_out=20001)
     assert window_error(start, SMOOTH) > SMOOTH.tol and kept.details["previous_verified_value"] is None
@@ -218,7 +231,7 @@ def test_flexible_rod_between_ideal_joints_skips_or_runs_only_the_flexible_stage
     # the check against IDAS at rtol 1e-10 on the same model (another integrator and tolerance)
     ref = simulate(model, rigid.speed, periodic=True, method="idas", rtol=1e-10, n_out=20001)
     assert rigid.check.peak_torque == pytest.approx(ref.peak("torque"), rel=1e-4)
-    assert rigid.check.peak_torque == pytest.approx(smooth.peak_torque, rel=1e-3)  # the clearances change little
+    assert rigid.check.peak_torque == pytest.approx(rigid_verified(smooth), rel=1e-3)  # the clearances change little
     stages = Strategy(mode="all", verify_rtol=1e-8).flexible_only(SMOOTH, model, rigid, replay, False)
     assert replay.calls == 2 and [s.name for s in stages] == ["flexible", "polish_1"]
     assert not stages[0].was_skipped and stages[1].status.startswith("not kept")
@@ -229,17 +242,20 @@ def test_flexible_rod_with_clearances_checks_the_rigid_rod_answer_first(smooth):
     re-simulated on the flexible rod. "auto": it holds there (60 spm, stiff rod), so the flexible stage
     is skipped, its record holding that re-simulation, which the result reuses as its verification;
     "all": the flexible stage is solved from it, then a polish round. Reference: an IDAS simulation at
-    rtol 1e-10 of the same model. (The verification at rtol 1e-9: at 1e-8 CVODES's own error on this
-    rod reached 1.4e-4 of the peak for one of the answers IPOPT finds.)"""
+    rtol 1e-10 of the same model from its periodic state searched to a residual of 1e-7 (with the
+    search's default 1e-4 this lightly damped rod's peak was 1.1e-4 high). (The verification at rtol
+    1e-9: at 1e-8 CVODES's own error on this rod reached 1.4e-4 of the peak for one of the answers
+    IPOPT finds.)"""
     model = build_model(SMOOTH.press, rod="flexible", n_elements=1, n_harmonics=4)
     r = optimize_speed(SMOOTH, model, strategy=Strategy(rigid=Rigid(samples=200), verify_rtol=1e-9), progress=False)
-    assert [s.name for s in r.stages] == ["rigid", "target", "flexible"] and r.stages[2].was_skipped
-    assert r.verified and r.stages[2].check.verified and r.stages[2].check.model == model.spec.describe()
-    assert r.simulation is r.stages[2].simulation
-    ref = simulate(model, r.speed, periodic=True, method="idas", rtol=1e-10, n_out=20001)
+    assert [s.name for s in r.stages] == ["rigid", "relaxed", "target", "flexible"] and r.stages[3].was_skipped
+    assert r.verified and r.stages[3].check.verified and r.stages[3].check.model == model.spec.describe()
+    assert r.simulation is r.stages[3].simulation
+    x_periodic, _ = periodic_state(model, r.speed, method="idas", rtol=1e-10, tol=1e-7)
+    ref = simulate(model, r.speed, method="idas", rtol=1e-10, n_out=20001, x0=x_periodic)
     assert r.peak_torque == pytest.approx(ref.peak("torque"), rel=1e-4)
     assert r.peak_torque == pytest.approx(smooth.peak_torque, rel=2e-3)  # the stiff rod changes little
-    last = dataclasses.replace(r.stages[1], simulation=None)
+    last = dataclasses.replace(r.stages[2], simulation=None)
     solved = dataclasses.replace(last, model=model.spec.describe(), transcription="Replay")  # returns its start
     replay = Replay(solved, solved)
     base = build_model(SMOOTH.press, n_harmonics=4)

@@ -2,6 +2,8 @@
 the objective drops, the pin-force cap and the tension bound hold between the samples, and bad
 requests are rejected before solving."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -59,6 +61,18 @@ def test_a_warm_start_with_multipliers_stays_and_follows_moved_bounds(small):
     assert np.max(np.abs(v - prob.ram_speed)) <= prob.tol * 1.05
     other = Rigid(samples=300, window_samples=40).solve(prob, start=WarmStart(r.speed, point=r.nlp))
     assert not other.details["warm"]
+
+
+def test_relaxed_is_the_same_grid_holding_more_tolerance(small):
+    """`Rigid.relaxed`: the stage's own grid at backoff 0.99 with an iteration cap; nothing for a
+    stage that held that much already, has no NLP point, or comes from another grid."""
+    _, r = small
+    settings = Rigid(samples=200, window_samples=40)
+    loose = settings.relaxed(r)
+    assert loose.grid() == r.nlp.grid and loose.backoff == 0.99 and "ipopt.max_iter" in loose.ipopt
+    assert loose.relaxed(replace(r, details={**r.details, "backoff": 0.99})) is None
+    assert settings.relaxed(replace(r, nlp=None)) is None
+    assert Rigid(samples=300, window_samples=40).relaxed(r) is None
 
 
 def test_window_widened_by_the_ram_drop_of_a_clearance_model():

@@ -40,10 +40,6 @@ from .stage import StageResult, WarmStart, standing_stage
 KINEMATIC = ("crank_radius", "rod_length")
 #: A predicted active-set change within this relative step of p makes d(coefficients)/dp one-sided.
 ONE_SIDED = 1e-6
-#: Stages answered on the ideal press.
-RIGID_STAGES = ("rigid", "no_reversal")
-
-
 #: ``derivative`` and ``derivative_check`` agree when they differ by at most this share of the larger
 #: one, or when both are below `NEGLIGIBLE` in normalised terms (p / J* dJ*/dp).
 AGREE_RTOL = 0.05
@@ -200,13 +196,13 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
     stage = answer_stage(result)
     problem, press = result.problem, result.problem.press
     t0 = time.perf_counter()
-    if stage.name in RIGID_STAGES:
+    if stage.transcription.startswith("Rigid"):  # the ideal press's stages: rigid, no_reversal, relaxed
         bearings = [n for n in names if "." in n]
         if bearings:
             raise ValueError(f"the answer is the ideal press's optimum (verified on the clearance model), which "
                              f"does not depend on {', '.join(bearings)}: differentiate a clearance-model optimum "
                              "(optimize_speed(..., strategy='all')) or sweep it")
-        if stage.name == "no_reversal":
+        if stage.details.get("min_tension_N") is not None:
             problem = problem.replace(min_tension=stage.details["min_tension_N"])
         d = stage.details
         transcription = Rigid(d.get("samples", 1000), d.get("window_samples", 200), d.get("backoff", 0.9))
