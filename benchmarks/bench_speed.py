@@ -95,10 +95,11 @@ def measure(name: str, repeat: int, label: str, python: str, cold_first: bool, c
 
 
 def newest(rows: list[dict]) -> dict:
-    out = {}
-    for r in rows:
-        out[(r["scenario"], r["label"])] = r
-    return out
+    """The newest row of each (scenario, label) among those measured on the newest row's machine
+    (its platform string, which names the VM's build: the same "2-core VM" ran 2 x slower in some
+    sessions than in others, so one figure shows one session's rows)."""
+    platform = rows[-1]["run"].get("platform") if rows else None
+    return {(r["scenario"], r["label"]): r for r in rows if r["run"].get("platform") == platform}
 
 
 def stage_times(row: dict) -> list[tuple[str, float]]:
