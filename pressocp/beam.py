@@ -106,3 +106,36 @@ def pinned_pinned_matrices(length: float, n_elements: int, mass_per_length: floa
     M = ca.evalf(ca.hessian(T, qd)[0])
     K = ca.evalf(ca.hessian(V, q)[0])
     return np.array(M), np.array(K)
+
+
+def modes(length: float, n_elements: int, mass_per_length: float, bending_stiffness: float,
+          n_modes: int) -> tuple[np.ndarray, np.ndarray]:
+    """The first `n_modes` bending modes of the pinned-pinned rod of `n_elements` elements: the
+    fixed-interface normal modes of a Craig-Bampton reduction whose interface is the two pinned
+    ends (the chord frame carries the interface's own motion, the rigid rod).
+
+    Returns
+    -------
+    shapes : ndarray, 2 n_elements x n_modes
+        Free DOFs of each mode, scaled to a largest deflection of 1 along the rod (a modal
+        coordinate is then that deflection, m), positive there.
+    frequencies : ndarray
+        Their angular frequencies, rad/s.
+    """
+    from scipy.linalg import eigh  # only a modal rod needs it
+
+    M, K = pinned_pinned_matrices(length, n_elements, mass_per_length, bending_stiffness)
+    values, vectors = eigh(K, M, subset_by_index=(0, n_modes - 1))
+    x = np.linspace(0.0, length, 20 * n_elements + 1)
+    shapes = np.empty((2 * n_elements, n_modes))
+    for k in range(n_modes):
+        v = vectors[:, k]
+        w = np.array([deflection_at(length, n_elements, v, xi) for xi in x])
+        shapes[:, k] = v / w[np.argmax(np.abs(w))]
+    return shapes, np.sqrt(values)
+
+
+def modal_coordinates(shapes: np.ndarray, mass: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Modal coordinates of the free DOFs `q` (the mass-weighted least-squares fit by `shapes`)."""
+    ms = mass @ shapes
+    return np.linalg.solve(shapes.T @ ms, ms.T @ q)

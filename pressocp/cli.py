@@ -103,7 +103,8 @@ TEMPLATE_NOTES = {
     "window": "h/H at entry and exit of the working window (h above bottom dead centre)",
     "objective": "peak_torque, peak_slider_normal_force, peak_pin_force, rms_torque or peak_power",
     "n_harmonics": "Fourier harmonics of the crank speed", "rod": "rigid or flexible",
-    "n_elements": "beam elements of the flexible rod", "transcription": "auto, collocation, shooting-idas or "
+    "n_elements": "beam elements of the flexible rod",
+    "n_modes": "bending modes the flexible rod is reduced to (unset: every element DOF)", "transcription": "auto, collocation, shooting-idas or "
     "shooting-cvodes", "jit": "\"auto\", true or false: compile collocation with the C compiler",
     "verify_rtol": "tolerance of the verifying re-simulation",
     "polish_rounds": "most re-solves of the last stage from its answer, each restarting the barrier (0: the first pass only)",
@@ -115,6 +116,7 @@ TEMPLATE_OPTIONAL = {
                   "# omega_min = 0.5                     # rad/s (default 5 % of the mean crank speed)",
                   "# omega_max = 40.0                    # rad/s, motor speed limit at the crank",
                   "# alpha_max = 2000.0                  # rad/s^2, motor acceleration limit at the crank"],
+    "n_elements": ["# n_modes = 2                         # reduce the flexible rod to its first bending modes"],
     "journal_radius": ["# stiffness = 6.2e11                   # N/m^1.5 (default: Hertz, steel on steel)",
                        "# damping = 3.0                       # s/m, Hunt-Crossley hysteresis (default 3.0: e = 0.9 at 0.05 m/s)"],
 }

@@ -69,11 +69,16 @@ class ModelSpec:
         Joints with clearance (``()``: the rigid press).
     n_elements : int
         Elements of a flexible rod.
+    n_modes : int or None
+        A flexible rod reduced to the first `n_modes` bending modes of its `n_elements`-element
+        model (Craig-Bampton with the pinned ends as the interface; `pressocp.beam.modes`), 1..2
+        `n_elements`; None: every element DOF.
     """
 
     rod: str = "rigid"
     clearance: tuple[str, ...] = JOINTS
     n_elements: int = 4
+    n_modes: int | None = None
 
     def __post_init__(self) -> None:
         chk.choice("rod", self.rod, RODS)
@@ -84,25 +89,33 @@ class ModelSpec:
             raise ValueError(f"clearance names a joint twice: {clearance!r}")
         object.__setattr__(self, "clearance", clearance)
         chk.integer("n_elements", self.n_elements, 1, 64)
+        if self.n_modes is not None:
+            if self.rod != "flexible":
+                raise ValueError(f"n_modes reduces a flexible rod; rod is {self.rod!r}: leave n_modes unset")
+            chk.integer("n_modes", self.n_modes, 1, 2 * self.n_elements)
 
     def build(self, params: PressParams, n_harmonics: int = DEFAULT_HARMONICS) -> "PressModel":
         """`build_model` of this level for a press."""
-        return build_model(params, self.rod, self.clearance, self.n_elements, n_harmonics)
+        return build_model(params, self.rod, self.clearance, self.n_elements, n_harmonics, n_modes=self.n_modes)
 
     def describe(self) -> str:
         """E.g. "rigid rod, clearance in crank_pin and wrist_pin" or "rigid press (ideal joints)"."""
-        n = self.n_elements
-        rod = f"flexible rod ({n} element{'s' * (n != 1)})" if self.rod == "flexible" else "rigid rod"
+        n, m = self.n_elements, self.n_modes
+        modes = "" if m is None else f", {m} mode{'s' * (m != 1)}"
+        rod = f"flexible rod ({n} element{'s' * (n != 1)}{modes})" if self.rod == "flexible" else "rigid rod"
         if not self.clearance:
             return "rigid press (ideal joints)" if self.rod == "rigid" else f"{rod}, ideal joints"
         return f"{rod}, clearance in {' and '.join(self.clearance)}"
 
     def to_dict(self) -> dict:
-        return {"rod": self.rod, "clearance": list(self.clearance), "n_elements": self.n_elements}
+        """Plain data (``n_modes`` only when set)."""
+        d = {"rod": self.rod, "clearance": list(self.clearance), "n_elements": self.n_elements}
+        return d if self.n_modes is None else {**d, "n_modes": self.n_modes}
 
     @classmethod
     def from_dict(cls, data: dict) -> "ModelSpec":
-        return cls(data.get("rod", "rigid"), tuple(data.get("clearance", JOINTS)), data.get("n_elements", 4))
+        return cls(data.get("rod", "rigid"), tuple(data.get("clearance", JOINTS)), data.get("n_elements", 4),
+                   data.get("n_modes"))
 
 
 @dataclass
@@ -147,6 +160,11 @@ class PressModel:
         Consistent scaled initial state: journals centred, no elastic deformation, no rates.
     symbols : tuple of str
         Press parameters carried at the end of p (``build_model(..., parameters=...)``).
+    n_modes : int or None
+        Bending modes of a reduced flexible rod (None: every element DOF).
+    rod_modes : ndarray or None
+        A reduced rod's mode shapes: its element DOFs per modal coordinate, 2 n_elements x n_modes
+        (`pressocp.beam.modes`).
     functions : dict
         Functions built from this model by a transcription, kept for its later solves: collocation's
         point function and the solver of its last compiled solve, so that the point function and its
@@ -174,6 +192,8 @@ class PressModel:
     at_crank: ca.Function
     x0: np.ndarray = field(repr=False)
     symbols: tuple[str, ...] = ()
+    n_modes: int | None = None
+    rod_modes: np.ndarray | None = field(default=None, repr=False, compare=False)
     functions: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
@@ -189,7 +209,7 @@ class PressModel:
     @property
     def spec(self) -> ModelSpec:
         """The model level (`ModelSpec`)."""
-        return ModelSpec(self.rod, self.clearance, self.n_elements)
+        return ModelSpec(self.rod, self.clearance, self.n_elements, self.n_modes)
 
     @property
     def ram_drop(self) -> float:
@@ -239,6 +259,7 @@ def build_model(
     n_elements: int = 4,
     n_harmonics: int = DEFAULT_HARMONICS,
     parameters: tuple[str, ...] = (),
+    n_modes: int | None = None,
 ) -> PressModel:
     """Build the press DAE.
 
@@ -261,13 +282,18 @@ def build_model(
         functions of the model can be differentiated with respect to them (`pressocp.sensitivities`).
         The state scaling stays at the press's values. ``at_crank`` takes them as its input ``q``,
         so that an NLP can carry them as its parameters (`pressocp.optimum_sensitivities`).
+    n_modes : int, optional
+        Reduce the flexible rod to its first `n_modes` bending modes (`ModelSpec.n_modes`): the
+        elastic coordinates are then modal, each the largest deflection of its mode (m), and the
+        energies are those of the element model at w = shapes @ eta. The mode shapes come from
+        the press's values, also when the rod's parameters are carried as symbols.
 
     Returns
     -------
     PressModel
     """
     chk.instance("params", params, PressParams)
-    spec = ModelSpec(rod, clearance, n_elements)
+    spec = ModelSpec(rod, clearance, n_elements, n_modes)
     clearance, ne = spec.clearance, spec.n_elements
     nh = chk.integer("n_harmonics", n_harmonics, 1, 50)
     flexible = rod == "flexible"
@@ -282,12 +308,18 @@ def build_model(
     a, b, period, theta0 = p[:nh], p[nh : 2 * nh], p[2 * nh], p[2 * nh + 1]
     crank = ca.SX.sym("crank", 3)  # theta, omega, alpha: the prescribed crank motion, set from p at the end
     theta_t, omega_t, alpha_t = crank[0], crank[1], crank[2]
-    nw = 2 * ne if flexible else 0
+    shapes = None
+    if spec.n_modes is not None:
+        shapes, _ = beam.modes(params.rod_length, ne, params.rod_mass / params.rod_length,
+                               params.rod_youngs_modulus * params.rod_area_moment, spec.n_modes)
+    nw = (2 * ne if shapes is None else spec.n_modes) if flexible else 0
     Q = ca.SX.sym("Q", 6 + nw)
     Qd = ca.SX.sym("Qd", 6 + nw)
     theta, xs, eA, eB, w = Q[0], Q[1], Q[2:4], Q[4:6], Q[6:]
     names = ["theta", "x_slider", "crank_pin_ex", "crank_pin_ey", "wrist_pin_ex", "wrist_pin_ey"]
-    if flexible:  # beam DOF order: w'_0, w_1, w'_1, ..., w_{N-1}, w'_{N-1}, w'_N
+    if flexible and shapes is not None:  # modal coordinates: each mode's largest deflection
+        names += [f"eta_{k + 1}" for k in range(nw)]
+    elif flexible:  # beam DOF order: w'_0, w_1, w'_1, ..., w_{N-1}, w'_{N-1}, w'_N
         names += ["w'_0"] + [n for i in range(1, ne) for n in (f"w_{i}", f"w'_{i}")] + [f"w'_{ne}"]
     free = []
     scale = []
@@ -319,7 +351,8 @@ def build_model(
         T_r = 0.0
         V_r = 0.0
         strain = 0.0
-        for xi, wgt, wx, _, w2 in beam.quadrature_points(l, ne, w):
+        w_dofs = w if shapes is None else ca.mtimes(ca.DM(shapes), w)  # the element DOFs
+        for xi, wgt, wx, _, w2 in beam.quadrature_points(l, ne, w_dofs):
             r = A_rod - xi * d + wx * normal
             v = rate(r)
             T_r += 0.5 * rho_a * wgt * ca.dot(v, v)
@@ -328,7 +361,7 @@ def build_model(
         V_r += strain
         # a rod inertia other than m l^2/12 is kept as a rigid-body correction
         T_r += 0.5 * (P.rod_inertia_value - P.rod_mass * l**2 / 12) * rate(phi) ** 2
-        midspan = beam.deflection_at(l, ne, w, 0.5 * l)
+        midspan = beam.deflection_at(l, ne, w_dofs, 0.5 * l)
         beta = 2 * P.rod_damping_ratio / P.rod_first_bending_frequency  # Rayleigh: D = beta K
         rod_damping = -beta * ca.jtimes(ca.gradient(strain, w), w, Qd[6:])
     else:
@@ -444,5 +477,5 @@ def build_model(
         ode=ode, alg=alg, quad=quad, ode_explicit=ode_expl, state_names=state_names, x_scale=x_scale,
         outputs=outputs, energy=energy, at_crank=at_crank, x0=np.zeros(2 * nf),
         accelerations=ca.Function("accelerations", [t, x, p], [qdd_free_expl], ["t", "x", "p"], ["qdd"]),
-        symbols=parameters,
+        symbols=parameters, n_modes=spec.n_modes, rod_modes=shapes,
     )

@@ -234,7 +234,8 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
             raise ValueError(f"quantity {q!r} is not one of {', '.join(QUANTITIES)}")
     if model.is_rigid:
         raise ValueError("the model has no states: differentiate the closed-form rigid response instead")
-    msym = build_model(model.params, model.rod, model.clearance, model.n_elements, model.n_harmonics, names)
+    msym = build_model(model.params, model.rod, model.clearance, model.n_elements, model.n_harmonics, names,
+                       n_modes=model.n_modes)
     pv = msym.parameters(speed)
     T = speed.period
     x0 = periodic_state(model, speed, "cvodes", rtol, tol=PERIODIC_TOL * rtol)[0] if periodic else model.x0

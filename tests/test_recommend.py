@@ -65,3 +65,4 @@ def test_slender_rod_scene_is_flexible():
     assert r.level == "flexible" and "first bending mode" in r.reason
     assert r.first_mode == pytest.approx(203.2, rel=1e-3)
     assert r.mode_ratio < 10
+

@@ -215,7 +215,8 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
     else:
         raise ValueError(f"the answer comes from {stage.transcription.split('(')[0]} (stage {stage.name!r}); optimum "
                          "sensitivities need a Rigid or Collocation answer: optimise with the default transcription")
-    model = build_model(press, spec.rod, spec.clearance, spec.n_elements, problem.n_harmonics, names)
+    model = build_model(press, spec.rod, spec.clearance, spec.n_elements, problem.n_harmonics, names,
+                        n_modes=spec.n_modes)
     again = transcription.solve(problem, model, WarmStart(result.speed), "sensitivity", progress)
     if not again.success or again.point is None:
         raise SensitivityError(f"the re-solve at the answer did not converge ({again.status}); "

@@ -521,13 +521,17 @@ class Strategy:
         if tr is None:
             return [], None
         value = get_objective(problem.objective).value
+        t0 = time.perf_counter()
         before = self.verify_stage(model, last)
         if is_periodic(before) is not True or ram_speed_violation(before, problem) > 0.0:
             return [], None
-        best = value(before)
+        best, checks = value(before), time.perf_counter() - t0
         st = tr.solve(problem, model, WarmStart(last.speed, point=last.nlp), "relaxed", progress)
+        t0 = time.perf_counter()
         cand = self.verify_stage(model, st)
         new, viol = value(cand), max(ram_speed_violation(cand, problem), 0.0)
+        if st.model != model.spec.describe():  # verify_stage timed its own model's re-simulation only
+            add_time(st, "checks", checks + time.perf_counter() - t0)
         if st.success and is_periodic(cand) is True and new < best and viol <= 0.0:
             st.details.update(verified_value=new, previous_verified_value=best)
             return [st], cand

@@ -1,0 +1,152 @@
+"""The flexible rod reduced to a few bending modes against the element rod it comes from.
+
+    python benchmarks/bench_modal_rod.py [--repeat 1] [--elements 8] [--rtol 1e-7] [--t-end 0.2]
+
+Scene: the default press at 75 spm driven by its kinematic design (-0.1 m/s over h/H 0.7 -> 0.3),
+whose rod force reverses: both journals cross their clearances and hit. ``--t-end`` seconds from
+rest (journals centred, rod undeformed; 0.8 s is one cycle), CVODES at ``--rtol``, 4 001 output
+samples, no work quadratures. Each model level is timed `--repeat` times (integrator construction
+included: 0.02-0.3 s); its peak torque and pin forces are compared with the ``--elements`` rod at the same tolerance (the
+reference: at rtol 1e-8 and 1e-9 its 0.2 s took over 5 min, and a transient with impacts differs by
+about 1 % between equivalent models, docs/decisions/2026-11-26-reduced-rod.md). The levels: the rigid
+rod (for scale), the 4-element rod, and the ``--elements`` rod reduced to 1, 2 and 3 modes. Simeon's slider crank (shared/reference/benchmarks.md section 1) is run on
+the same rods: the slider position and velocity and the midspan deflection at 0.1 s against the
+reference values. Writes ``results/modal_rod.json`` and ``results/modal_rod.png`` with the date and
+machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import time
+from pathlib import Path
+
+import numpy as np
+
+from pressocp import PressParams, SpeedProblem, design_speed
+from pressocp.model import ModelSpec
+from pressocp.report import stamp
+from pressocp.simulate import simulate
+from pressocp.studies import SIMEON_REFERENCE, simeon_crank
+
+OUT = Path(__file__).parent / "results"
+PEAKS = ("torque", "crank_pin_force", "wrist_pin_force")
+#: Goals of the fast-simulation issue: one impact cycle under 1 s with the peak torque within 1e-3 of
+#: the full element rod; Simeon within 1 %; the 8-element rod within 2 % on the impacting scene.
+GOAL_CYCLE_S, GOAL_PEAK, GOAL_SIMEON, GOAL_ELEMENTS = 1.0, 1e-3, 0.01, 0.02
+
+
+def levels(elements: int) -> list[ModelSpec]:
+    return [ModelSpec("rigid"), ModelSpec("flexible", n_elements=4),
+            *(ModelSpec("flexible", n_elements=elements, n_modes=m) for m in (1, 2, 3))]
+
+
+def cycle(spec: ModelSpec, rtol: float, repeat: int, t_end: float) -> dict:
+    """`t_end` seconds from rest of the impacting design on `spec`: times, steps, peaks."""
+    problem = SpeedProblem(PressParams(), period=0.8, ram_speed=-0.1)
+    speed = design_speed(problem).speed
+    model = spec.build(problem.press, problem.n_harmonics)
+
+    def once():
+        t0 = time.perf_counter()
+        sim = simulate(model, speed, t_end=t_end, method="cvodes", rtol=rtol, n_out=4001, work=False)
+        return time.perf_counter() - t0, sim
+
+    runs = [once() for _ in range(repeat)]
+    sim = runs[-1][1]
+    return {"model": spec.describe(), "spec": spec.to_dict(), "states": model.nx, "rtol": rtol, "t_end": t_end,
+            "times_s": [r[0] for r in runs], "median_s": statistics.median(r[0] for r in runs),
+            "steps": sim.stats.get("steps"), "peaks": {n: sim.peak(n) for n in PEAKS}}
+
+
+def simeon(spec: ModelSpec) -> dict:
+    """Simeon's slider crank on the rod of `spec`: relative errors at 0.1 s against the reference."""
+    p = PressParams.simeon()
+    t0 = time.perf_counter()
+    r = simeon_crank(n_elements=spec.n_elements, n_modes=spec.n_modes)
+    wall = time.perf_counter() - t0
+    ref = SIMEON_REFERENCE
+    got = {"slider_position": p.crank_radius + p.rod_length - r.ram_height[-1],
+           "slider_velocity": -r.ram_velocity[-1], "midspan_deflection": r.rod_midspan_deflection[-1],
+           "midspan_extremes": 0.5 * (np.max(r.rod_midspan_deflection) - np.min(r.rod_midspan_deflection))}
+    return {"model": spec.describe(), "wall_s": wall, "values": got,
+            "errors": {k: abs(v / ref[k] - 1) for k, v in got.items()}}
+
+
+def figure(row: dict, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.8))
+    for k, c in enumerate(row["cycles"]):
+        err = max(c["errors"][n] for n in PEAKS)
+        ax.plot(c["median_s"], max(err, 1e-8), "o", color=f"C{k}", label=f"{c['model']} ({c['states']} states)")
+        ax.plot(c["times_s"], [max(err, 1e-8)] * len(c["times_s"]), ".", color=f"C{k}", alpha=0.5)
+    ax.axvline(GOAL_CYCLE_S, color="k", ls=":", lw=1)
+    ax.axhline(GOAL_PEAK, color="k", ls=":", lw=1)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(f"{row['t_end']:g} s from rest (the cycle is 0.8 s), wall s (median of {row['repeat']}; "
+                  f"CVODES rtol {row['rtol']:g})")
+    ax.set_ylabel(f"largest peak error (torque, pin forces)\nagainst the full element rod (the same rtol)")
+    ax.set_title("75 spm kinematic design, both clearances: cost against error", fontsize=9)
+    ax.legend(fontsize=7)
+    names = [s["model"].replace("flexible rod ", "").replace(", ideal joints", "") for s in row["simeon"]]
+    keys = ("slider_position", "slider_velocity", "midspan_deflection", "midspan_extremes")
+    x = np.arange(len(names))
+    for j, key in enumerate(keys):
+        bx.bar(x + (j - 1.5) * 0.2, [max(s["errors"][key], 1e-9) for s in row["simeon"]], 0.2, label=key)
+    bx.axhline(GOAL_SIMEON, color="k", ls=":", lw=1)
+    bx.set_yscale("log")
+    bx.set_xticks(x, names, fontsize=7, rotation=15)
+    bx.set_ylabel("relative error at 0.1 s")
+    bx.set_title("Simeon's flexible slider crank against its reference values", fontsize=9)
+    bx.legend(fontsize=7)
+    fig.suptitle(f"{row['date']}, {row['machine']}", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=1)
+    ap.add_argument("--elements", type=int, default=8, help="elements of the rod the modes come from")
+    ap.add_argument("--rtol", type=float, default=1e-7)
+    ap.add_argument("--t-end", type=float, default=0.2, help="seconds simulated from rest (0.8: one cycle)")
+    ap.add_argument("--replot", action="store_true", help="redraw the figure from results/modal_rod.json")
+    a = ap.parse_args()
+    if a.replot:
+        figure(json.loads((OUT / "modal_rod.json").read_text()), OUT / "modal_rod.png")
+        return
+    if a.repeat < 1:
+        ap.error(f"--repeat must be >= 1, got {a.repeat}")
+    full = ModelSpec("flexible", n_elements=a.elements)
+    reference = cycle(full, a.rtol, a.repeat, a.t_end)
+    print(f"reference {reference['model']} at rtol {a.rtol:g}: {reference['median_s']:.1f} s, "
+          f"peak torque {reference['peaks']['torque']:.6g} N m", flush=True)
+    cycles = []
+    for spec in levels(a.elements):
+        c = cycle(spec, a.rtol, a.repeat, a.t_end)
+        c["errors"] = {n: abs(c["peaks"][n] / reference["peaks"][n] - 1) for n in PEAKS}
+        cycles.append(c)
+        print(f"{c['model']}: {c['median_s']:.3f} s, {c['steps']} steps, peak torque {c['peaks']['torque']:.6g} N m "
+              f"(error {c['errors']['torque']:.2e})", flush=True)
+    sims = [simeon(ModelSpec("flexible", (), n)) for n in (4, 8)]
+    sims += [simeon(ModelSpec("flexible", (), a.elements, m)) for m in (1, 2, 3)]
+    for s in sims:
+        print(f"Simeon, {s['model']}: " + ", ".join(f"{k} {v:.2e}" for k, v in s["errors"].items()), flush=True)
+    row = {**stamp(), "scene": f"default press, 75 spm kinematic design, both clearances, {a.t_end:g} s from rest",
+           "repeat": a.repeat, "rtol": a.rtol, "t_end": a.t_end, "reference": reference, "cycles": cycles, "simeon": sims,
+           "goals": {"cycle_s": GOAL_CYCLE_S, "peak": GOAL_PEAK, "simeon": GOAL_SIMEON, "elements": GOAL_ELEMENTS}}
+    OUT.mkdir(exist_ok=True)
+    (OUT / "modal_rod.json").write_text(json.dumps(row, indent=1))
+    figure(row, OUT / "modal_rod.png")
+
+
+if __name__ == "__main__":
+    main()
