@@ -28,12 +28,10 @@ IPOPT_BASE = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False, "i
 #: never-monotone-mode``) took press60's rigid stage from 142 to 72 iterations, but stopped at other
 #: points of the flat min-max optimum, which re-simulated up to 0.8 % higher on the clearance model
 #: (60 spm, 0.2 mm): not taken (benchmarks/README.md, "Speed of the default calls"). Its KKT-error
-#: globalization (``adaptive_mu_globalization = kkt-error``) ends at the same optimum (objective to
-#: 2e-8) in fewer iterations: press60 214 -> 88, press75 52 -> 32, large_press 121 -> 75, slender_rod
-#: 157 -> 95. With the default filter, press60's iterates reached the optimum by iteration 50, could
-#: not meet the tolerance, entered restoration at 84 and climbed to 500 x the objective before coming
-#: back (docs/decisions/2026-11-26-rigid-globalization.md).
-IPOPT_RIGID = {**IPOPT_BASE, "ipopt.mu_strategy": "adaptive", "ipopt.adaptive_mu_globalization": "kkt-error"}
+#: globalization (``adaptive_mu_globalization = kkt-error``) halved press60's iterations (214 -> 88)
+#: but stopped at its 300-iteration limit on press75 at 60 spm with a 0.05 mm wrist-pin clearance,
+#: where the filter took 101: not taken (docs/decisions/2026-11-26-rigid-globalization.md).
+IPOPT_RIGID = {**IPOPT_BASE, "ipopt.mu_strategy": "adaptive"}
 #: Transcriptions with states, warm-started at a good point: a limited-memory Hessian (an exact one
 #: would need adjoint sensitivities through the integrators, which fail on contact in IDAS; collocation
 #: asks for the exact one), a small initial barrier parameter and
