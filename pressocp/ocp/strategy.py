@@ -277,7 +277,7 @@ class Strategy:
         if self.mode in ("auto", "continue") and rigid.check.verified:
             # the rigid answer stands; with the polish on, it holds more of the ram-speed tolerance if
             # that re-simulates lower
-            relaxed, sim = self.relaxed_simulation(problem, base, start, self.rigid, progress) \
+            relaxed, sim = self.relax(problem, base, start, self.rigid, progress) \
                 if self.polish_rounds else ([], None)
             target = StageResult.skipped("target", self.verified_reason, base.spec.describe(),
                                          standing_stage([start, *relaxed]))
@@ -325,7 +325,7 @@ class Strategy:
         out: list[StageResult] = []
         if polish_model is not None and self.polish_rounds:
             out += self.polish(problem, polish_model, stages[-1], transcription, progress)
-            out += self.relax(problem, polish_model, standing_stage([*stages, *out]), transcription, progress)
+            out += self.relax(problem, polish_model, standing_stage([*stages, *out]), transcription, progress)[0]
         if self.refine_rounds:
             out += self.refine(problem, refine_model, (stages + out)[-1], transcription, progress)
         return out
@@ -502,20 +502,15 @@ class Strategy:
         return rounds
 
     def relax(self, problem: SpeedProblem, model: PressModel, last: StageResult, transcription: Transcription,
-              progress: bool) -> list[StageResult]:
+              progress: bool) -> tuple[list[StageResult], SimResult | None]:
         """One re-solve of the answer's NLP with more of the ram-speed tolerance held (``relaxed``: the
         collocation stages hold 95 % of it and the rigid stage 90 %, because a re-simulated ram strays
         past the held value), from the answer with its multipliers, so IPOPT moves only as far as the
         bounds. Kept when its periodic re-simulation on `model` lowers the objective with the ram speed
         still in tolerance (large_press: 487.585 to 487.509 N m; press60's rigid optimum: 76.153 to
         76.125 N m); otherwise recorded as not kept. Nothing runs when the transcription has no such
-        re-solve or the answer has no NLP point. The returned stage holds its re-simulation on `model`
-        (``simulation``) when it is a stage of that model, and always in `relaxed_simulation`."""
-        return self.relaxed_simulation(problem, model, last, transcription, progress)[0]
-
-    def relaxed_simulation(self, problem: SpeedProblem, model: PressModel, last: StageResult,
-                           transcription: Transcription, progress: bool) -> tuple[list[StageResult], SimResult | None]:
-        """`relax`, with the standing answer's re-simulation on `model` (None when nothing ran)."""
+        re-solve or the answer has no NLP point. Returns the stages (none, the kept one, or one not
+        kept) and the standing answer's re-simulation on `model` (None when no re-solve was possible)."""
         loosen = getattr(transcription, "relaxed", None)  # optional hook of the protocol
         tr = None if loosen is None or last is None or not last.success else loosen(last)
         if tr is None:
@@ -524,7 +519,7 @@ class Strategy:
         t0 = time.perf_counter()
         before = self.verify_stage(model, last)
         if is_periodic(before) is not True or ram_speed_violation(before, problem) > 0.0:
-            return [], None
+            return [], before
         best, checks = value(before), time.perf_counter() - t0
         st = tr.solve(problem, model, WarmStart(last.speed, point=last.nlp), "relaxed", progress)
         t0 = time.perf_counter()
