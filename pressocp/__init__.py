@@ -5,6 +5,10 @@
     result = po.optimize_speed(problem)
 """
 
+from .native import limit_casadi_blas
+
+limit_casadi_blas()  # one BLAS thread for CasADi's MUMPS unless the environment says otherwise
+
 from .design import DesignSettings, SpeedDesign, design_speed
 from .model import ModelSpec, PressModel, build_model
 from .objectives import OBJECTIVES, Objective
