@@ -5,15 +5,11 @@
     result = po.optimize_speed(problem)
 """
 
-from .native import limit_casadi_blas
-
-limit_casadi_blas()  # one BLAS thread for CasADi's MUMPS unless the environment says otherwise
-
 from .design import DesignSettings, SpeedDesign, design_speed
 from .model import ModelSpec, PressModel, build_model
 from .objectives import OBJECTIVES, Objective
 from .ocp import (Collocation, MultipleShooting, OcpResult, OptimumSensitivities, Rigid, SensitivityError,
-                  StageResult, Strategy, WarmStart, optimize_speed, optimum_sensitivities)
+                  StageResult, Strategy, Transcription, WarmStart, optimize_speed, optimum_sensitivities)
 from .params import Bearing, PressParams, ProcessForce, hertz_internal_stiffness
 from .problem import SpeedProblem
 from .recommend import ModelRecommendation, recommend_model
@@ -29,7 +25,7 @@ __all__ = [
     "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "FourierSpeed", "ModelRecommendation", "ModelSpec",
     "MultipleShooting", "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams",
     "ProcessForce", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",
-    "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "WarmStart", "build_model", "crank_angle_at_height",
+    "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "Transcription", "WarmStart", "build_model", "crank_angle_at_height",
     "design_speed", "hertz_internal_stiffness", "optimize_speed", "optimum_sensitivities", "recommend_model",
     "rigid_inverse_dynamics", "rigid_kinematics", "rigid_response", "sensitivities", "Sensitivities", "simulate",
     "sweep",

@@ -11,18 +11,21 @@ from pathlib import Path
 
 import numpy as np
 
+from . import impacts
 from .design import design_speed
 from .io import SUMMARY_NAME, RunMismatch, atomic_write, check_run_file, write_json
 from .objectives import get as get_objective
 from .params import PressParams
 from .ocp.result import PEAK_SERIES, OcpResult, versions
-from .ocp.verify import is_periodic, ram_speed_error, rigid_reference, verify_speed, window_times
+from .ocp.verify import is_periodic, rigid_reference, window_times
 from .plots import plot_impact_study, plot_responses, rigid_torque_level, save
 from .problem import SpeedProblem
 from .report import describe_problem, format_table, load_table, peak_summary, stamp, write_cycle_table
 from .result import SimResult
 from .scenario import Scenario
 from .speed import FourierSpeed
+from .summaries import (optimum_summary, problem_summary, simulate_speed, simulation_summary,
+                        time_table_text)
 
 #: Figures of a response pair: file name -> series stacked in it.
 FIGURES = {
@@ -115,12 +118,6 @@ def _flat(d: dict, prefix: str = "") -> dict:
     return out
 
 
-def _problem_summary(problem: SpeedProblem) -> dict:
-    return {"period_s": problem.period, "stroke_rate_spm": problem.stroke_rate_spm,
-            "ram_speed_m_s": problem.ram_speed, "ram_speed_tol_m_s": problem.tol,
-            "window_h_over_H": list(problem.window), "objective": problem.objective}
-
-
 def _figures(out: Path, responses: list[tuple[str, SimResult]], problem: SpeedProblem,
              window: tuple[float, float], title: str, journals: bool, floor: float | None = None) -> list[Path]:
     """The `FIGURES`, with the ram speed tolerance, the pin-force cap (when the problem has one) and
@@ -147,65 +144,6 @@ def _finish(job: str, out: Path, summary: dict, text: str, details: str, files: 
     summary["files"] = sorted(p.name for p in [*files, out / SUMMARY_NAME])
     files.append(write_json(out / SUMMARY_NAME, summary))
     return JobReport(job, summary, text, files, ok)
-
-
-def optimum_summary(scenario: Scenario, result: OcpResult, ideal: SimResult | None = None) -> dict:
-    """The keys of an optimum's ``summary.json``: the problem, convergence and verification, the peaks
-    of the answer and of the initial speed on the model (``initial_...``) and of the initial speed on
-    the ideal press (``initial_ideal_joints_...``, when `ideal` is given), the floor, stages."""
-    problem = scenario.problem
-    ideal_peaks = {} if ideal is None else peak_summary(ideal, "initial_ideal_joints_")
-    return {
-        "job": "optimize", "scenario": scenario.name, "model": scenario.model.describe(),
-        "transcription": result.transcription, **_problem_summary(problem),
-        "converged": result.success, "verified": result.verified, "periodic": result.periodic,
-        "status": result.status, "objective_value": result.verified_objective,
-        "objective_unit": get_objective(problem.objective).unit,
-        **peak_summary(result.simulation), **peak_summary(result.initial_simulation, "initial_"), **ideal_peaks,
-        "rigid_peak_torque_N_m": result.rigid_peak_torque,
-        "max_ram_speed_error": ram_speed_error(result.simulation, problem),
-        "max_ram_speed_violation_m_s": result.max_ram_speed_violation, "window_t_s": [result.t1, result.t2],
-        "min_omega_rad_s": result.min_omega, "iterations": result.iterations, "wall_time_s": result.wall_time,
-        "stages": [{"name": s.name, "model": s.model, "status": s.status, "success": s.success,
-                    "superseded": s.superseded, "iterations": s.iterations, "wall_time_s": s.wall_time,
-                    "objective": s.objective, "timing_s": s.timing} for s in result.stages],
-        "time_table_s": result.time_table(),
-    }
-
-
-#: Columns of the time table in the report: `OcpResult.time_table` key -> heading.
-TIME_COLUMNS = {"wall": "wall", "build": "build", "compile": "compile", "functions": "functions",
-                "linear_solver": "linear solver", "start": "warm start", "checks": "checks"}
-
-
-def time_table_text(result: OcpResult) -> str:
-    """`OcpResult.time_table` as a plain-text table (s), with a row of the column sums (more than the
-    call's wall time when candidate chains ran side by side)."""
-    rows = result.time_table()
-    total = {k: sum(r[k] for r in rows) for k in TIME_COLUMNS}
-    return format_table([["stage", "iterations", *TIME_COLUMNS.values()],
-                         *([r["stage"], str(r["iterations"]), *(f"{r[k]:.1f}" for k in TIME_COLUMNS)] for r in rows),
-                         ["sum", str(sum(r["iterations"] for r in rows)), *(f"{total[k]:.1f}" for k in TIME_COLUMNS)]])
-
-
-def simulation_summary(scenario: Scenario, sim: SimResult, ideal: SimResult, source: str) -> dict:
-    """The keys of a simulation's ``summary.json``: the problem, periodicity, the peaks on the model and
-    on the ideal press (``ideal_joints_...``), the smallest eccentricity ratio |e|/c of each clearance
-    joint (``min_<joint>_eccentricity``: below 1 the journal leaves its bearing wall, a free flight
-    that ends in an impact), the ram speed error and the objective's value."""
-    problem = scenario.problem
-    ecc = {f"min_{j}_eccentricity": float(np.min(getattr(sim, f"{j}_eccentricity"))) for j in scenario.model.clearance}
-    return {"job": "simulate", "scenario": scenario.name, "model": scenario.model.describe(), "speed": source,
-            **_problem_summary(problem), "periodic": is_periodic(sim), **peak_summary(sim),
-            **peak_summary(ideal, "ideal_joints_"), **ecc, "max_ram_speed_error": ram_speed_error(sim, problem),
-            "objective_value": get_objective(problem.objective).value(sim), "rtol": scenario.solver.verify_rtol}
-
-
-def simulate_speed(scenario: Scenario, speed: FourierSpeed) -> tuple[SimResult, SimResult]:
-    """The periodic response of `speed` on the scenario's model (CVODES at the solver's ``verify_rtol``)
-    and the ideal press's on the same grid."""
-    sim = verify_speed(scenario.build_model(), speed, scenario.solver.verify_rtol)
-    return sim, rigid_reference(scenario.problem, speed)
 
 
 def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobReport:
@@ -287,7 +225,7 @@ def design_job(scenario: Scenario, out: Path) -> JobReport:
     wall = time.perf_counter() - t0
     const = rigid_reference(problem, FourierSpeed.constant(problem.period))
     designed = rigid_reference(problem, d.speed)
-    summary = {"job": "design", "scenario": scenario.name, **_problem_summary(problem), "converged": d.converged,
+    summary = {"job": "design", "scenario": scenario.name, **problem_summary(problem), "converged": d.converged,
                "status": d.status, "t1_s": d.t1, "t2_s": d.t2, "max_ram_speed_error": d.max_error,
                "rms_ram_speed_error": d.rms_error, "min_omega_rad_s": d.min_omega, "wall_time_s": wall,
                **peak_summary(designed), **peak_summary(const, "constant_speed_"),
@@ -313,14 +251,12 @@ def design_job(scenario: Scenario, out: Path) -> JobReport:
 def impacts_job(scenario: Scenario, out: Path) -> JobReport:
     """Constant and rigid-designed speed on the scenario's model against the ideal press (the source
     paper's Figs. 6 and 9 for the 75 spm scenario)."""
-    from .studies import impact_study
-
     t0 = time.perf_counter()
-    st = impact_study(scenario.problem, scenario.model, rtol=scenario.solver.verify_rtol)
+    st = impacts.impact_study(scenario.problem, scenario.model, rtol=scenario.solver.verify_rtol)
     wall = time.perf_counter() - t0
     ratios = st.ratios()
     where = scenario.model.describe()
-    summary = {"job": "impacts", "scenario": scenario.name, "model": where, **_problem_summary(scenario.problem),
+    summary = {"job": "impacts", "scenario": scenario.name, "model": where, **problem_summary(scenario.problem),
                "ratios_model_over_ideal": ratios,
                "constant": peak_summary(st.constant), "designed": peak_summary(st.designed),
                "min_wrist_pin_force_ideal_N": {"constant": float(st.constant_rigid.wrist_pin_force.min()),
@@ -340,4 +276,4 @@ def impacts_job(scenario: Scenario, out: Path) -> JobReport:
     return _finish("impacts", out, summary, text, "", files, not missing)
 
 
-__all__ = ["FIGURES", "JobReport", "optimum_summary", "simulate_speed", "simulation_summary", "design_job", "impacts_job", "optimize_job", "read_speed", "simulate_job"]
+__all__ = ["FIGURES", "JobReport", "design_job", "impacts_job", "optimize_job", "read_speed", "simulate_job"]

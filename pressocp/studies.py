@@ -1,83 +1,27 @@
-"""Reproducible studies built on the model: the impact phenomenon of the source paper and Simeon's
-flexible slider crank."""
+"""Reproducible studies built on the model: Simeon's flexible slider crank and the clearance (wear)
+study over a sweep. The impact phenomenon of the source paper is `pressocp.impacts`."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from concurrent.futures import Executor
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from . import beam
-from .design import SpeedDesign, design_speed
-from .model import ModelSpec, build_model
-from .ocp.result import PEAK_SERIES
-from .ocp.verify import is_periodic, verify_speed
+from .model import build_model
 from .params import PressParams
-from .problem import SpeedProblem
 from .result import SimResult
-from .rigid import rigid_response
 from .simulate import simulate
 from .speed import FourierSpeed
+from .sweeps import sweep
 
 if TYPE_CHECKING:
     import pandas as pd
 
     from .scenario import Scenario
-
-#: The impact scenario of the source paper's Figs. 6 and 9: at 60 strokes/min the rigid design of
-#: -0.1 m/s keeps the wrist-pin force above ~490 N (no reversal, no impact); 75 strokes/min (T = 0.8 s)
-#: is the smallest step of the scan 1.0/0.8/0.7/0.6/0.5 s at which it reverses.
-IMPACT_PERIOD = 0.8
-IMPACT_RAM_SPEED = -0.1
-
-
-@dataclass
-class ImpactStudy:
-    """Constant versus rigid-designed speed, a model with clearance against rigid inverse dynamics."""
-
-    design: SpeedDesign
-    constant: SimResult
-    constant_rigid: SimResult
-    designed: SimResult
-    designed_rigid: SimResult
-
-    def not_periodic(self) -> dict[str, str]:
-        """The responses (``constant``, ``designed``) that are not periodic steady states, each with
-        the reason (`pressocp.ocp.verify.is_periodic`); empty when both are."""
-        found = {"constant": is_periodic(self.constant), "designed": is_periodic(self.designed)}
-        return {k: v for k, v in found.items() if v is not True}
-
-    def ratios(self) -> dict[str, dict[str, float]]:
-        """Peak model value / peak rigid value for each load, for both speeds."""
-        return {
-            label: {n: clr.peak(n) / rig.peak(n) for n in PEAK_SERIES}
-            for label, clr, rig in (("constant", self.constant, self.constant_rigid),
-                                    ("designed", self.designed, self.designed_rigid))
-        }
-
-
-def impact_study(problem: SpeedProblem | None = None, model: ModelSpec | None = None,
-                 rtol: float = 1e-8) -> ImpactStudy:
-    """Responses of `model` (default: rigid rod, both clearances) at constant speed and at the rigid
-    design of `problem` (default: the default press at 75 strokes/min, -0.1 m/s over h/H 0.7 -> 0.3),
-    with the rigid inverse dynamics on the same time grid.
-
-    The responses are periodic steady states (CVODES at `rtol`) when one is found, else the 6th cycle
-    from rest (``stats["periodic"]`` says why)."""
-    problem = SpeedProblem(PressParams(), period=IMPACT_PERIOD, ram_speed=IMPACT_RAM_SPEED) \
-        if problem is None else problem
-    m = (ModelSpec() if model is None else model).build(problem.press, problem.n_harmonics)
-    d = design_speed(problem)
-    const = FourierSpeed.constant(problem.period)
-    rc = verify_speed(m, const, rtol)
-    rd = verify_speed(m, d.speed, rtol)
-    return ImpactStudy(d, rc, rigid_response(problem.press, const, rc.t), rd,
-                       rigid_response(problem.press, d.speed, rd.t))
-
 
 #: Simeon test set: elastic rates of the first two transverse modes at t = 0 (m/s) and the reference.
 SIMEON_MODE_RATES = (0.44490, 4.6343e-3)
@@ -141,8 +85,6 @@ def wear_study(scenario: Scenario, speed: FourierSpeed, clearances: Sequence[flo
         over the ideal press's) and ``free_flight`` (a journal's eccentricity ratio below
         `FREE_FLIGHT_ECCENTRICITY` somewhere in the cycle, or no periodic response).
     """
-    from .sweeps import sweep
-
     joints = scenario.model.clearance
     if not joints:
         raise ValueError("the scenario's model has no clearance joint to wear")

@@ -29,12 +29,13 @@ from typing import Any
 import pandas as pd
 from tqdm.auto import tqdm
 
+from . import impacts
 from .io import atomic_write
 from .model import ModelSpec
 from .problem import SpeedProblem
 from .scenario import Scenario
 from .speed import FourierSpeed
-from .studies import impact_study
+from .summaries import optimum_summary, simulate_speed, simulation_summary
 from .workers import process_pool
 
 #: What a sweep can run at each point.
@@ -78,15 +79,13 @@ def run_point(task: str, scenario: Scenario, speed: FourierSpeed | None = None,
               initial: FourierSpeed | None = None) -> dict:
     """One row: `task` on `scenario` (flat values: peaks, convergence, verification, the speed as JSON).
     Errors are caught into the row (``ok`` False, ``error`` the message); Ctrl-C is not."""
-    from . import jobs  # the summaries of the command line's jobs
-
     t0 = time.perf_counter()
     row: dict[str, Any] = {"task": task, "ok": False, "error": ""}
     try:
         if task == "optimize":
             result = scenario.optimize(False, initial=initial, strategy=None if initial is None else
                                        replace(scenario.solver.make_strategy(), mode="continue"))
-            summary = jobs.optimum_summary(scenario, result)
+            summary = optimum_summary(scenario, result)
             row.update(ok=bool(result.success and result.verified), speed=json.dumps(result.speed.to_dict()))
             if initial is not None:  # a path: did the chain from the neighbour give the answer?
                 row["start"] = "cold after the neighbour's chain failed" if any(s.superseded for s in result.stages) \
@@ -95,11 +94,11 @@ def run_point(task: str, scenario: Scenario, speed: FourierSpeed | None = None,
             from .design import design_speed
 
             speed = design_speed(scenario.problem).speed if speed is None else speed
-            sim, ideal = jobs.simulate_speed(scenario, speed)
-            summary = jobs.simulation_summary(scenario, sim, ideal, "sweep")
+            sim, ideal = simulate_speed(scenario, speed)
+            summary = simulation_summary(scenario, sim, ideal, "sweep")
             row.update(ok=summary["periodic"] is True, speed=json.dumps(speed.to_dict()))
         else:
-            st = impact_study(scenario.problem, scenario.model, rtol=scenario.solver.verify_rtol)
+            st = impacts.impact_study(scenario.problem, scenario.model, rtol=scenario.solver.verify_rtol)
             summary = {f"{label}_{load}_ratio": r for label, ratios in st.ratios().items()
                        for load, r in ratios.items()}
             missing = st.not_periodic()

@@ -13,14 +13,14 @@ import pandas as pd
 import pytest
 
 import pressocp as po
-from pressocp import plots, studies, sweeps
+from pressocp import impacts, plots, sweeps
 from pressocp.cli import main
 
 
 @pytest.fixture(scope="module")
 def study():
     s = po.Scenario.load("press60")
-    return s, studies.impact_study(s.problem, s.model, rtol=s.solver.verify_rtol)
+    return s, impacts.impact_study(s.problem, s.model, rtol=s.solver.verify_rtol)
 
 
 def failed_search(st):
@@ -32,9 +32,9 @@ def failed_search(st):
 def test_the_impacts_job_is_ok_only_with_periodic_responses(study, tmp_path, monkeypatch):
     scenario, st = study
     assert st.not_periodic() == {}
-    monkeypatch.setattr(studies, "impact_study", lambda *a, **k: st)
+    monkeypatch.setattr(impacts, "impact_study", lambda *a, **k: st)
     assert main(["impacts", "press60", "--out", str(tmp_path / "good"), "--quiet"]) == 0
-    monkeypatch.setattr(studies, "impact_study", lambda *a, **k: failed_search(st))
+    monkeypatch.setattr(impacts, "impact_study", lambda *a, **k: failed_search(st))
     assert main(["impacts", "press60", "--out", str(tmp_path / "bad"), "--quiet"]) == 1  # ran, not verified
     summary = json.loads((tmp_path / "bad" / "summary.json").read_text())
     assert summary["periodic"] == {"constant": True, "designed": "no periodic state in 40 cycles (test)"}
@@ -43,9 +43,9 @@ def test_the_impacts_job_is_ok_only_with_periodic_responses(study, tmp_path, mon
 
 def test_an_impacts_sweep_row_is_not_ok_after_a_failed_periodic_search(study, monkeypatch):
     scenario, st = study
-    monkeypatch.setattr(sweeps, "impact_study", lambda *a, **k: st)
+    monkeypatch.setattr(impacts, "impact_study", lambda *a, **k: st)
     assert sweeps.run_point("impacts", scenario)["ok"] is True
-    monkeypatch.setattr(sweeps, "impact_study", lambda *a, **k: failed_search(st))
+    monkeypatch.setattr(impacts, "impact_study", lambda *a, **k: failed_search(st))
     row = sweeps.run_point("impacts", scenario)
     assert row["ok"] is False and "not periodic" in row["error"] and "designed" in row["error"]
 

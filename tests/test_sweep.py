@@ -61,16 +61,16 @@ def test_simulate_sweep_matches_single_runs_and_is_the_same_on_every_executor(se
 
 
 def test_a_failed_point_is_a_row(monkeypatch, serial):
-    from pressocp import jobs
+    from pressocp import sweeps
 
-    original = jobs.simulate_speed
+    original = sweeps.simulate_speed
 
     def fails_for_heavy_rams(scenario, speed):
         if scenario.press.slider_mass > 180:
             raise RuntimeError("integrator failed at t = 0.3 s\nhint")
         return original(scenario, speed)
 
-    monkeypatch.setattr(jobs, "simulate_speed", fails_for_heavy_rams)
+    monkeypatch.setattr(sweeps, "simulate_speed", fails_for_heavy_rams)
     table = po.sweep(RIGID, {"slider_mass": [150.0, 200.0]}, task="simulate", speed=SPEED, executor=serial,
                      progress=False)
     assert table["ok"].tolist() == [True, False]

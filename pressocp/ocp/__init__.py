@@ -8,9 +8,9 @@ from .result import OcpResult
 from .rigid import Rigid
 from .sensitivity import OptimumSensitivities, SensitivityError, optimum_sensitivities
 from .shooting import MultipleShooting, ShootingError, ShootingGrid
-from .stage import Check, StageResult, WarmStart
+from .stage import Check, StageResult, Transcription, WarmStart, transcription_from
 from .strategy import Strategy
 
 __all__ = ["Check", "Collocation", "CollocationGrid", "MultipleShooting", "OcpResult", "OptimumSensitivities", "Rigid",
-           "SensitivityError", "ShootingError", "ShootingGrid", "StageResult", "Strategy", "WarmStart",
-           "optimize_speed", "optimum_sensitivities"]
+           "SensitivityError", "ShootingError", "ShootingGrid", "StageResult", "Strategy", "Transcription", "WarmStart",
+           "optimize_speed", "optimum_sensitivities", "transcription_from"]

@@ -237,7 +237,8 @@ class Collocation(StateSettings):
     min_eccentricity: float | None = field(default=1.0, kw_only=True)
     backoff: float = field(default=0.95, kw_only=True)
 
-    needs_soft_start: ClassVar[bool] = False
+    compiles_ahead: ClassVar[bool] = True
+    gives_parametric_point: ClassVar[bool] = True
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -349,6 +350,7 @@ class Collocation(StateSettings):
             parameters=None if q is None else (q, model.nominal), keep=model.functions if jit else None,
             grid=(K, d), warm=point)
         r.states = r.states[zi]
+        r.settings = replace(self, elements=K).settings()  # the grid this stage solved on
         r.timing.update(start=t_start, build=r.timing.get("build", 0.0) + t_build - compiled,
                         compile=r.timing.get("compile", 0.0) + compiled,
                         total=r.timing.get("total", 0.0) + t_start + t_build)

@@ -72,8 +72,9 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     chk.instance("problem", problem, SpeedProblem)
     strat = Strategy.of(strategy)
     tr = Collocation() if transcription is None else transcription
-    if not callable(getattr(tr, "solve", None)) or not hasattr(tr, "has_states"):
-        raise ValueError(f"transcription must be Rigid, MultipleShooting or Collocation, got {type(tr).__name__}")
+    if not isinstance(tr, Transcription):
+        raise ValueError(f"transcription must be Rigid, MultipleShooting or Collocation (a Transcription), "
+                         f"got {type(tr).__name__}")
     if model is None:
         model = build_model(problem.press, n_harmonics=problem.n_harmonics)
     chk.instance("model", model, PressModel)
@@ -105,7 +106,7 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     workers = min(parallel_workers(strat.workers), len(strat.margins))
     parallel = workers > 1 and bool(model.clearance)
     spec = strat.clearance_spec(model.spec)
-    preparable = parallel and tr.has_states and callable(getattr(tr, "prepare", None))
+    preparable = parallel and tr.has_states and tr.compiles_ahead
     record = prepared_record(repr(tr), repr(problem), repr(spec)) if preparable else None
     ahead = record is not None and not record.exists()
     pool = process_pool(workers + 1, start=workers) if parallel else None

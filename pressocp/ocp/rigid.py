@@ -23,7 +23,7 @@ from ..rigid import crank_angle_at_height, inverse_dynamics, rigid_response
 from ..speed import FourierSpeed
 from .nlp import (IPOPT_RIGID, Constraints, add_kinematic_window, add_objective, add_pin_cap, add_speed_bounds,
                   lifted_crank, scaled_crank_start, solve_nlp)
-from .stage import NlpPoint, StageResult, WarmStart, settings_repr
+from .stage import NlpPoint, StageResult, Transcription, WarmStart, settings_repr
 
 #: Outputs of the ideal press at one sample, besides the crank motion.
 LOAD_OUTPUTS = ("torque", "slider_normal_force", "crank_pin_force", "wrist_pin_force", "crank_pin_tension",
@@ -51,7 +51,7 @@ RELAX_ITERATIONS = 100
 
 
 @dataclass(frozen=True)
-class Rigid:
+class Rigid(Transcription):
     """Direct transcription on the ideal press (no states), exact Hessian.
 
     Attributes
@@ -78,6 +78,7 @@ class Rigid:
     jit: bool | str = "auto"
 
     has_states: ClassVar[bool] = False
+    gives_parametric_point: ClassVar[bool] = True
 
     def __post_init__(self) -> None:
         chk.integer("samples", self.samples, 50, 20000)
@@ -175,7 +176,8 @@ class Rigid:
                      "window_samples": self.window_samples, "backoff": self.backoff, "warm": point is not None},
             timing=dict(out.timing), point=out.point,
             nlp=None if out.lam_x is None or not out.success else
-            NlpPoint(out.w, out.lam_x, out.lam_g, np.arange(self.window_samples), scale, self.grid()))
+            NlpPoint(out.w, out.lam_x, out.lam_g, np.arange(self.window_samples), scale, self.grid()),
+            settings=self.settings())
 
     def relaxed(self, stage: StageResult) -> "Rigid | None":
         """`stage`'s NLP holding `RELAX_BACKOFF` of the ram-speed tolerance, IPOPT stopped after

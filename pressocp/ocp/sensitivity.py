@@ -17,7 +17,7 @@ from __future__ import annotations
 import time
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pandas as pd
@@ -28,12 +28,10 @@ from ..objectives import get as get_objective
 from ..params import check_parameter
 from ..problem import SpeedProblem
 from ..speed import FourierSpeed
-from .collocation import Collocation
 from .kkt import KktSensitivity, kkt_sensitivity
 from .nlp import ParametricPoint
 from .result import OcpResult
-from .rigid import Rigid
-from .stage import StageResult, WarmStart, standing_stage
+from .stage import StageResult, Transcription, WarmStart, standing_stage, transcription_from
 
 #: Parameters that move the working window (its heights are fractions of the stroke) or the ideal
 #: press's kinematics: a derivative of the optimum holding the problem fixed does not exist for them.
@@ -104,7 +102,7 @@ class OptimumSensitivities:
         The re-solved optimum.
     problem : SpeedProblem
         The problem of the differentiated stage (with the no-reversal bound when that stage answered).
-    transcription : Rigid or Collocation
+    transcription : Transcription
         The stage's transcription, with its settings.
     model : ModelSpec
         The stage's model level.
@@ -127,7 +125,7 @@ class OptimumSensitivities:
     kkt: KktSensitivity
     speed: FourierSpeed
     problem: SpeedProblem
-    transcription: Rigid | Collocation
+    transcription: Transcription
     model: ModelSpec
     point: ParametricPoint | None = None
     to_objective: float = 1.0
@@ -196,7 +194,11 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
     stage = answer_stage(result)
     problem, press = result.problem, result.problem.press
     t0 = time.perf_counter()
-    if stage.transcription.startswith("Rigid"):  # the ideal press's stages: rigid, no_reversal, relaxed
+    if not stage.settings:
+        raise ValueError(f"the answer's stage {stage.name!r} records no transcription settings (a result saved "
+                         "before they were recorded): optimise again")
+    transcription = replace(transcription_from(stage.settings), ipopt={})  # the stage's NLP, default IPOPT options
+    if not transcription.has_states:  # the ideal press's stages: rigid, no_reversal, relaxed
         bearings = [n for n in names if "." in n]
         if bearings:
             raise ValueError(f"the answer is the ideal press's optimum (verified on the clearance model), which "
@@ -204,16 +206,11 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
                              "(optimize_speed(..., strategy='all')) or sweep it")
         if stage.details.get("min_tension_N") is not None:
             problem = problem.replace(min_tension=stage.details["min_tension_N"])
-        d = stage.details
-        transcription = Rigid(d.get("samples", 1000), d.get("window_samples", 200), d.get("backoff", 0.9))
         spec = result.model
-    elif stage.transcription.startswith("Collocation"):
-        d = stage.details
-        transcription = Collocation(d["elements"], d["degree"], jit=d["jit"], min_eccentricity=d["min_eccentricity"],
-                                    **{k: d[k] for k in ("periodic", "backoff", "omega_samples") if k in d})
+    elif transcription.gives_parametric_point:
         spec = result.model if stage.model == result.model.describe() else ModelSpec("rigid", result.model.clearance)
     else:
-        raise ValueError(f"the answer comes from {stage.transcription.split('(')[0]} (stage {stage.name!r}); optimum "
+        raise ValueError(f"the answer comes from {type(transcription).__name__} (stage {stage.name!r}); optimum "
                          "sensitivities need a Rigid or Collocation answer: optimise with the default transcription")
     model = build_model(press, spec.rod, spec.clearance, spec.n_elements, problem.n_harmonics, names,
                         n_modes=spec.n_modes)

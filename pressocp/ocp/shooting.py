@@ -155,6 +155,10 @@ class MultipleShooting(StateSettings):
     def grid(self, period: float) -> ShootingGrid:
         return ShootingGrid(period, self.intervals, self.samples)
 
+    def shooting(self) -> "MultipleShooting":
+        """This transcription: the strategy's trust-region refinement runs it."""
+        return self
+
     def solve(self, problem: SpeedProblem, model: PressModel, start: WarmStart, name: str = "target",
               progress: bool = False) -> StageResult:
         """One multiple-shooting stage on `model`, warm-started at the start speed's periodic response.
@@ -197,6 +201,7 @@ class MultipleShooting(StateSettings):
             coefficient_step=self.coefficient_step, fixed=None if self.periodic else np.arange(model.nx),
             details={"intervals": N, "samples": S, **warm})
         r.states = r.states.reshape(nodes.shape, order="F")
+        r.settings = self.settings()
         if not r.success:
             failure = locate_failure(G, r.states, model.parameters(r.speed), grid, name, self.integrator)
             if failure is not None:

@@ -1,8 +1,11 @@
 """The transcription contract: a warm start goes in, a `StageResult` comes out.
 
-Every transcription (`Rigid`, `MultipleShooting`, `Collocation`) is a settings dataclass with
+Every transcription (`Rigid`, `MultipleShooting`, `Collocation`) is a settings dataclass derived
+from `Transcription`, with
 
     solve(problem, model, start: WarmStart, name="...", progress=False) -> StageResult
+
+and the hooks the strategy calls (`Transcription.refined`, ``tightened``, ``relaxed``, ...).
 
 `Check` records how a stage's answer did when re-simulated on another model.
 """
@@ -10,7 +13,7 @@ Every transcription (`Rigid`, `MultipleShooting`, `Collocation`) is a settings d
 from __future__ import annotations
 
 from dataclasses import MISSING, asdict, dataclass, field, fields
-from typing import Any, Protocol
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -156,6 +159,9 @@ class StageResult:
     nlp : NlpPoint or None
         The NLP's solution with its multipliers, for a primal-dual warm start on the same grid
         (transcriptions that give one); not saved.
+    settings : dict
+        The transcription's `Transcription.settings` (empty for a skipped stage): `transcription_from`
+        rebuilds it.
     """
 
     name: str
@@ -182,6 +188,7 @@ class StageResult:
     superseded: str = ""
     simulation: SimResult | None = field(default=None, repr=False)
     nlp: NlpPoint | None = field(default=None, repr=False)
+    settings: dict = field(default_factory=dict)
 
     @classmethod
     def skipped(cls, name: str, reason: str, model: str, start: "StageResult") -> "StageResult":
@@ -210,25 +217,73 @@ class StageResult:
         return cls(**d)
 
 
-class Transcription(Protocol):
-    """What `optimize_speed` needs of a transcription."""
+class Transcription:
+    """The base of every transcription: a frozen settings dataclass with ``solve`` and the hooks the
+    strategy calls. A hook's default here is "this transcription has none"; a transcription overrides
+    the hooks it has. A new transcription is one module with its subclass (registered by subclassing:
+    `transcription_from` rebuilds it from its `settings`)."""
 
     #: Whether the transcription solves models with states (else only the rigid press).
-    has_states: bool
+    has_states: ClassVar[bool] = True
+    #: Whether a clearance stage of the strategy starts on a softened contact first.
+    needs_soft_start: ClassVar[bool] = False
+    #: Whether `prepare` compiles something (`optimize_speed` then runs it in a worker while the
+    #: rigid stage runs).
+    compiles_ahead: ClassVar[bool] = False
+    #: Whether a solve on a model that carries press parameters returns the NLP at its solution as a
+    #: `ParametricPoint` (``StageResult.point``), which `optimum_sensitivities` differentiates.
+    gives_parametric_point: ClassVar[bool] = False
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        TRANSCRIPTIONS[cls.__name__] = cls
+
+    def solve(self, problem: SpeedProblem, model: PressModel, start: WarmStart, name: str = "target",
+              progress: bool = False) -> StageResult:
+        """One stage: the NLP on `model` from `start`."""
+        raise NotImplementedError(f"{type(self).__name__} has no solve")
 
     def refined(self, period: float, rod: str = "rigid") -> "Transcription | None":
         """The same transcription on a finer grid for a period and a model's rod ("rigid" or
-        "flexible"), or None when it has none (the strategy refines
-        while a stage's re-simulation disagrees with the NLP). Optional: a transcription without it
-        is not refined."""
+        "flexible"), or None when it has none (the strategy refines while a stage's re-simulation
+        disagrees with the NLP)."""
+        return None
 
-    def solve(self, problem: SpeedProblem, model: PressModel, start: WarmStart, name: str = ...,
-              progress: bool = ...) -> StageResult: ...
+    def tightened(self, share: float) -> "Transcription | None":
+        """The same transcription holding `share` less of the ram-speed tolerance, or None."""
+        return None
+
+    def relaxed(self, stage: StageResult) -> "Transcription | None":
+        """`stage`'s NLP holding more of the ram-speed tolerance (started from its `NlpPoint`), or None
+        when there is no such re-solve."""
+        return None
+
+    def shooting(self) -> "Transcription | None":
+        """The multiple-shooting transcription that the strategy's trust-region refinement runs: this
+        one when it is multiple shooting, else None (the strategy then uses its default)."""
+        return None
 
     def prepare(self, problem: SpeedProblem, model: PressModel, speed: FourierSpeed) -> float:
-        """Compile into the compile cache what a solve on `model` compiles, without solving, and return
-        the compile seconds (`optimize_speed` runs it in a worker while the rigid stage runs). Optional:
-        a transcription without it compiles in its solves."""
+        """Compile into the compile cache what a solve on `model` compiles, without solving; return the
+        compile seconds (none here: see `compiles_ahead`)."""
+        return 0.0
+
+    def settings(self) -> dict:
+        """The settings as plain data, ``type`` naming the class (`transcription_from` rebuilds it)."""
+        return {"type": type(self).__name__, **{f.name: getattr(self, f.name) for f in fields(self)}}
+
+
+#: Transcription classes by name (every subclass of `Transcription`).
+TRANSCRIPTIONS: dict[str, type[Transcription]] = {}
+
+
+def transcription_from(settings: dict) -> Transcription:
+    """The transcription whose `Transcription.settings` are `settings`."""
+    data = dict(settings)
+    kind = data.pop("type", None)
+    if kind not in TRANSCRIPTIONS:
+        raise ValueError(f"settings name no known transcription: type {kind!r}, known {sorted(TRANSCRIPTIONS)}")
+    return TRANSCRIPTIONS[kind](**data)
 
 
 def settings_repr(obj: Any) -> str:

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import ClassVar
 
 import casadi as ca
 import numpy as np
@@ -20,7 +19,7 @@ from ..simulate import SimulationError, integrate, periodic_orbit
 from ..speed import FourierSpeed
 from .nlp import (IPOPT_WARM, Constraints, add_dense_speed_bounds, add_objective, add_pin_cap, needed_outputs,
                   parameter_symbols, solve_nlp)
-from .stage import NlpPoint, StageResult, WarmStart, settings_repr
+from .stage import NlpPoint, StageResult, Transcription, WarmStart, settings_repr
 from .verify import settled_state
 
 #: Outputs every state transcription samples besides the objective's: the ram's own motion.
@@ -105,7 +104,7 @@ def keep_contact(cons: Constraints, y: Mapping, model: PressModel, min_eccentric
 
 
 @dataclass(frozen=True, kw_only=True)
-class StateSettings:
+class StateSettings(Transcription):
     """Settings every transcription of a model with states has (keyword-only).
 
     Attributes
@@ -131,8 +130,6 @@ class StateSettings:
     omega_samples: int = 1000
     ipopt: dict = field(default_factory=dict)
 
-    has_states: ClassVar[bool] = True
-
     def __post_init__(self) -> None:
         if self.min_eccentricity is not None:
             chk.in_closed_interval("min_eccentricity", self.min_eccentricity, 0.0, 1.0)
@@ -142,15 +139,6 @@ class StateSettings:
     def __repr__(self) -> str:
         return settings_repr(self)
 
-    def refined(self, period: float, rod: str = "rigid") -> "StateSettings | None":
-        """The same transcription on a finer grid: None here (a transcription with a grid overrides it)."""
-        return None
-
-    def tightened(self, share: float) -> "StateSettings | None":
-        """The same transcription holding `share` less of the ram-speed tolerance, to be started from a
-        stage's primal-dual solution (`WarmStart.point`): None here (a transcription that takes such a
-        start overrides it)."""
-        return None
 
 
 def check_states(problem: SpeedProblem, model: PressModel) -> None:

@@ -284,10 +284,10 @@ class Strategy:
             target.simulation = sim  # the final verification's (same model, same tolerance)
             stages += [*relaxed, target]
         else:
-            if getattr(transcription, "needs_soft_start", False) and self.soft_factor is not None \
+            if transcription.needs_soft_start and self.soft_factor is not None \
                     and neighbour is None and start.check.ratio > IMPACT_RATIO:
                 chain.append(("soft", build_model(soft_params(base.params, self.soft_factor), "rigid", base.clearance,
-                                                  4, base.n_harmonics)))
+                                                  n_harmonics=base.n_harmonics)))
             chain.append(("target", base))
         speed = start.speed if neighbour is None else neighbour
         for k, (name, m) in enumerate(chain):
@@ -407,23 +407,21 @@ class Strategy:
         Returns the stages (`first` included) and the transcription of the last one."""
         name, stages, tightened = first.name, [first], 0
         while stages[-1].success:
-            refine = getattr(transcription, "refined", None)  # optional hooks of the protocol
-            tighten = getattr(transcription, "tightened", None)
-            if refine is None and tighten is None:
-                break
             last = stages[-1]
+            finer = transcription.refined(problem.period, model.rod)
+            can_tighten = last.nlp is not None and tightened < MAX_TIGHTEN and transcription.tightened(0.0) is not None
+            if finer is None and not can_tighten:
+                break
             sim = self.verify_stage(model, last)
             why, viol = self.grid_error(last, problem)
             if not why:
                 break
-            tight = tighten(viol / problem.tol + TIGHTEN_MARGIN) \
-                if viol > 0.0 and tighten is not None and last.nlp is not None and tightened < MAX_TIGHTEN else None
+            tight = transcription.tightened(viol / problem.tol + TIGHTEN_MARGIN) if viol > 0.0 and can_tighten else None
             if tight is not None:
                 tightened += 1
                 transcription = tight
                 label, warm = f"{name}_tightened_{tightened}", WarmStart(last.speed, point=last.nlp)
             else:
-                finer = None if refine is None else refine(problem.period, model.rod)
                 if finer is None:
                     break
                 transcription = finer
@@ -511,8 +509,7 @@ class Strategy:
         76.125 N m); otherwise recorded as not kept. Nothing runs when the transcription has no such
         re-solve or the answer has no NLP point. Returns the stages (none, the kept one, or one not
         kept) and the standing answer's re-simulation on `model` (None when no re-solve was possible)."""
-        loosen = getattr(transcription, "relaxed", None)  # optional hook of the protocol
-        tr = None if loosen is None or last is None or not last.success else loosen(last)
+        tr = None if last is None or not last.success else transcription.relaxed(last)
         if tr is None:
             return [], None
         value = get_objective(problem.objective).value
@@ -544,7 +541,7 @@ class Strategy:
         iterate is accepted (and the region grows) only when its periodic re-simulation lowers the
         objective with the ram speed in tolerance; otherwise the region shrinks. Each round's node
         states come from the verifying re-simulation of the current speed."""
-        shooting = transcription if isinstance(transcription, MultipleShooting) else MultipleShooting("cvodes")
+        shooting = transcription.shooting() or MultipleShooting("cvodes")
         objective = get_objective(problem.objective)
         speed, step, rounds = last.speed, self.refine_step, []
         sim = verify_speed(model, speed, CHECK_RTOL)

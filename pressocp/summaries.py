@@ -1,0 +1,82 @@
+"""What a run reports: the flat keys of an optimum's or a simulation's ``summary.json`` (also a sweep
+row's columns), the response of a speed as a job or a sweep point computes it, and the time table as
+text. Used by the command line's jobs and by the sweeps alike."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .objectives import get as get_objective
+from .ocp.result import OcpResult
+from .ocp.verify import is_periodic, ram_speed_error, rigid_reference, verify_speed
+from .problem import SpeedProblem
+from .report import format_table, peak_summary
+from .result import SimResult
+from .scenario import Scenario
+from .speed import FourierSpeed
+
+
+def problem_summary(problem: SpeedProblem) -> dict:
+    """The problem's keys of a summary: period, stroke rate, ram speed and tolerance, window, objective."""
+    return {"period_s": problem.period, "stroke_rate_spm": problem.stroke_rate_spm,
+            "ram_speed_m_s": problem.ram_speed, "ram_speed_tol_m_s": problem.tol,
+            "window_h_over_H": list(problem.window), "objective": problem.objective}
+
+
+def optimum_summary(scenario: Scenario, result: OcpResult, ideal: SimResult | None = None) -> dict:
+    """The keys of an optimum's ``summary.json``: the problem, convergence and verification, the peaks
+    of the answer and of the initial speed on the model (``initial_...``) and of the initial speed on
+    the ideal press (``initial_ideal_joints_...``, when `ideal` is given), the floor, stages."""
+    problem = scenario.problem
+    ideal_peaks = {} if ideal is None else peak_summary(ideal, "initial_ideal_joints_")
+    return {
+        "job": "optimize", "scenario": scenario.name, "model": scenario.model.describe(),
+        "transcription": result.transcription, **problem_summary(problem),
+        "converged": result.success, "verified": result.verified, "periodic": result.periodic,
+        "status": result.status, "objective_value": result.verified_objective,
+        "objective_unit": get_objective(problem.objective).unit,
+        **peak_summary(result.simulation), **peak_summary(result.initial_simulation, "initial_"), **ideal_peaks,
+        "rigid_peak_torque_N_m": result.rigid_peak_torque,
+        "max_ram_speed_error": ram_speed_error(result.simulation, problem),
+        "max_ram_speed_violation_m_s": result.max_ram_speed_violation, "window_t_s": [result.t1, result.t2],
+        "min_omega_rad_s": result.min_omega, "iterations": result.iterations, "wall_time_s": result.wall_time,
+        "stages": [{"name": s.name, "model": s.model, "status": s.status, "success": s.success,
+                    "superseded": s.superseded, "iterations": s.iterations, "wall_time_s": s.wall_time,
+                    "objective": s.objective, "timing_s": s.timing} for s in result.stages],
+        "time_table_s": result.time_table(),
+    }
+
+
+#: Columns of the time table in the report: `OcpResult.time_table` key -> heading.
+TIME_COLUMNS = {"wall": "wall", "build": "build", "compile": "compile", "functions": "functions",
+                "linear_solver": "linear solver", "start": "warm start", "checks": "checks"}
+
+
+def time_table_text(result: OcpResult) -> str:
+    """`OcpResult.time_table` as a plain-text table (s), with a row of the column sums (more than the
+    call's wall time when candidate chains ran side by side)."""
+    rows = result.time_table()
+    total = {k: sum(r[k] for r in rows) for k in TIME_COLUMNS}
+    return format_table([["stage", "iterations", *TIME_COLUMNS.values()],
+                         *([r["stage"], str(r["iterations"]), *(f"{r[k]:.1f}" for k in TIME_COLUMNS)] for r in rows),
+                         ["sum", str(sum(r["iterations"] for r in rows)), *(f"{total[k]:.1f}" for k in TIME_COLUMNS)]])
+
+
+def simulation_summary(scenario: Scenario, sim: SimResult, ideal: SimResult, source: str) -> dict:
+    """The keys of a simulation's ``summary.json``: the problem, periodicity, the peaks on the model and
+    on the ideal press (``ideal_joints_...``), the smallest eccentricity ratio |e|/c of each clearance
+    joint (``min_<joint>_eccentricity``: below 1 the journal leaves its bearing wall, a free flight
+    that ends in an impact), the ram speed error and the objective's value."""
+    problem = scenario.problem
+    ecc = {f"min_{j}_eccentricity": float(np.min(getattr(sim, f"{j}_eccentricity"))) for j in scenario.model.clearance}
+    return {"job": "simulate", "scenario": scenario.name, "model": scenario.model.describe(), "speed": source,
+            **problem_summary(problem), "periodic": is_periodic(sim), **peak_summary(sim),
+            **peak_summary(ideal, "ideal_joints_"), **ecc, "max_ram_speed_error": ram_speed_error(sim, problem),
+            "objective_value": get_objective(problem.objective).value(sim), "rtol": scenario.solver.verify_rtol}
+
+
+def simulate_speed(scenario: Scenario, speed: FourierSpeed) -> tuple[SimResult, SimResult]:
+    """The periodic response of `speed` on the scenario's model (CVODES at the solver's ``verify_rtol``)
+    and the ideal press's on the same grid."""
+    sim = verify_speed(scenario.build_model(), speed, scenario.solver.verify_rtol)
+    return sim, rigid_reference(scenario.problem, speed)
