@@ -10,7 +10,7 @@ import json
 import numpy as np
 import pytest
 
-from pressocp import (FourierSpeed, OcpResult, PressParams, Rigid, SimResult, SpeedProblem, Strategy,
+from pressocp import (FourierSpeed, OcpResult, PressParams, Rigid, SimResult, SpeedProblem, Strategy, Transcription,
                       build_model, optimize_speed, simulate)
 from pressocp.problem import in_window
 from pressocp.simulate import periodic_state
@@ -133,11 +133,9 @@ def test_seed_default_call_reaches_the_clearance_optimum():
     assert window_error(sim, problem) <= problem.tol
 
 
-class Replay:
+class Replay(Transcription):
     """A stand-in transcription whose solves return the given stages in turn (the polish rounds'
-    acceptance is what is tested, not a solver)."""
-
-    has_states = True
+    acceptance is what is tested, not a solver); its hooks are the base class's (none)."""
 
     def __init__(self, *stages):
         self.stages, self.calls = stages, 0

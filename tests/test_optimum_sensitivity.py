@@ -150,7 +150,8 @@ def test_unconverged_or_shooting_answers_are_refused(rigid_answer):
     with pytest.raises(ValueError, match="did not converge"):
         po.optimum_sensitivities(replace(rigid_answer, success=False, status="stage 'target': x"), ("slider_mass",))
     stages = list(rigid_answer.stages)
-    stages[-1] = replace(stages[0], name="target", transcription="MultipleShooting(integrator='idas')")
+    stages[-1] = replace(stages[0], name="target", transcription="MultipleShooting(integrator='idas')",
+                         settings=po.MultipleShooting("idas").settings())
     with pytest.raises(ValueError, match="Rigid or Collocation"):
         po.optimum_sensitivities(replace(rigid_answer, stages=stages), ("slider_mass",))
     with pytest.raises(ValueError, match="OcpResult"):
