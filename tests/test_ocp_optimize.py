@@ -10,8 +10,8 @@ import json
 import numpy as np
 import pytest
 
-from pressocp import (FourierSpeed, OcpResult, PressParams, Rigid, SimResult, SpeedProblem, Strategy, Transcription,
-                      build_model, optimize_speed, simulate)
+from pressocp import (FourierSpeed, ModelSpec, OcpResult, PressParams, Rigid, SimResult, SpeedProblem, Strategy,
+                      Transcription, build_model, optimize_speed, simulate)
 from pressocp.problem import in_window
 from pressocp.simulate import periodic_state
 
@@ -358,3 +358,33 @@ def test_the_standing_stage_skips_superseded_and_skipped_stages(smooth):
     record = StageResult.skipped("polish_1_tightened_1", "not kept", "rigid press", target)
     assert standing_stage([rigid, target, dropped, record]) is target
     assert standing_stage([record]) is None
+
+
+def test_a_candidate_whose_no_reversal_stage_fails_ends_there(smooth):
+    """Candidate chains (margins 0.05 and 0.02) whose no-reversal stages stop at their iteration cap:
+    neither runs a target stage of its own (each would start from the rigid optimum); the chain from
+    the rigid optimum then runs once, after them, its target from the rigid answer."""
+    from pressocp.ocp.candidates import run_candidates
+    from pressocp.ocp.stage import Check
+
+    rigid = dataclasses.replace(smooth.stages[0], name="rigid", check=Check(
+        model="rigid rod, clearance", objective=2.0, ratio=2.0, periodic=True, ram_speed_violation=0.0,
+        peak_torque=2.0, verified=False))
+    starts = []
+
+    class Stops(Transcription):
+        """A target stage that records its start and stops at once (unconverged)."""
+
+        def solve(self, problem, model, start, name="target", progress=False):
+            starts.append(start.speed)
+            return dataclasses.replace(rigid, name=name, success=False, status="Maximum_Iterations_Exceeded",
+                                       check=None)
+
+    strategy = Strategy(rigid=Rigid(samples=200, ipopt={"ipopt.max_iter": 2}), tension_margin=(0.05, 0.02),
+                        workers=1, polish_rounds=0, verify_rtol=1e-8)
+    base = ModelSpec("rigid", ("crank_pin", "wrist_pin"))
+    stages = run_candidates(strategy, SMOOTH, base, rigid, Stops(), strategy.margins, False)
+    assert [s.name for s in stages] == ["no_reversal@0.05", "no_reversal@0.02", "target"]
+    assert all(not s.success and "Maximum_Iterations_Exceeded" in s.status for s in stages)
+    assert all("did not converge, as every candidate's did" in s.superseded for s in stages[:2])
+    assert len(starts) == 1 and starts[0] is rigid.speed

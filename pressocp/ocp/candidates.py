@@ -37,7 +37,7 @@ def candidate_chain(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec
     in a worker process too (the model is built from its spec there), so its stages carry no solver
     objects."""
     model = base.build(problem.press, problem.n_harmonics)
-    stages = strategy.clearance_chain(problem, model, rigid, transcription, None, progress, margin)
+    stages = strategy.clearance_chain(problem, model, rigid, transcription, None, progress, margin, candidate=True)
     last = stages[-1]
     if last.success and not last.was_skipped:
         strategy.verify_stage(model, last)
@@ -60,7 +60,12 @@ def run_candidates(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec,
     here, one after the other, with one worker or when the pool breaks), then their stages: the
     candidates not kept first (marked ``superseded`` with their verified value), the best last. Each
     candidate's last stage records ``details["candidate_value"]``; the best one's also
-    ``details["candidates"]``, every margin's verified value."""
+    ``details["candidates"]``, every margin's verified value.
+
+    A candidate whose no-reversal stage does not converge ends there: the target stage it would run,
+    from the rigid optimum, ran 200 iterations in 362 s without converging on large_press while the
+    other candidate's answer waited (`docs/decisions/2026-11-26-blas-threads.md`). When every
+    candidate ends so, that chain from the rigid optimum runs once, here (its stages unsuffixed)."""
     suffixes = [f"@{m:g}" for m in margins]
     rigid = replace(rigid, point=None)  # no solver objects into the workers
     args = [(strategy, problem, base, rigid, transcription, m, sfx) for m, sfx in zip(margins, suffixes)]
@@ -76,6 +81,11 @@ def run_candidates(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec,
         if bar is not None:
             bar.close()
     values = [verified_value(c[-1], problem) for c in chains]
+    if all(len(c) == 1 and not c[0].success for c in chains):  # no candidate got past its no-reversal stage
+        model = base.build(problem.press, problem.n_harmonics)
+        note = "candidate ended: its no-reversal stage did not converge, as every candidate's did"
+        return [*(replace(c[0], superseded=note) for c in chains),
+                *strategy.clearance_chain(problem, model, rigid, transcription, None, progress, None)]
     best = int(np.argmin(values)) if np.isfinite(values).any() else _least_failed(chains)
     summary = {f"{m:g}": v for m, v in zip(margins, values)}
     out: list[StageResult] = []

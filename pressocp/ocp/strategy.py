@@ -255,12 +255,15 @@ class Strategy:
 
     def clearance_chain(self, problem: SpeedProblem, base: PressModel, rigid: StageResult,
                         transcription: Transcription, neighbour: FourierSpeed | None,
-                        progress: bool, margin: float | None = None) -> list[StageResult]:
+                        progress: bool, margin: float | None = None, candidate: bool = False) -> list[StageResult]:
         """The stages after the rigid one on the rigid-rod model with clearance `base`, to the polish
         and refinement rounds; it stops at a failed stage. ``neighbour``: a non-impacting start (a
         neighbouring optimum in a continuation) that the stages on models with states take as it is,
         with no no-reversal or soft stage; None: the cold chain from the rigid optimum, through the
-        no-reversal stage at tension `margin` (None: none)."""
+        no-reversal stage at tension `margin` (None: none). A `candidate` chain (one of several side by
+        side) ends where its no-reversal stage does not converge: its start would be the rigid optimum,
+        the start of no candidate (`pressocp.ocp.candidates` runs that chain once when every candidate
+        ended so)."""
         stages: list[StageResult] = []
         start = rigid
         if neighbour is None and not rigid.check.verified and margin is not None \
@@ -269,6 +272,8 @@ class Strategy:
             nr = self.rigid.solve(problem.replace(min_tension=bound), base, WarmStart(rigid.speed), "no_reversal",
                                   progress)
             stages.append(nr)
+            if candidate and not nr.success:
+                return stages
             if nr.success:
                 nr.check = self.check(base, nr, problem)
                 if nr.check.verified or nr.check.ratio < rigid.check.ratio:
