@@ -294,7 +294,7 @@ def test_candidates_keep_the_lowest_verified_answer_and_record_every_one(smooth,
     good = smooth.stages[0]
     values = {0.05: 150.0, 0.02: 145.0, 0.1: float("inf")}
 
-    def chain(self, problem, base, rigid, transcription, neighbour, progress, margin=None):
+    def chain(self, problem, base, rigid, transcription, neighbour, progress, margin=None, candidate=False):
         return [dataclasses.replace(good, name="no_reversal", details={"margin": margin}),
                 dataclasses.replace(good, name="target", details={"margin": margin})]
 
