@@ -34,7 +34,8 @@ from ..problem import SpeedProblem
 from ..speed import FourierSpeed
 from .nlp import Constraints, UniformPartition, crank_motion, crank_scale, scaled_crank_start, tie
 from .stage import StageResult, WarmStart
-from .states import StateSettings, check_states, keep_contact, sample_outputs, solve_states, warm_states
+from .states import (StageRun, StateNlp, StateSettings, check_states, keep_contact, sample_outputs, solve_states,
+                     warm_states)
 
 #: Elements per second of period of the first grid, by rod (at least `MIN_ELEMENTS`). Rigid rod: 2 ms
 #: elements; on the 75 spm case (400 elements) the optimum re-simulates within 0.7 % of the NLP's peak,
@@ -341,14 +342,12 @@ class Collocation(StateSettings):
                    "periodic": self.periodic, "backoff": self.backoff, "omega_samples": self.omega_samples,
                    "defect_start": collocation_defect(model, start.speed, states, grid), **warm}
         t_start = time.perf_counter() - t0 - t_build
-        r = solve_states(
-            problem, model, start.speed, c, X, X0, y, {k: y0[i : i + 1, :] for i, k in enumerate(names)}, grid.times,
-            cons, name=name, transcription=repr(self), desc=f"{name} ({K}x{d} radau{', jit' if jit else ''})",
-            options={**nlp_options(jit), **self.ipopt}, progress=progress, backoff=self.backoff,
-            omega_samples=self.omega_samples, coefficient_step=None,
-            fixed=None if self.periodic else zi[:, 0], details=details,
-            parameters=None if q is None else (q, model.nominal), keep=model.functions if jit else None,
-            grid=(K, d), warm=point)
+        nlp = StateNlp(c, X, X0, y, {k: y0[i : i + 1, :] for i, k in enumerate(names)}, grid.times, cons,
+                       fixed=None if self.periodic else zi[:, 0],
+                       parameters=None if q is None else (q, model.nominal))
+        run = StageRun(name, f"{name} ({K}x{d} radau{', jit' if jit else ''})", {**nlp_options(jit), **self.ipopt},
+                       progress, details, grid=(K, d), keep=model.functions if jit else None, warm=point)
+        r = solve_states(problem, model, start.speed, nlp, run, self)
         r.states = r.states[zi]
         r.settings = replace(self, elements=K).settings()  # the grid this stage solved on
         r.timing.update(start=t_start, build=r.timing.get("build", 0.0) + t_build - compiled,

@@ -20,7 +20,8 @@ from ..problem import SpeedProblem
 from ..simulate import HINT, SimulationError, first_line
 from .nlp import Constraints, UniformPartition
 from .stage import StageResult, WarmStart
-from .states import StateSettings, check_states, keep_contact, sample_outputs, solve_states, warm_states
+from .states import (StageRun, StateNlp, StateSettings, check_states, keep_contact, sample_outputs, solve_states,
+                     warm_states)
 
 INTEGRATORS = ("idas", "cvodes")
 
@@ -193,15 +194,13 @@ class MultipleShooting(StateSettings):
         cons = _continuity(X, Xf, self.periodic)
         y = {k: Y[i, :] for i, k in enumerate(names)}
         keep_contact(cons, y, model, self.min_eccentricity)
-        r = solve_states(
-            problem, model, start.speed, c, ca.vec(X), nodes.ravel(order="F"), y,
-            {k: y0[i : i + 1, :] for i, k in enumerate(names)}, grid.times, cons, name=name,
-            transcription=repr(self), desc=f"{name} ({N}x{S} {self.integrator})", options=self.ipopt,
-            progress=progress, backoff=self.backoff, omega_samples=self.omega_samples,
-            coefficient_step=self.coefficient_step, fixed=None if self.periodic else np.arange(model.nx),
-            details={"intervals": N, "samples": S, **warm})
+        nlp = StateNlp(c, ca.vec(X), nodes.ravel(order="F"), y, {k: y0[i : i + 1, :] for i, k in enumerate(names)},
+                       grid.times, cons, fixed=None if self.periodic else np.arange(model.nx),
+                       coefficient_step=self.coefficient_step)
+        run = StageRun(name, f"{name} ({N}x{S} {self.integrator})", self.ipopt, progress,
+                       {"intervals": N, "samples": S, **warm})
+        r = solve_states(problem, model, start.speed, nlp, run, self)
         r.states = r.states.reshape(nodes.shape, order="F")
-        r.settings = self.settings()
         if not r.success:
             failure = locate_failure(G, r.states, model.parameters(r.speed), grid, name, self.integrator)
             if failure is not None:

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -151,39 +152,88 @@ def check_states(problem: SpeedProblem, model: PressModel) -> None:
                          f"({problem.n_harmonics})")
 
 
-def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, c, X, X0: np.ndarray, y: dict,
-                 y0: dict, times: np.ndarray, cons: Constraints, *, name: str, transcription: str, desc: str,
-                 options: dict, progress: bool, backoff: float, omega_samples: int,
-                 coefficient_step: float | None, fixed: np.ndarray | None, details: dict,
-                 parameters: tuple | None = None, keep: dict | None = None, grid: tuple = (),
-                 warm: NlpPoint | None = None) -> StageResult:
-    """The NLP of a state transcription from its pieces, solved.
+@dataclass
+class StateNlp:
+    """The pieces of a state transcription's NLP, as the transcription builds them.
 
-    Parameters
+    Attributes
     ----------
     c, X : ca.MX
         The Fourier coefficients and the transcription's other variables (states, lifted crank
-        motion; one column vector), ``X0`` their start.
+        motion; one column vector).
+    X0 : ndarray
+        The start of ``X``.
     y, y0 : dict
         Output rows at the sample ``times`` (names from `sample_outputs`): symbolic, and their values
         at the start.
+    times : ndarray
+        The sample times, s.
     cons : Constraints
-        The transcription's own constraints (continuity or collocation); the samples' are added here.
-    backoff : float
-        Share of the ram-speed tolerance held at the samples.
+        The transcription's own constraints (continuity or collocation); the samples' are added by
+        `solve_states`.
     fixed : ndarray of int, optional
         Entries of X held at X0 (the first state of a non-periodic response).
+    coefficient_step : float, optional
+        Trust region, rad/s: every Fourier coefficient within this of the start's.
     parameters : (ca.MX, ndarray), optional
         The model's carried press parameters as the NLP's p, and their values; the stage then holds
         the NLP at its solution (``StageResult.point``).
-    keep : dict, optional
-        Holds the solver afterwards (`solve_nlp`).
+    """
+
+    c: Any
+    X: Any
+    X0: np.ndarray
+    y: dict
+    y0: dict
+    times: np.ndarray
+    cons: Constraints
+    fixed: np.ndarray | None = None
+    coefficient_step: float | None = None
+    parameters: tuple | None = None
+
+
+@dataclass
+class StageRun:
+    """How a state transcription's stage is solved and recorded.
+
+    Attributes
+    ----------
+    name, desc : str
+        The stage's name, and its progress bar's label.
+    options : dict
+        nlpsol options on top of `IPOPT_WARM`.
+    progress : bool
+        Show the progress bar.
+    details : dict
+        The stage's ``details``.
     grid : tuple
         The transcription's grid, recorded in the stage's `NlpPoint` (``StageResult.nlp``).
+    keep : dict, optional
+        Holds the solver afterwards (`solve_nlp`).
     warm : NlpPoint, optional
         A solution of this NLP (same grid): its variables, multipliers, window samples and objective
-        scale are taken instead of ``X0``'s, a primal-dual warm start.
+        scale are taken instead of the start's, a primal-dual warm start.
     """
+
+    name: str
+    desc: str
+    options: dict
+    progress: bool
+    details: dict
+    grid: tuple = ()
+    keep: dict | None = None
+    warm: NlpPoint | None = None
+
+
+def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, nlp: StateNlp, run: StageRun,
+                 settings: StateSettings) -> StageResult:
+    """The NLP of a state transcription from its pieces (`nlp`), solved as `run` says, with the ram
+    speed held at `settings.backoff` of its tolerance and the crank-speed bounds at
+    `settings.omega_samples` samples; the stage records `settings` (``StageResult.settings``)."""
+    c, X, X0, y, y0, times, cons = nlp.c, nlp.X, nlp.X0, nlp.y, nlp.y0, nlp.times, nlp.cons
+    fixed, coefficient_step, parameters = nlp.fixed, nlp.coefficient_step, nlp.parameters
+    name, options, warm, grid = run.name, run.options, run.warm, run.grid
+    backoff, omega_samples = settings.backoff, settings.omega_samples
     P, T, n = problem, problem.period, problem.n_harmonics
     objective = get_objective(P.objective)
     s = ca.MX.sym("s")
@@ -205,8 +255,8 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
         lbw[k] = ubw[k] = w0[k]
     if warm is not None:
         w0 = np.asarray(warm.w, float)
-    out = solve_nlp(name, w, f, cons, w0, lbw, ubw, {**IPOPT_WARM, **options}, objective, scale, desc, progress,
-                    parameters, keep, None if warm is None else (warm.lam_x, warm.lam_g))
+    out = solve_nlp(name, w, f, cons, w0, lbw, ubw, {**IPOPT_WARM, **options}, objective, scale, run.desc,
+                    run.progress, parameters, run.keep, None if warm is None else (warm.lam_x, warm.lam_g))
     speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
     q, q0 = parameter_symbols(parameters)
     try:
@@ -216,11 +266,13 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
     except RuntimeError:  # an integrator failing at the returned iterate: the caller locates it
         value = float("nan")
     return StageResult(
-        name=name, transcription=transcription, model=model.spec.describe(), success=out.success, status=out.status,
+        name=name, transcription=repr(settings), model=model.spec.describe(), success=out.success, status=out.status,
         iterations=out.iterations, wall_time=out.wall_time, objective=value, speed=speed,
         last_speed=FourierSpeed.from_coefficients(T, out.last_w[: 2 * n]), t1=float(times[inside[0]]),
         history=out.history, barrier=out.barrier, iteration_log=out.iteration_log,
-        violations_start=out.violations_start, violations=out.violations, details=details, timing=dict(out.timing),
+        violations_start=out.violations_start, violations=out.violations, details=run.details,
+        timing=dict(out.timing),
         states=out.w[2 * n + 1 :], point=out.point,
         nlp=None if out.lam_x is None or not out.success else NlpPoint(out.w, out.lam_x, out.lam_g, inside, scale,
-                                                                         grid))
+                                                                         grid),
+        settings=settings.settings())
