@@ -8,6 +8,7 @@ from __future__ import annotations
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -417,22 +418,50 @@ def parameter_symbols(q) -> tuple:
     return (ca.MX(0, 1), np.zeros(0)) if q is None else (q[0], np.asarray(q[1], float).ravel())
 
 
-def solve_nlp(name: str, w, f, cons: Constraints, w0: np.ndarray, lbw: np.ndarray, ubw: np.ndarray,
-              options: dict, objective: Objective, scale: float, desc: str = "", progress: bool = False,
-              parameters: tuple | None = None, keep: dict | None = None,
-              multipliers: tuple[np.ndarray, np.ndarray] | None = None) -> NlpOutcome:
-    """IPOPT on ``min f(w, q) s.t. cons, lbw <= w <= ubw`` from ``w0``.
+@dataclass
+class NlpData:
+    """``min f(w, q) s.t. cons, lbw <= w <= ubw``, started at ``w0``.
 
-    ``options`` are complete nlpsol options (e.g. `IPOPT_RIGID` or `IPOPT_WARM` plus overrides).
     ``parameters``: ``(q, values)``, a symbol the expressions depend on and its values (the NLP's p);
-    the outcome then holds the `ParametricPoint`.
-    ``keep``: a dict that holds the solver afterwards (``keep["solver"]``). CasADi caches the derivatives
-    it builds of a function weakly, so a compiled model function's derivatives (built and compiled
-    with the solver) live only as long as a solver using them: kept, the next NLP on the same function
-    (a polish round) reuses them instead of compiling them again.
-    ``multipliers``: ``(lam_x0, lam_g0)``, IPOPT's multipliers at ``w0`` from a solve of the same NLP
-    (other bounds allowed): a primal-dual warm start with `IPOPT_WARM_START` on top of ``options``.
-    Ctrl-C raises `KeyboardInterrupt` (with ``best`` holding the least-infeasible iterate)."""
+    the outcome then holds the `ParametricPoint`. ``multipliers``: ``(lam_x0, lam_g0)``, IPOPT's
+    multipliers at ``w0`` from a solve of the same NLP (other bounds allowed): a primal-dual warm
+    start with `IPOPT_WARM_START`."""
+
+    w: Any
+    f: Any
+    cons: Constraints
+    w0: np.ndarray
+    lbw: np.ndarray
+    ubw: np.ndarray
+    parameters: tuple | None = None
+    multipliers: tuple[np.ndarray, np.ndarray] | None = None
+
+
+@dataclass
+class NlpRun:
+    """How `solve_nlp` runs IPOPT: the solver's ``name``, complete nlpsol ``options`` (e.g.
+    `IPOPT_RIGID` or `IPOPT_WARM` plus overrides), the ``objective`` and its ``scale`` (the iteration
+    record's unit), the progress bar (``progress``, labelled ``desc``), and ``keep``: a dict that holds
+    the solver afterwards (``keep["solver"]``). CasADi caches the derivatives it builds of a function
+    weakly, so a compiled model function's derivatives (built and compiled with the solver) live only
+    as long as a solver using them: kept, the next NLP on the same function (a polish round) reuses
+    them instead of compiling them again."""
+
+    name: str
+    options: dict
+    objective: Objective
+    scale: float
+    desc: str = ""
+    progress: bool = False
+    keep: dict | None = None
+
+
+def solve_nlp(nlp: NlpData, run: NlpRun) -> NlpOutcome:
+    """IPOPT on `nlp` as `run` says. Ctrl-C raises `KeyboardInterrupt` (with ``best`` holding the
+    least-infeasible iterate)."""
+    w, f, cons, w0, lbw, ubw = nlp.w, nlp.f, nlp.cons, nlp.w0, nlp.lbw, nlp.ubw
+    name, options, objective, scale, keep = run.name, run.options, run.objective, run.scale, run.keep
+    parameters, multipliers, progress, desc = nlp.parameters, nlp.multipliers, run.progress, run.desc
     t0, c0 = time.perf_counter(), compile_seconds()
     bar = None
     if progress:

@@ -21,8 +21,8 @@ from ..objectives import get as get_objective
 from ..problem import SpeedProblem
 from ..rigid import crank_angle_at_height, inverse_dynamics, rigid_response
 from ..speed import FourierSpeed
-from .nlp import (IPOPT_RIGID, Constraints, add_kinematic_window, add_objective, add_pin_cap, add_speed_bounds,
-                  lifted_crank, scaled_crank_start, solve_nlp)
+from .nlp import (IPOPT_RIGID, Constraints, NlpData, NlpRun, add_kinematic_window, add_objective, add_pin_cap,
+                  add_speed_bounds, lifted_crank, scaled_crank_start, solve_nlp)
 from .stage import NlpPoint, StageResult, Transcription, WarmStart, settings_repr
 
 #: Outputs of the ideal press at one sample, besides the crank motion.
@@ -159,11 +159,10 @@ class Rigid(Transcription):
         w0 = np.concatenate([initial.coefficients, [scale, t1_0], W0]) if point is None else point.w
         lbw = np.concatenate([np.full(2 * n, -np.inf), [0.0, 0.0], np.full(W0.size, -np.inf)])
         ubw = np.concatenate([np.full(2 * n, np.inf), [np.inf, T - duration], np.full(W0.size, np.inf)])
-        out = solve_nlp(f"rigid_{name}", w, f, cons, w0, lbw, ubw, {**IPOPT_RIGID, **oracle_options(jit), **self.ipopt},
-                        objective, scale,
-                        desc=f"{name} (rigid press, {N} samples)", progress=progress,
-                        parameters=(q, model.nominal) if symbols else None,
-                        multipliers=None if point is None else (point.lam_x, point.lam_g))
+        out = solve_nlp(NlpData(w, f, cons, w0, lbw, ubw, parameters=(q, model.nominal) if symbols else None,
+                                multipliers=None if point is None else (point.lam_x, point.lam_g)),
+                        NlpRun(f"rigid_{name}", {**IPOPT_RIGID, **oracle_options(jit), **self.ipopt}, objective,
+                               scale, f"{name} (rigid press, {N} samples)", progress))
         speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
         sampled = rigid_response(P.press, speed, ts)
         return StageResult(

@@ -18,8 +18,8 @@ from ..objectives import get as get_objective
 from ..problem import SpeedProblem
 from ..simulate import SimulationError, integrate, periodic_orbit
 from ..speed import FourierSpeed
-from .nlp import (IPOPT_WARM, Constraints, add_dense_speed_bounds, add_objective, add_pin_cap, needed_outputs,
-                  parameter_symbols, solve_nlp)
+from .nlp import (IPOPT_WARM, Constraints, NlpData, NlpRun, add_dense_speed_bounds, add_objective, add_pin_cap,
+                  needed_outputs, parameter_symbols, solve_nlp)
 from .stage import NlpPoint, StageResult, Transcription, WarmStart, settings_repr
 from .verify import settled_state
 
@@ -255,8 +255,8 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
         lbw[k] = ubw[k] = w0[k]
     if warm is not None:
         w0 = np.asarray(warm.w, float)
-    out = solve_nlp(name, w, f, cons, w0, lbw, ubw, {**IPOPT_WARM, **options}, objective, scale, run.desc,
-                    run.progress, parameters, run.keep, None if warm is None else (warm.lam_x, warm.lam_g))
+    out = solve_nlp(NlpData(w, f, cons, w0, lbw, ubw, parameters, None if warm is None else (warm.lam_x, warm.lam_g)),
+                    NlpRun(name, {**IPOPT_WARM, **options}, objective, scale, run.desc, run.progress, run.keep))
     speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
     q, q0 = parameter_symbols(parameters)
     try:
