@@ -13,6 +13,9 @@ to the digit, and a miss is shown as a miss with its size.
 
 from __future__ import annotations
 
+import ast
+import contextlib
+import io
 import json
 import statistics
 import sys
@@ -21,6 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 RESULTS = Path(__file__).resolve().parent / "results"
+ROOT = Path(__file__).resolve().parents[1]
 BEGIN, END = "<!-- goals:begin (written by python -m benchmarks) -->", "<!-- goals:end -->"
 
 #: Issue #28 (fast optimiser).
@@ -34,6 +38,8 @@ GOAL_RADAU_RATIO = 20.0
 GOAL_VERIFY_RATIO, GOAL_VERIFY_PEAKS = 3.0, 1e-6
 GOAL_SWEEP_RATIO = 1.8
 GOAL_MODAL_CYCLE_S, GOAL_MODAL_PEAK, GOAL_MODAL_SIMEON, GOAL_MODAL_ELEMENTS = 1.0, 1e-3, 0.01, 0.02
+#: Issue #31 (restructure): the limits of a public function's parameters and of any function's lines.
+MAX_PARAMETERS, MAX_LINES = 10, 80
 #: The final verification before issue #29: commit bd45b21's `verify_speed(model, seed optimum, 1e-9)`,
 #: median of 3 calls in a fresh process, 2026-11-25 11:33 UTC (benchmarks/README.md, "The final
 #: verification"); its venv is not rebuilt by the suite, so its time is quoted, not re-measured.
@@ -282,6 +288,40 @@ UNMEASURED = (
 )
 
 
+def layer_row() -> Row:
+    """`lint-imports` with the contracts of pyproject.toml, on the package as it is now."""
+    goal = "`lint-imports` passes with contracts for the layers: no import circle, no upward import"
+    try:
+        from importlinter.cli import lint_imports
+    except ImportError:
+        return missing(31, goal, "import-linter not installed")
+    with contextlib.redirect_stdout(io.StringIO()) as out:
+        code = lint_imports(config_filename=str(ROOT / "pyproject.toml"), no_cache=True)
+    kept = [line for line in out.getvalue().splitlines() if line.startswith("Contracts:")]
+    return Row(31, goal, kept[0] if kept else f"exit status {code}", verdict(code == 0), "the code, now")
+
+
+def size_row(package: Path = ROOT / "pressocp") -> Row:
+    """Public functions with more than `MAX_PARAMETERS` parameters (self and cls not counted) and
+    functions longer than `MAX_LINES` lines (docstring included), read from the package's source."""
+    wide, long = [], []
+    for path in sorted(package.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                continue
+            a, name = node.args, f"{path.stem}.{node.name}"
+            count = len(a.posonlyargs) + len(a.args) + len(a.kwonlyargs) + (a.vararg is not None) + \
+                (a.kwarg is not None) - (bool(a.args) and a.args[0].arg in ("self", "cls"))
+            if count > MAX_PARAMETERS and not node.name.startswith("_"):
+                wide.append(f"{name} ({count})")
+            if node.end_lineno - node.lineno + 1 > MAX_LINES:
+                long.append(f"{name} ({node.end_lineno - node.lineno + 1})")
+    goal = f"no public function with more than {MAX_PARAMETERS} parameters, no function over {MAX_LINES} lines"
+    measured = (f"{len(wide)} with more parameters: {', '.join(wide) or 'none'}; "
+                f"{len(long)} longer: {', '.join(long) or 'none'}")
+    return Row(31, goal, measured, verdict(not wide and not long), "the code, now")
+
+
 def rows(folder: Path = RESULTS) -> list[Row]:
     """Every goal's row from the result files in `folder`."""
     res, out = Results(folder), []
@@ -293,7 +333,7 @@ def rows(folder: Path = RESULTS) -> list[Row]:
 
 def table(folder: Path = RESULTS) -> str:
     """The markdown table of the goals, read now from `folder`."""
-    found = rows(folder)
+    found = rows(folder) + [layer_row(), size_row()]
     lines = ["| issue | goal | measured | verdict | source, date |", "|---|---|---|---|---|"]
     lines += [f"| #{r.issue} | {r.goal} | {r.measured} | {r.verdict} | {r.source} |" for r in found]
     return "\n".join(lines)

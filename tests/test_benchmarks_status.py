@@ -90,3 +90,17 @@ def test_the_readme_block_is_replaced_in_place(tmp_path):
     text = readme.read_text()
     assert text.startswith("# Benchmarks\n\nBy hand.\n") and text.count(status.BEGIN) == 1
     assert "| #28 |" in text and "| #29 |" in text
+
+
+def test_the_size_row_counts_wide_public_and_long_functions(tmp_path):
+    params = ", ".join(f"p{i}" for i in range(11))
+    body = "\n".join(f"    x{i} = {i}" for i in range(85))
+    (tmp_path / "m.py").write_text(
+        f"def wide({params}):\n    pass\n\n\ndef _private({params}):\n    pass\n\n\n"
+        f"class C:\n    def method(self, {', '.join(f'p{i}' for i in range(10))}):\n        pass\n\n\n"
+        f"def long():\n{body}\n")
+    row = status.size_row(tmp_path)
+    assert row.issue == 31 and "not met" in row.verdict
+    assert row.measured.startswith("1 with more parameters: m.wide (11); 1 longer: m.long (86)")
+    (tmp_path / "m.py").write_text("def fine(a, b):\n    return a + b\n")
+    assert status.size_row(tmp_path).verdict == "met"
