@@ -12,6 +12,7 @@ import pytest
 from pressocp import Collocation, PressParams, Rigid, SpeedProblem, WarmStart, build_model, design_speed
 from pressocp.ocp.collocation import (RELAX_ITERATIONS, CollocationGrid, collocation_defect, collocation_residuals,
                                       nlp_options, point_function, radau_matrices)
+from pressocp.ocp import transcription_from
 from pressocp.ocp.nlp import crank_motion
 from pressocp.ocp.states import states_at
 from pressocp.ocp.strategy import soft_params
@@ -140,6 +141,7 @@ def test_primal_dual_warm_start_stays_at_the_optimum_and_follows_tightened_bound
     tr = Collocation(elements=60, jit=False)
     sol = tr.solve(SMOOTH, model, WarmStart(rig.speed))
     assert sol.success and sol.nlp is not None and sol.nlp.grid == (60, 3)
+    assert transcription_from(sol.settings) == tr  # the stage records the transcription that solved it
     parts = sum(sol.timing[k] for k in ("build", "objective", "constraints", "jacobian", "hessian", "callback",
                                         "solver", "start"))
     assert sol.timing["total"] == pytest.approx(sol.wall_time) and parts <= sol.wall_time * 1.001

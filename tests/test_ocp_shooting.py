@@ -9,7 +9,7 @@ import pytest
 
 from pressocp import (MultipleShooting, PressParams, Rigid, SpeedProblem, Strategy, WarmStart, build_model,
                       design_speed, optimize_speed)
-from pressocp.ocp import ShootingError, ShootingGrid
+from pressocp.ocp import ShootingError, ShootingGrid, transcription_from
 from pressocp.ocp.shooting import interval_function
 from pressocp.ocp.states import states_at
 from pressocp.simulate import periodic_state, simulate
@@ -87,8 +87,9 @@ def test_coefficient_trust_region_holds(case):
     """Every Fourier coefficient of the returned iterate stays within coefficient_step of the start."""
     model, speed, x0 = case
     step = 1e-4
-    sol = MultipleShooting("cvodes", intervals=4, samples=4, coefficient_step=step,
-                           ipopt={"ipopt.max_iter": 3}).solve(PROBLEM, model, WarmStart(speed, x0))
+    tr = MultipleShooting("cvodes", intervals=4, samples=4, coefficient_step=step, ipopt={"ipopt.max_iter": 3})
+    sol = tr.solve(PROBLEM, model, WarmStart(speed, x0))
+    assert transcription_from(sol.settings) == tr  # the stage records the transcription that solved it
     moved = np.abs(sol.speed.coefficients - speed.padded(N_HARM).coefficients)
     # IPOPT relaxes bounds by 1e-8 x max(1, |bound|): coefficients are below 10 rad/s here
     assert np.all(moved <= step + 1e-7) and np.max(moved) > 0.5 * step  # moved, up to the bound

@@ -80,12 +80,12 @@ def run_candidates(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec,
     finally:
         if bar is not None:
             bar.close()
-    values = [verified_value(c[-1], problem) for c in chains]
     if all(len(c) == 1 and not c[0].success for c in chains):  # no candidate got past its no-reversal stage
         model = base.build(problem.press, problem.n_harmonics)
         note = "candidate ended: its no-reversal stage did not converge, as every candidate's did"
         return [*(replace(c[0], superseded=note) for c in chains),
                 *strategy.clearance_chain(problem, model, rigid, transcription, None, progress, None)]
+    values = [verified_value(c[-1], problem) for c in chains]
     best = int(np.argmin(values)) if np.isfinite(values).any() else _least_failed(chains)
     summary = {f"{m:g}": v for m, v in zip(margins, values)}
     out: list[StageResult] = []

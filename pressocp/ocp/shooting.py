@@ -201,6 +201,7 @@ class MultipleShooting(StateSettings):
                        {"intervals": N, "samples": S, **warm})
         r = solve_states(problem, model, start.speed, nlp, run, self)
         r.states = r.states.reshape(nodes.shape, order="F")
+        r.settings = self.settings()
         if not r.success:
             failure = locate_failure(G, r.states, model.parameters(r.speed), grid, name, self.integrator)
             if failure is not None:

@@ -229,7 +229,8 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
                  settings: StateSettings) -> StageResult:
     """The NLP of a state transcription from its pieces (`nlp`), solved as `run` says, with the ram
     speed held at `settings.backoff` of its tolerance and the crank-speed bounds at
-    `settings.omega_samples` samples; the stage records `settings` (``StageResult.settings``)."""
+    `settings.omega_samples` samples; the stage is labelled with `settings`' repr (the transcription
+    records its ``StageResult.settings`` itself: collocation with the grid it resolved)."""
     c, X, X0, y, y0, times, cons = nlp.c, nlp.X, nlp.X0, nlp.y, nlp.y0, nlp.times, nlp.cons
     fixed, coefficient_step, parameters = nlp.fixed, nlp.coefficient_step, nlp.parameters
     name, options, warm, grid = run.name, run.options, run.warm, run.grid
@@ -274,5 +275,4 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
         timing=dict(out.timing),
         states=out.w[2 * n + 1 :], point=out.point,
         nlp=None if out.lam_x is None or not out.success else NlpPoint(out.w, out.lam_x, out.lam_g, inside, scale,
-                                                                         grid),
-        settings=settings.settings())
+                                                                         grid))
