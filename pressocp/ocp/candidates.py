@@ -62,10 +62,10 @@ def run_candidates(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec,
     candidate's last stage records ``details["candidate_value"]``; the best one's also
     ``details["candidates"]``, every margin's verified value.
 
-    A candidate whose no-reversal stage does not converge ends there: the target stage it would run,
-    from the rigid optimum, ran 200 iterations in 362 s without converging on large_press while the
-    other candidate's answer waited (`docs/decisions/2026-11-26-blas-threads.md`). When every
-    candidate ends so, that chain from the rigid optimum runs once, here (its stages unsuffixed)."""
+    A candidate whose no-reversal stage does not converge ends there: the target stage it would run
+    from the rigid optimum can take minutes without converging while the others' answers wait
+    (measured: `docs/decisions/2026-11-26-blas-threads.md`). When every candidate ends so, that chain
+    from the rigid optimum runs once, here (its stages unsuffixed)."""
     suffixes = [f"@{m:g}" for m in margins]
     rigid = replace(rigid, point=None)  # no solver objects into the workers
     args = [(strategy, problem, base, rigid, transcription, m, sfx) for m, sfx in zip(margins, suffixes)]
