@@ -8,7 +8,7 @@ Energies are integrated with 4-point Gauss quadrature, exact for the consistent 
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
@@ -48,28 +48,56 @@ def _gather(q, dofs):
         np.array([q[d] if d is not None else 0.0 for d in dofs])
 
 
-def quadrature_points(length: float, n_elements: int, q, qd=None) -> Iterator[tuple[float, float, object, object, object]]:
-    """Yield (xi, weight, w, w_dot, w'') at every Gauss point of every element.
+@dataclass(frozen=True)
+class RodIntegrals:
+    """Integrals over the rod of its shape functions N(xi) (free DOFs, xi in [0, l] from the big end),
+    the invariants of the floating-frame energies: with w(xi) = N(xi) . u and mass per length rho A,
+    the rod's kinetic energy needs rho A times `first`, `moment` and `mass`, its strain energy EI
+    times `stiffness` (`pressocp.model`). Numeric, or CasADi expressions when the length is a symbol.
 
-    Parameters
+    Attributes
     ----------
-    length : float
-        Rod length l, m.
-    n_elements : int
-        Number of elements N.
-    q, qd : ca.SX or ndarray
-        Free elastic DOFs and their rates (qd may be None).
+    first : (2N,) ndarray or ca.SX
+        int N dxi, m (times the DOF's unit).
+    moment : (2N,)
+        int xi N dxi, m^2.
+    mass : (2N, 2N)
+        int N N^T dxi, m: the consistent mass matrix per unit rho A.
+    stiffness : (2N, 2N)
+        int N'' N''^T dxi, 1/m^3: the bending stiffness matrix per unit EI.
     """
-    Le = length / n_elements
+
+    first: object
+    moment: object
+    mass: object
+    stiffness: object
+
+
+def integrals(length, n_elements: int) -> RodIntegrals:
+    """`RodIntegrals` of the pinned-pinned rod of `n_elements` Hermite elements, by the 4-point Gauss
+    rule (exact: the integrands are polynomials of degree 6 at most). The integrals are assembled for
+    unit elements and scaled by the element length Le: a slope DOF's shape functions carry a factor
+    Le, so with D = diag(1 for a deflection, Le for a slope) ``first = Le D f1``, ``moment = Le^2 D
+    m1``, ``mass = Le D M1 D`` and ``stiffness = Le^-3 D K1 D``; `length` may be a CasADi symbol."""
+    n = 2 * n_elements
+    f1, m1, M1, K1 = np.zeros(n), np.zeros(n), np.zeros((n, n)), np.zeros((n, n))
     for e, dofs in enumerate(element_dofs(n_elements)):
-        qe = _gather(q, dofs)
-        qde = _gather(qd, dofs) if qd is not None else None
+        keep = [k for k, d in enumerate(dofs) if d is not None]
+        idx = [dofs[k] for k in keep]
         for s, wgt in zip(GAUSS_S, GAUSS_WS):
-            N, N2 = hermite(s, Le)
-            w = ca.dot(ca.DM(N), qe) if isinstance(qe, (ca.SX, ca.MX)) else N @ qe
-            w2 = ca.dot(ca.DM(N2), qe) if isinstance(qe, (ca.SX, ca.MX)) else N2 @ qe
-            wd = None if qde is None else (ca.dot(ca.DM(N), qde) if isinstance(qde, (ca.SX, ca.MX)) else N @ qde)
-            yield (e + s) * Le, wgt * Le, w, wd, w2
+            N, N2 = (v[keep] for v in hermite(s, 1.0))
+            f1[idx] += wgt * N
+            m1[idx] += wgt * (e + s) * N
+            M1[np.ix_(idx, idx)] += wgt * np.outer(N, N)
+            K1[np.ix_(idx, idx)] += wgt * np.outer(N2, N2)
+    slope = np.array([i % 2 == 0 or i == n - 1 for i in range(n)])  # the DOF order of `element_dofs`
+    Le = length / n_elements
+    if isinstance(Le, (ca.SX, ca.MX)):
+        D = ca.diag(ca.vertcat(*[Le if sl else 1.0 for sl in slope]))
+        return RodIntegrals(Le * D @ ca.DM(f1), Le**2 * D @ ca.DM(m1), Le * D @ ca.DM(M1) @ D,
+                            D @ ca.DM(K1) @ D / Le**3)
+    d = np.where(slope, Le, 1.0)
+    return RodIntegrals(Le * d * f1, Le**2 * d * m1, Le * np.outer(d, d) * M1, np.outer(d, d) * K1 / Le**3)
 
 
 def deflection_at(length: float, n_elements: int, q, xi: float):
@@ -96,16 +124,8 @@ def interpolate(length: float, n_elements: int, f, df) -> np.ndarray:
 
 def pinned_pinned_matrices(length: float, n_elements: int, mass_per_length: float, bending_stiffness: float):
     """Consistent mass and stiffness matrices of the free DOFs (numeric, for modal checks)."""
-    q = ca.SX.sym("q", 2 * n_elements)
-    qd = ca.SX.sym("qd", 2 * n_elements)
-    T = 0
-    V = 0
-    for _, wgt, w, wd, w2 in quadrature_points(length, n_elements, q, qd):
-        T += 0.5 * mass_per_length * wgt * wd**2
-        V += 0.5 * bending_stiffness * wgt * w2**2
-    M = ca.evalf(ca.hessian(T, qd)[0])
-    K = ca.evalf(ca.hessian(V, q)[0])
-    return np.array(M), np.array(K)
+    rod = integrals(length, n_elements)
+    return mass_per_length * rod.mass, bending_stiffness * rod.stiffness
 
 
 def modes(length: float, n_elements: int, mass_per_length: float, bending_stiffness: float,
@@ -131,7 +151,8 @@ def modes(length: float, n_elements: int, mass_per_length: float, bending_stiffn
     for k in range(n_modes):
         v = vectors[:, k]
         w = np.array([deflection_at(length, n_elements, v, xi) for xi in x])
-        shapes[:, k] = v / w[np.argmax(np.abs(w))]
+        # the first point of largest |w| (an antisymmetric mode has two, equal to round-off)
+        shapes[:, k] = v / w[np.flatnonzero(np.abs(w) >= (1.0 - 1e-9) * np.abs(w).max())[0]]
     return shapes, np.sqrt(values)
 
 

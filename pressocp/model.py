@@ -252,6 +252,52 @@ def _rod_kinematics(params: PressParams, theta, xs, eA, eB):
     return A_rod, B_rod, S, d, normal
 
 
+def flexible_rod_energies(P: PressParams, n_elements: int, A, A_dot, d, phi_dot, u, u_dot) -> tuple:
+    """Kinetic, gravitational and strain energy of the flexible rod in its chord frame (J), from the
+    rod integrals (`pressocp.beam.integrals`) instead of sums over quadrature points.
+
+    A point at xi from the big-end bearing centre A sits at r = A - xi d + w n (d the unit chord
+    from B to A, n = (-d_y, d_x), w = N(xi) . u). With d' = -phi' n and n' = phi' d its velocity is
+    A' + (xi phi' + w') n + w phi' d, so with rho A the mass per length, a = int N, b = int xi N and
+    M = int N N^T:  2 T / (rho A) = l |A'|^2 + 2 A'.n (phi' l^2/2 + a.u') + 2 A'.d phi' a.u
+    + phi'^2 (l^3/3 + u.M u) + 2 phi' b.u' + u'.M u',  V_g / (rho A g) = l A_y - l^2/2 d_y + a.u n_y,
+    and the strain energy EI u.K u / 2. These are the quadrature sums' own values (the Gauss rule is
+    exact on these polynomials) as expressions whose size does not grow with the quadrature points:
+    on the 4-element rod with both clearances the right-hand side has 6 318 nodes instead of 14 712.
+
+    Parameters
+    ----------
+    P : PressParams
+        The press (its rod's length, mass, bending stiffness; the gravity), numbers or CasADi symbols.
+    n_elements : int
+        Hermite elements of the rod.
+    A, A_dot : ca.SX or array (2,)
+        Big-end bearing centre (m) and its velocity (m/s).
+    d : ca.SX or array (2,)
+        Unit vector of the chord from the small end to the big end.
+    phi_dot : ca.SX or float
+        The chord's angular velocity, rad/s (d = (sin phi, cos phi)).
+    u, u_dot : ca.SX or array (2 N,)
+        The element DOFs (`pressocp.beam`) and their rates.
+
+    Returns
+    -------
+    T, V_g, strain
+        Kinetic, gravitational and strain energy, J (CasADi expressions).
+    """
+    l, rho_a, g = P.rod_length, P.rod_mass / P.rod_length, P.gravity
+    normal = ca.vertcat(-d[1], d[0])
+    rod = beam.integrals(l, n_elements)
+    a, b, M, K = (v if isinstance(v, ca.SX) else ca.DM(v) for v in (rod.first, rod.moment, rod.mass, rod.stiffness))
+    au, Mu = ca.dot(a, u), ca.mtimes(M, u)
+    twice_t = (l * ca.dot(A_dot, A_dot) + 2 * ca.dot(A_dot, normal) * (phi_dot * l**2 / 2 + ca.dot(a, u_dot))
+               + 2 * ca.dot(A_dot, d) * phi_dot * au + phi_dot**2 * (l**3 / 3 + ca.dot(u, Mu))
+               + 2 * phi_dot * ca.dot(b, u_dot) + ca.dot(u_dot, ca.mtimes(M, u_dot)))
+    V_g = rho_a * g * (l * A[1] - l**2 / 2 * d[1] + au * normal[1])
+    strain = 0.5 * P.rod_youngs_modulus * P.rod_area_moment * ca.dot(u, ca.mtimes(K, u))
+    return 0.5 * rho_a * twice_t, V_g, strain
+
+
 def build_model(
     params: PressParams,
     rod: str = "rigid",
@@ -347,17 +393,8 @@ def build_model(
     T_s, V_s = mech.body_energy(P.slider_mass, 0.0, g, S, rate(S), 0)
     phi = ca.atan2(d[0], d[1])  # rod angle: A - B = l (sin phi, cos phi)
     if flexible:
-        rho_a = P.rod_mass / l
-        T_r = 0.0
-        V_r = 0.0
-        strain = 0.0
         w_dofs = w if shapes is None else ca.mtimes(ca.DM(shapes), w)  # the element DOFs
-        for xi, wgt, wx, _, w2 in beam.quadrature_points(l, ne, w_dofs):
-            r = A_rod - xi * d + wx * normal
-            v = rate(r)
-            T_r += 0.5 * rho_a * wgt * ca.dot(v, v)
-            V_r += rho_a * wgt * g * r[1]
-            strain += 0.5 * P.rod_youngs_modulus * P.rod_area_moment * wgt * w2**2
+        T_r, V_r, strain = flexible_rod_energies(P, ne, A_rod, rate(A_rod), d, rate(phi), w_dofs, rate(w_dofs))
         V_r += strain
         # a rod inertia other than m l^2/12 is kept as a rigid-body correction
         T_r += 0.5 * (P.rod_inertia_value - P.rod_mass * l**2 / 12) * rate(phi) ** 2

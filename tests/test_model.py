@@ -11,7 +11,7 @@ import pytest
 import scipy.linalg as sla
 
 from pressocp import Bearing, FourierSpeed, PressParams, beam, rigid_response
-from pressocp.model import build_model
+from pressocp.model import build_model, flexible_rod_energies
 from pressocp.simulate import SimulationError, expect_settled, periodic_orbit, simulate
 from pressocp.studies import simeon_crank
 
@@ -84,6 +84,42 @@ def test_pinned_pinned_frequencies():
     # Hermite cubics: eigenvalue error O(h^4) -> about 16x per halving
     assert errors[1][0] / errors[2][0] > 10
     assert p.rod_first_bending_frequency == pytest.approx(exact[0])
+
+
+@pytest.mark.parametrize("n_elements", [1, 3, 8])
+def test_flexible_rod_energies_equal_sums_over_the_rod(n_elements):
+    """The rod's energies from its integrals equal sums over Gauss points of the moving rod, with
+    each point's velocity a central difference of its position along a straight path in time."""
+    p = PressParams()
+    rng = np.random.default_rng(n_elements)
+    L, rho_a, ei = p.rod_length, p.rod_mass / p.rod_length, p.rod_youngs_modulus * p.rod_area_moment
+    A0, A_dot = rng.normal(size=2) * 0.1, rng.normal(size=2)
+    phi0, phi_dot = 0.3, 2.7
+    u0, u_dot = rng.normal(size=2 * n_elements) * 1e-3, rng.normal(size=2 * n_elements) * 0.1
+
+    def points(t):  # positions of the Gauss points at time t, their weights, w''
+        phi = phi0 + phi_dot * t
+        d, n = np.array([np.sin(phi), np.cos(phi)]), np.array([-np.cos(phi), np.sin(phi)])
+        u = u0 + u_dot * t
+        Le = L / n_elements
+        out = []
+        for e, dofs in enumerate(beam.element_dofs(n_elements)):
+            ue = np.array([u[k] if k is not None else 0.0 for k in dofs])
+            for s, wgt in zip(beam.GAUSS_S, beam.GAUSS_WS):
+                N, N2 = beam.hermite(s, Le)
+                out.append((A0 + A_dot * t - (e + s) * Le * d + (N @ ue) * n, wgt * Le, N2 @ ue))
+        return out
+
+    h = 1e-6
+    kinetic = sum(0.5 * rho_a * wgt * np.sum(((rp - rm) / (2 * h)) ** 2)
+                  for (rp, wgt, _), (rm, _, _) in zip(points(h), points(-h)))
+    gravity = sum(rho_a * wgt * p.gravity * r[1] for r, wgt, _ in points(0.0))
+    strain = sum(0.5 * ei * wgt * w2**2 for _, wgt, w2 in points(0.0))
+    d0 = np.array([np.sin(phi0), np.cos(phi0)])
+    T, V, U = (float(v) for v in flexible_rod_energies(p, n_elements, A0, A_dot, d0, phi_dot, u0, u_dot))
+    assert T == pytest.approx(kinetic, rel=1e-8)
+    assert V == pytest.approx(gravity, rel=1e-12)
+    assert U == pytest.approx(strain, rel=1e-12)
 
 
 def test_simeon_flexible_slider_crank():
