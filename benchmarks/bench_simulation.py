@@ -5,7 +5,10 @@ ram speed -0.1 m/s over h/H 0.7 -> 0.3), one cycle from its periodic steady stat
 and tolerance: wall time per cycle (median of repeats) and the relative error of the peak motor
 torque against a CVODES rtol 1e-10 reference. "Equal accuracy" compares the cheapest run of each
 method whose peak-torque error is below a target. No method integrates the work quadratures (nothing
-here reads them).
+here reads them). Every method runs on the compiled model (``model.jit``: the SUNDIALS integrators and
+scipy's call compiled code; the compile, once per method and model, is timed apart as
+``compile_s``); "idas (interpreted)" and "cvodes (interpreted)" are the same integrators on CasADi's
+virtual machine.
 
 Writes benchmarks/results/simulation.json and simulation.png.
 
@@ -15,6 +18,7 @@ Writes benchmarks/results/simulation.json and simulation.png.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import statistics
 import time
@@ -29,6 +33,7 @@ import numpy as np  # noqa: E402
 from pressocp import PressParams, SpeedProblem  # noqa: E402
 from pressocp.design import design_speed  # noqa: E402
 from pressocp.model import build_model  # noqa: E402
+from pressocp.report import stamp  # noqa: E402
 from pressocp.simulate import SimulationError, periodic_state, simulate  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
@@ -45,10 +50,15 @@ def flexible_start(model, speed):
     return simulate(model, speed, x0=x, method="cvodes", rtol=1e-7, n_out=3).states[:, -1] / model.x_scale
 
 
+INTERPRETED = " (interpreted)"
+
+
 def run_case(name, model, speed, methods, rtols, repeats, budget, rtol_ref=1e-10, floors=None):
-    """Every method at every rtol, against a CVODES reference at `rtol_ref`. ``floors``: method -> the
-    tightest rtol it runs (a tighter one is left out, and recorded as such); a method stops at the
-    first rtol whose run takes more than `budget` s."""
+    """Every method at every rtol, against a CVODES reference at `rtol_ref` (interpreted). ``floors``:
+    method -> the tightest rtol it runs (a tighter one is left out, and recorded as such); a method
+    stops at the first rtol whose run takes more than `budget` s. A method named with `INTERPRETED`
+    runs on `model` as it is, every other on a compiled copy (``jit``) after a timed warm-up run that
+    compiles it."""
     t0 = time.perf_counter()
     if model.rod == "flexible":
         x0, info = flexible_start(model, speed), "rigid-rod periodic state + 1 warm-up cycle"
@@ -56,19 +66,27 @@ def run_case(name, model, speed, methods, rtols, repeats, budget, rtol_ref=1e-10
         x0, info = periodic_state(model, speed, rtol=1e-9)
     print(f"{name}: start state {info} in {time.perf_counter() - t0:.1f} s", flush=True)
     ref = simulate(model, speed, x0=x0, method="cvodes", rtol=rtol_ref, n_out=16001, work=False)
-    rows = []
-    for method in methods:
+    compiled = dataclasses.replace(model, jit=True, functions={})
+    rows, compile_s = [], {}
+    for label in methods:
+        method = label.removesuffix(INTERPRETED)
+        sim_model = model if label.endswith(INTERPRETED) else compiled
+        if sim_model is compiled:
+            t0 = time.perf_counter()
+            simulate(compiled, speed, x0=x0, method=method, rtol=1e-4, t_end=1e-3, n_out=3, work=False)
+            compile_s[label] = time.perf_counter() - t0
+            print(f"{label}: compiled in {compile_s[label]:.1f} s", flush=True)
         for rtol in rtols:
-            if rtol < (floors or {}).get(method, 0.0):
-                rows.append({"case": name, "method": method, "rtol": rtol, "ok": False, "time_per_cycle_s": None,
+            if rtol < (floors or {}).get(label, 0.0):
+                rows.append({"case": name, "method": label, "rtol": rtol, "ok": False, "time_per_cycle_s": None,
                              "repeats": 0, "peak_torque_rel_error": None, "steps": None,
-                             "error": f"not run: below this case's floor for {method} ({floors[method]:g})"})
+                             "error": f"not run: below this case's floor for {label} ({floors[label]:g})"})
                 continue
             times, err, ok = [], None, True
             for _ in range(repeats):
                 t0 = time.perf_counter()
                 try:
-                    r = simulate(model, speed, x0=x0, method=method, rtol=rtol, n_out=16001, work=False)
+                    r = simulate(sim_model, speed, x0=x0, method=method, rtol=rtol, n_out=16001, work=False)
                 except SimulationError as e:
                     ok, err = False, str(e).splitlines()[0]
                     break
@@ -76,7 +94,7 @@ def run_case(name, model, speed, methods, rtols, repeats, budget, rtol_ref=1e-10
                 err = abs(r.peak("torque") / ref.peak("torque") - 1)
                 if times[-1] > budget:
                     break
-            row = {"case": name, "method": method, "rtol": rtol, "ok": ok,
+            row = {"case": name, "method": label, "rtol": rtol, "ok": ok,
                    "time_per_cycle_s": statistics.median(times) if times else None, "repeats": len(times),
                    "peak_torque_rel_error": err if ok else None, "error": None if ok else err,
                    "steps": r.stats.get("steps") if ok else None}
@@ -84,7 +102,7 @@ def run_case(name, model, speed, methods, rtols, repeats, budget, rtol_ref=1e-10
             print(json.dumps(row), flush=True)
             if ok and times and times[-1] > budget:
                 break  # tighter tolerances only get slower
-    return {"reference_peak_torque": ref.peak("torque"), "rows": rows}
+    return {"reference_peak_torque": ref.peak("torque"), "rows": rows, "compile_s": compile_s}
 
 
 def equal_accuracy(rows, target):
@@ -142,14 +160,15 @@ def main() -> None:
     args = ap.parse_args()
     if args.replot:
         data = json.loads((OUT / "simulation.json").read_text())
-        plot_results(data["results"], ("idas", "cvodes", "scipy-radau"), OUT / "simulation.png")
+        plot_results(data["results"], ("idas", "cvodes", "scipy-radau", "idas" + INTERPRETED,
+                                       "cvodes" + INTERPRETED), OUT / "simulation.png")
         return
     OUT.mkdir(exist_ok=True)
     p = PressParams()
     speed = design_speed(SpeedProblem(p, period=0.8, ram_speed=-0.1)).speed
     repeats = 1 if args.quick else 3
     rtols = [1e-5, 1e-7] if args.quick else [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9]
-    methods = ["idas", "cvodes", "scipy-radau"]
+    methods = ["idas", "cvodes", "scipy-radau", "idas" + INTERPRETED, "cvodes" + INTERPRETED]
     results = {}
     if args.case in ("all", "clearance"):
         results["clearance"] = run_case("clearance", build_model(p), speed, methods, rtols, repeats, budget=120)
@@ -167,8 +186,12 @@ def main() -> None:
             entry = {m: {"rtol": r["rtol"], "time_per_cycle_s": r["time_per_cycle_s"]} for m, r in best.items()}
             if "idas" in best and "scipy-radau" in best:
                 entry["radau_over_idas"] = best["scipy-radau"]["time_per_cycle_s"] / best["idas"]["time_per_cycle_s"]
+            if "idas" + INTERPRETED in best and "scipy-radau" in best:
+                entry["radau_over_idas_interpreted"] = (best["scipy-radau"]["time_per_cycle_s"]
+                                                        / best["idas" + INTERPRETED]["time_per_cycle_s"])
             summary[f"{case}@{target:g}"] = entry
-    (OUT / f"{name}.json").write_text(json.dumps({"results": results, "equal_accuracy": summary}, indent=2))
+    (OUT / f"{name}.json").write_text(json.dumps({"stamp": stamp(),
+                                                   "results": results, "equal_accuracy": summary}, indent=2))
     plot_results(results, methods, OUT / f"{name}.png")
     print(json.dumps(summary, indent=2))
 

@@ -181,7 +181,10 @@ def radau_row(res: Results) -> Row:
              f"(IDAS {v['idas']['time_per_cycle_s']:.2f} s at rtol {v['idas']['rtol']:g}, Radau "
              f"{v['scipy-radau']['time_per_cycle_s']:.2f} s at {v['scipy-radau']['rtol']:g})" for k, v in sorted(cells.items())]
     ok = min(v["radau_over_idas"] for v in cells.values()) >= GOAL_RADAU_RATIO
-    date = runs.get("simulation", {}).get("date", "date not recorded")  # the JSON has no date of its own
+    if "radau_over_idas_interpreted" in next(iter(cells.values())):
+        parts.append("IDAS interpreted: " + ", ".join(f"{v['radau_over_idas_interpreted']:.1f} ×"
+                                                       for _, v in sorted(cells.items())))
+    date = r.get("stamp", {}).get("date") or runs.get("simulation", {}).get("date", "date not recorded")
     return Row(29, goal, "; ".join(parts), verdict(ok), f"simulation.json, {date}")
 
 

@@ -81,11 +81,21 @@ def use_jit(setting: bool | str, what: str) -> bool:
     return bool(setting)
 
 
-def function_options(jit: bool) -> dict:
-    """Options of a CasADi Function compiled with its derivatives (`jit_options`), or none."""
+#: Optimisation flags of the derivatives of an integrator's right-hand side (`function_options` with
+#: ``derivatives="quick"``): the rigid rod's Jacobian compiled in 2.7 s at -O0 and 8.4 s at -O1, the
+#: 8-element rod reduced to 2 modes in 7 s and 55 s, for an integration 0-10 % slower with IDAS
+#: (docs/decisions/2026-11-26-compiled-integrator.md).
+QUICK_FLAGS = ("-O0",)
+
+
+def function_options(jit: bool, derivatives: str = "same") -> dict:
+    """Options of a CasADi Function compiled with its derivatives (`jit_options`), or none.
+    ``derivatives="quick"`` compiles the derivatives at `QUICK_FLAGS`."""
     if not jit:
         return {}
     opts = jit_options()
+    if derivatives == "quick":
+        return {**opts, "der_options": {**opts, "jit_options": {**opts["jit_options"], "flags": list(QUICK_FLAGS)}}}
     return {**opts, "der_options": opts}
 
 

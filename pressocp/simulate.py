@@ -53,10 +53,11 @@ def _integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, a
     """The CasADi integrator of `model` over `grid`, built once per model and settings and kept in
     ``model.functions`` (the last `KEPT_INTEGRATORS`): building one took 20 ms on the rigid rod and
     0.1 s on a 2-element rod (2026-11-26), paid again by every call of a sweep or a repeated check.
-    The right-hand side stays on CasADi's virtual machine: compiled (`compiled_dae`) a cycle took
-    the same time to 2 % on both (docs/decisions/2026-11-26-simulation-costs.md)."""
+    With ``model.jit`` the SUNDIALS integrators evaluate the compiled right-hand side
+    (`integrator_dae`)."""
     grid = np.asarray(grid, float)
-    key = ("integrator", method, grid.tobytes(), float(rtol), float(atol), int(max_steps), float(step), bool(work))
+    key = ("integrator", method, grid.tobytes(), float(rtol), float(atol), int(max_steps), float(step), bool(work),
+           bool(model.jit))
     kept = model.functions.setdefault("integrators", {})
     if key not in kept:
         if len(kept) >= KEPT_INTEGRATORS:
@@ -65,25 +66,48 @@ def _integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, a
     return kept[key]
 
 
-def compiled_dae(dae: dict) -> ca.Function:
+def compiled_dae(dae: dict, derivatives: str = "same") -> ca.Function:
     """The DAE dict as a `casadi.Function` in the integrator's own form (inputs `casadi.dyn_in`,
-    outputs `casadi.dyn_out`), compiled with its derivatives through the compile cache. It pays where
-    the integrator differentiates the right-hand side in many directions (the forward sensitivities:
-    11 directions over one cycle 8.9 s interpreted, 1.5 s compiled), not in a plain simulation."""
+    outputs `casadi.dyn_out`), compiled with its derivatives through the compile cache
+    (``derivatives="quick"``: those at `pressocp.compile_cache.QUICK_FLAGS`). Given to an integrator
+    as it is, only its derivatives run compiled: the integrator re-expands an SX function into its own
+    right-hand side (`integrator_dae` wraps it so that the compiled code is called)."""
     sym = type(dae["x"])
     empty = sym(0, 1)
     ins = [dae["t"], dae["x"], dae.get("z", empty), dae["p"], empty]
     outs = [dae["ode"], dae.get("alg", empty), dae.get("quad", empty), empty]
     with compiling():
-        return ca.Function("press_dae", ins, outs, ca.dyn_in(), ca.dyn_out(), function_options(True))
+        return ca.Function("press_dae", ins, outs, ca.dyn_in(), ca.dyn_out(), function_options(True, derivatives))
+
+
+def integrator_dae(model: PressModel, explicit: bool, work: bool) -> ca.Function:
+    """The model's DAE for a SUNDIALS integrator, evaluated by compiled code: an MX function calling
+    the compiled `compiled_dae` (its derivatives compiled quickly), kept in ``model.functions``.
+
+    CasADi builds an integrator's right-hand side and Jacobian from its DAE; from an SX function
+    (compiled or not) it re-expands the expressions and evaluates them on its virtual machine, where a
+    flexible rod's impacting cycle spent nine tenths of its time. Through the MX call the compiled
+    code runs: 0.2 s of the rigid rod's impacting design took 0.65 s with IDAS interpreted and 0.38 s
+    compiled, the 4-element rod 2.09 s and 0.90 s (docs/decisions/2026-11-26-compiled-integrator.md).
+    The first compile for a press takes seconds (the rigid rod 1.6 s with IDAS, the 4-element rod
+    5 s; with CVODES's explicit form 2.7 and 23 s); the compile cache keeps it for the next process.
+    """
+    key = ("integrator_dae", bool(explicit), bool(work))
+    if key not in model.functions:
+        f = compiled_dae(model.dae(explicit=explicit, work=work), derivatives="quick")
+        ins = [ca.MX.sym(f.name_in(i), f.sparsity_in(i)) for i in range(f.n_in())]
+        model.functions[key] = ca.Function("press_dae_compiled", ins, f(*ins), ca.dyn_in(), ca.dyn_out())
+    return model.functions[key]
 
 
 def _build_integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, atol: float,
                       max_steps: int, step: float, work: bool) -> ca.Function:
     explicit = method != "idas"
-    dae = model.dae(explicit=explicit, work=work)
+    sundials = method in ("idas", "cvodes")
+    dae = (integrator_dae(model, explicit, work) if sundials and model.jit and use_jit("auto", "the simulation")
+           else model.dae(explicit=explicit, work=work))
     opts: dict[str, Any] = {}
-    if method in ("idas", "cvodes"):
+    if sundials:
         opts.update(reltol=rtol, abstol=atol, max_num_steps=max_steps)
         if method == "idas":
             opts.update(calc_ic=True, suppress_algebraic=True)
@@ -161,8 +185,11 @@ def _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps, work=True):
     rhs = ca.Function("rhs", [model.t, model.x, model.p],
                       [ca.vertcat(model.ode_explicit, model.quad) if work else model.ode_explicit])
     xa = ca.SX.sym("xa", nx + nq)
-    rhs_aug = ca.Function("rhs_aug", [model.t, xa], [rhs(model.t, xa[:nx], p)])
-    jac = ca.Function("rhs_jacobian", [model.t, xa], [ca.jacobian(rhs_aug(model.t, xa), xa)])
+    # with model.jit the baseline calls compiled code too, as the SUNDIALS integrators do
+    opts = function_options(True, "quick") if model.jit and use_jit("auto", "the scipy baseline") else {}
+    with compiling():
+        rhs_aug = ca.Function("rhs_aug", [model.t, xa], [rhs(model.t, xa[:nx], p)], opts)
+        jac = ca.Function("rhs_jacobian", [model.t, xa], [ca.jacobian(rhs_aug(model.t, xa), xa)], opts)
     solver_cls = Radau if method == "scipy-radau" else BDF
     t0 = time.perf_counter()
     solver = solver_cls(lambda t, y: np.asarray(rhs_aug(t, y)).ravel(), 0.0, np.concatenate([x0, np.zeros(nq)]),

@@ -12,7 +12,7 @@ import scipy.linalg as sla
 
 from pressocp import Bearing, FourierSpeed, PressParams, beam, rigid_response
 from pressocp.model import build_model, flexible_rod_energies
-from pressocp.simulate import SimulationError, expect_settled, periodic_orbit, simulate
+from pressocp.simulate import SimulationError, expect_settled, periodic_orbit, periodic_state, simulate
 from pressocp.studies import simeon_crank
 
 FLORES_PERIOD = 60.0 / 5000.0
@@ -262,6 +262,39 @@ def test_a_kept_integrator_gives_the_same_bits():
     assert np.array_equal(a.states, b.states) and np.array_equal(a.torque, b.torque)
     simulate(m, s, method="cvodes", rtol=1e-8, n_out=201)
     assert len(m.functions["integrators"]) == 2
+
+
+@pytest.mark.parametrize("method", ["idas", "cvodes", "scipy-radau"])
+def test_a_compiled_model_integrates_the_same_motion(method):
+    """``model.jit``: the integrator calls compiled code (kept in ``model.functions``), and the motion
+    is the interpreted model's to the integration tolerance (a smooth scene: the periodic state at
+    constant speed, journals on their walls; from rest they would fall onto them)."""
+    s = FourierSpeed.constant(0.8)
+    plain, compiled = build_model(PressParams()), build_model(PressParams())
+    compiled.jit = True
+    x0 = periodic_state(plain, s, rtol=1e-9)[0]
+    rtol = 1e-6 if method.startswith("scipy") else 1e-9
+    a = simulate(plain, s, method=method, rtol=rtol, t_end=0.2, n_out=201, work=False, x0=x0)
+    b = simulate(compiled, s, method=method, rtol=rtol, t_end=0.2, n_out=201, work=False, x0=x0)
+    if not method.startswith("scipy"):
+        assert any(k[0] == "integrator_dae" for k in compiled.functions)
+        assert not any(k[0] == "integrator_dae" for k in plain.functions)
+    np.testing.assert_allclose(b.torque, a.torque, rtol=1e-5, atol=1e-6 * np.abs(a.torque).max())
+    np.testing.assert_allclose(b.wrist_pin_force, a.wrist_pin_force, rtol=1e-5, atol=1e-6 * np.abs(a.wrist_pin_force).max())
+
+
+def test_without_a_c_compiler_a_compiled_model_says_so_and_runs_interpreted(monkeypatch):
+    import pressocp.compile_cache as cc
+
+    monkeypatch.setattr(cc, "compiler_available", lambda: False)
+    m = build_model(PressParams())
+    m.jit = True
+    with pytest.warns(RuntimeWarning, match="no C compiler"):
+        b = simulate(m, FourierSpeed.constant(0.8), method="idas", rtol=1e-7, t_end=0.05, n_out=51, work=False)
+    a = simulate(build_model(PressParams()), FourierSpeed.constant(0.8), method="idas", rtol=1e-7, t_end=0.05,
+                 n_out=51, work=False)
+    assert np.array_equal(a.torque, b.torque)
+    assert not any(k[0] == "integrator_dae" for k in m.functions)
 
 
 def test_settling_cycles_expected_to_settle():
