@@ -37,7 +37,7 @@ import pandas as pd
 from .compile_cache import use_jit
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
-from .simulate import SimulationError, compiled_dae, periodic_state, simulate
+from .simulate import SimulationError, calling, compiled_dae, periodic_state, simulate
 from .speed import FourierSpeed
 
 #: Quantities (peak magnitudes) and the model output they are the peak of.
@@ -140,11 +140,13 @@ def peak_times(t: np.ndarray, y: np.ndarray, period: float) -> list[float]:
 
 
 def sensitivity_dae(dae: dict) -> dict | ca.Function:
-    """The explicit ODE for the sensitivity integrator: as a Function compiled with its derivatives
-    when a C compiler is found (CasADi's virtual machine evaluates the forward derivatives of the
-    contact model slowly: on the seed optimum 11 directions over one cycle took 8.9 s interpreted and
-    1.5 s compiled, the same derivatives), else the DAE dict as it is."""
-    return compiled_dae(dae) if use_jit("auto", "the sensitivities' right-hand side") else dae
+    """The explicit ODE for the sensitivity integrator: a Function compiled with its derivatives and
+    called through MX (`pressocp.simulate.calling`, so that the states' own right-hand side runs
+    compiled too) when a C compiler is found, else the DAE dict as it is. CasADi's virtual machine
+    evaluates the forward derivatives of the contact model slowly: on the seed optimum 11 directions
+    over one cycle took 8.9 s interpreted and 1.5 s compiled, the same derivatives; the MX call took
+    the whole `sensitivities` of 3 parameters from 8.6 to 7.2 s (2026-11-26)."""
+    return calling(compiled_dae(dae)) if use_jit("auto", "the sensitivities' right-hand side") else dae
 
 
 def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tuple[float, int]], x0: np.ndarray,

@@ -94,10 +94,15 @@ def integrator_dae(model: PressModel, explicit: bool, work: bool) -> ca.Function
     """
     key = ("integrator_dae", bool(explicit), bool(work))
     if key not in model.functions:
-        f = compiled_dae(model.dae(explicit=explicit, work=work), derivatives="quick")
-        ins = [ca.MX.sym(f.name_in(i), f.sparsity_in(i)) for i in range(f.n_in())]
-        model.functions[key] = ca.Function("press_dae_compiled", ins, f(*ins), ca.dyn_in(), ca.dyn_out())
+        model.functions[key] = calling(compiled_dae(model.dae(explicit=explicit, work=work), derivatives="quick"))
     return model.functions[key]
+
+
+def calling(f: ca.Function) -> ca.Function:
+    """An MX function of `f`'s inputs and outputs whose only node calls `f`: what an integrator needs to
+    evaluate a compiled DAE function as compiled code (`integrator_dae`)."""
+    ins = [ca.MX.sym(f.name_in(i), f.sparsity_in(i)) for i in range(f.n_in())]
+    return ca.Function(f.name() + "_call", ins, f(*ins), f.name_in(), f.name_out())
 
 
 def _build_integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, atol: float,
