@@ -33,7 +33,10 @@ Cases (``--case``; each writes benchmarks/results/transcriptions_<case>.json and
               shooting capped at ``--shooting-wall`` s (``--methods`` runs some of them; the JSON
               keeps the others' rows). Writes transcriptions_map.json and .png.
 
-    python benchmarks/bench_transcriptions.py --case smooth|seed|flexible|map [--shooting-wall S]
+* ``flexible_shooting`` the same scene: IDAS multiple shooting (compiled) started from collocation's
+              answer, against that answer re-simulated (issue #29: within 0.5 %).
+
+    python benchmarks/bench_transcriptions.py --case smooth|seed|flexible|flexible_shooting|map [--shooting-wall S]
 """
 
 from __future__ import annotations
@@ -147,6 +150,28 @@ def flexible_case(wall: float) -> Case:
                  SLENDER_DEFAULT_ANSWER}
     return Case(problem, start, runs, goals, sc.build_model, "flexible",
                 {"scenario": "slender_rod", "model": model.spec.describe(), "start_on_model_objective": on_rod})
+
+
+def flexible_shooting_case(wall: float) -> Case:
+    """The slender-rod scene (issue #29): IDAS multiple shooting started from collocation's answer (the
+    default grid, itself from the rigid press's optimum), its node states from that answer's periodic
+    response, against collocation's verified optimum (goal: within `GOAL_REL`)."""
+    sc = po.Scenario.load("slender_rod")
+    problem = sc.problem
+    model = sc.build_model()
+    rigid = po.Rigid().solve(problem, model, WarmStart(po.design_speed(problem).speed), "rigid")
+    t0 = time.perf_counter()
+    start = po.Collocation().solve(problem, model, WarmStart(rigid.speed), "flexible")
+    colloc = float(get_objective(problem.objective).value(verify_speed(model, start.speed, VERIFY_RTOL)))
+    print(f"collocation ({start.status}, {start.iterations} it, {time.perf_counter() - t0:.0f} s): {start.objective:.5g}, "
+          f"verified {colloc:.5g}", flush=True)
+    cap = {"ipopt.max_wall_time": wall}
+    runs = [("IDAS shooting 16x25, compiled", po.MultipleShooting("idas", ipopt=cap))]
+    goals = {f"collocation's verified optimum {colloc:.2f} N·m": colloc,
+             f"within {GOAL_REL:.1%} of it": colloc * (1 + GOAL_REL)}
+    return Case(problem, start, runs, goals, lambda: model, "flexible",
+                {"scenario": "slender_rod", "model": model.spec.describe(), "collocation_verified": colloc,
+                 "collocation_status": start.status})
 
 
 MAP_RATES_SPM = (60, 75)
@@ -359,7 +384,7 @@ def figure(case: str, rows: list[dict], goals: dict, start_value: float) -> None
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--case", choices=("smooth", "seed", "flexible", "map"), required=True)
+    ap.add_argument("--case", choices=("smooth", "seed", "flexible", "flexible_shooting", "map"), required=True)
     ap.add_argument("--replot", action="store_true", help="only redraw the PNG from the JSON")
     ap.add_argument("--methods", nargs="+", choices=tuple(MAP_METHODS), default=list(MAP_METHODS),
                     help="with --case map: the transcriptions to run (the JSON keeps the others' rows)")
@@ -392,7 +417,8 @@ def main() -> None:
     figure(args.case, rows, case.goals, start.objective)
 
 
-CASES: dict[str, Callable[[float], Case]] = {"smooth": smooth_case, "seed": seed_case, "flexible": flexible_case}
+CASES: dict[str, Callable[[float], Case]] = {"smooth": smooth_case, "seed": seed_case, "flexible": flexible_case,
+                                             "flexible_shooting": flexible_shooting_case}
 
 
 if __name__ == "__main__":

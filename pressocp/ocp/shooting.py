@@ -17,7 +17,8 @@ import numpy as np
 from .. import checks as chk
 from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
-from ..simulate import HINT, SimulationError, first_line
+from ..compile_cache import check_jit, use_jit
+from ..simulate import HINT, SimulationError, calling, compiled_dae, first_line
 from .nlp import Constraints, UniformPartition
 from .stage import StageResult, WarmStart
 from .states import (StageRun, StateNlp, StateSettings, check_states, keep_contact, sample_outputs, solve_states,
@@ -65,8 +66,11 @@ class ShootingGrid(UniformPartition):
 
 
 def interval_function(model: PressModel, grid: ShootingGrid, names: tuple[str, ...], integrator: str = "idas",
-                      rtol: float = 1e-6, atol: float | None = None, max_steps: int = 10**6) -> ca.Function:
-    """One shooting interval as a CasADi Function with forward-mode derivatives.
+                      rtol: float = 1e-6, atol: float | None = None, max_steps: int = 10**6,
+                      jit: bool | str = False) -> ca.Function:
+    """One shooting interval as a CasADi Function with forward-mode derivatives. With `jit` (True, or
+    "auto": when a C compiler is found) the integrator evaluates the DAE and its derivatives as compiled
+    code (`pressocp.simulate.calling`).
 
     Returns
     -------
@@ -82,6 +86,8 @@ def interval_function(model: PressModel, grid: ShootingGrid, names: tuple[str, .
         if k in dae:
             dae[k] = ca.substitute(dae[k], model.t, tau + t0)
     dae.update(t=tau, p=ca.vertcat(model.p, t0))
+    if use_jit(jit, "the shooting intervals"):
+        dae = calling(compiled_dae(dae))
     opts = {"reltol": rtol, "abstol": rtol if atol is None else atol, "max_num_steps": max_steps}
     if integrator == "idas":
         opts.update(calc_ic=True, suppress_algebraic=True)
@@ -129,6 +135,8 @@ class MultipleShooting(StateSettings):
         Step limit of each interval integration.
     coefficient_step : float or None
         Trust region, rad/s: every Fourier coefficient stays within this of the start's.
+    jit : bool or "auto"
+        Integrate with the DAE and its derivatives compiled ("auto": when a C compiler is found).
     min_eccentricity, periodic, backoff, omega_samples, ipopt
         Keyword-only, as in `StateSettings` (by default no contact kept).
     """
@@ -139,6 +147,7 @@ class MultipleShooting(StateSettings):
     rtol: float = 1e-6
     max_steps: int = 10**6
     coefficient_step: float | None = None
+    jit: bool | str = "auto"
 
     #: A start that impacts is first solved with a softer contact (`Strategy.soft_factor`).
     needs_soft_start: ClassVar[bool] = True
@@ -152,6 +161,7 @@ class MultipleShooting(StateSettings):
         chk.integer("max_steps", self.max_steps, 1, 10**9)
         if self.coefficient_step is not None:
             chk.positive("coefficient_step", self.coefficient_step, "rad/s")
+        check_jit(self.jit)
 
     def grid(self, period: float) -> ShootingGrid:
         return ShootingGrid(period, self.intervals, self.samples)
@@ -175,7 +185,7 @@ class MultipleShooting(StateSettings):
         rtol = min(self.rtol, 1e-7)
         nodes, warm = warm_states(model, start, grid.nodes, rtol)
         names = sample_outputs(problem, model, self.min_eccentricity)
-        G = interval_function(model, grid, names, self.integrator, self.rtol, max_steps=self.max_steps)
+        G = interval_function(model, grid, names, self.integrator, self.rtol, max_steps=self.max_steps, jit=self.jit)
         p0 = model.parameters(start.speed)
         Gm = G.map(N, "thread", 2)
         try:
