@@ -1,11 +1,12 @@
 """The flexible rod reduced to a few bending modes against the element rod it comes from.
 
-    python benchmarks/bench_modal_rod.py [--repeat 1] [--elements 8] [--rtol 1e-7] [--t-end 0.2]
+    python benchmarks/bench_modal_rod.py [--repeat 1] [--elements 8] [--rtol 1e-7] [--t-end 0.2] [--method idas] [--interpreted]
 
 Scene: the default press at 75 spm driven by its kinematic design (-0.1 m/s over h/H 0.7 -> 0.3),
 whose rod force reverses: both journals cross their clearances and hit. ``--t-end`` seconds from
-rest (journals centred, rod undeformed; 0.8 s is one cycle), CVODES at ``--rtol``, 4 001 output
-samples, no work quadratures. Each model level is timed `--repeat` times (integrator construction
+rest (journals centred, rod undeformed; 0.8 s is one cycle), ``--method`` (IDAS) at ``--rtol``,
+compiled (``model.jit``; ``--interpreted`` for CasADi's virtual machine), 4 001 output samples, no
+work quadratures. Each model level is timed `--repeat` times (integrator construction
 included: 0.02-0.3 s); its peak torque and pin forces are compared with the ``--elements`` rod at the same tolerance (the
 reference: at rtol 1e-8 and 1e-9 its 0.2 s took over 5 min, and a transient with impacts differs by
 about 1 % between equivalent models, docs/decisions/2026-11-26-reduced-rod.md). The levels: the rigid
@@ -43,20 +44,26 @@ def levels(elements: int) -> list[ModelSpec]:
             *(ModelSpec("flexible", n_elements=elements, n_modes=m) for m in (1, 2, 3))]
 
 
-def cycle(spec: ModelSpec, rtol: float, repeat: int, t_end: float) -> dict:
-    """`t_end` seconds from rest of the impacting design on `spec`: times, steps, peaks."""
+def cycle(spec: ModelSpec, rtol: float, repeat: int, t_end: float, method: str = "idas", jit: bool = True) -> dict:
+    """`t_end` seconds from rest of the impacting design on `spec` with `method`, compiled (`jit`, the
+    compile timed apart by a short first run) or interpreted: times, steps, peaks."""
     problem = SpeedProblem(PressParams(), period=0.8, ram_speed=-0.1)
     speed = design_speed(problem).speed
     model = spec.build(problem.press, problem.n_harmonics)
+    model.jit = jit
+    t0 = time.perf_counter()
+    simulate(model, speed, t_end=1e-3, method=method, rtol=rtol, n_out=3, work=False)
+    compile_s = time.perf_counter() - t0
 
     def once():
         t0 = time.perf_counter()
-        sim = simulate(model, speed, t_end=t_end, method="cvodes", rtol=rtol, n_out=4001, work=False)
+        sim = simulate(model, speed, t_end=t_end, method=method, rtol=rtol, n_out=4001, work=False)
         return time.perf_counter() - t0, sim
 
     runs = [once() for _ in range(repeat)]
     sim = runs[-1][1]
     return {"model": spec.describe(), "spec": spec.to_dict(), "states": model.nx, "rtol": rtol, "t_end": t_end,
+            "method": method, "jit": jit, "compile_s": compile_s if jit else None,
             "times_s": [r[0] for r in runs], "median_s": statistics.median(r[0] for r in runs),
             "steps": sim.stats.get("steps"), "peaks": {n: sim.peak(n) for n in PEAKS}}
 
@@ -90,8 +97,9 @@ def figure(row: dict, path: Path) -> None:
     ax.axhline(GOAL_PEAK, color="k", ls=":", lw=1)
     ax.set_xscale("log")
     ax.set_yscale("log")
+    how = ("compiled" if row.get("jit") else "interpreted") if "jit" in row else "interpreted"
     ax.set_xlabel(f"{row['t_end']:g} s from rest (the cycle is 0.8 s), wall s (median of {row['repeat']}; "
-                  f"CVODES rtol {row['rtol']:g})")
+                  f"{row.get('method', 'cvodes').upper()} rtol {row['rtol']:g}, {how})")
     ax.set_ylabel(f"largest peak error (torque, pin forces)\nagainst the full element rod (the same rtol)")
     ax.set_title("75 spm kinematic design, both clearances: cost against error", fontsize=9)
     ax.legend(fontsize=7)
@@ -117,6 +125,8 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=1)
     ap.add_argument("--elements", type=int, default=8, help="elements of the rod the modes come from")
     ap.add_argument("--rtol", type=float, default=1e-7)
+    ap.add_argument("--method", choices=("idas", "cvodes"), default="idas")
+    ap.add_argument("--interpreted", action="store_true", help="CasADi's virtual machine instead of compiled code")
     ap.add_argument("--t-end", type=float, default=0.2, help="seconds simulated from rest (0.8: one cycle)")
     ap.add_argument("--replot", action="store_true", help="redraw the figure from results/modal_rod.json")
     a = ap.parse_args()
@@ -126,12 +136,12 @@ def main() -> None:
     if a.repeat < 1:
         ap.error(f"--repeat must be >= 1, got {a.repeat}")
     full = ModelSpec("flexible", n_elements=a.elements)
-    reference = cycle(full, a.rtol, a.repeat, a.t_end)
+    reference = cycle(full, a.rtol, a.repeat, a.t_end, a.method, not a.interpreted)
     print(f"reference {reference['model']} at rtol {a.rtol:g}: {reference['median_s']:.1f} s, "
           f"peak torque {reference['peaks']['torque']:.6g} N m", flush=True)
     cycles = []
     for spec in levels(a.elements):
-        c = cycle(spec, a.rtol, a.repeat, a.t_end)
+        c = cycle(spec, a.rtol, a.repeat, a.t_end, a.method, not a.interpreted)
         c["errors"] = {n: abs(c["peaks"][n] / reference["peaks"][n] - 1) for n in PEAKS}
         cycles.append(c)
         print(f"{c['model']}: {c['median_s']:.3f} s, {c['steps']} steps, peak torque {c['peaks']['torque']:.6g} N m "
@@ -141,7 +151,7 @@ def main() -> None:
     for s in sims:
         print(f"Simeon, {s['model']}: " + ", ".join(f"{k} {v:.2e}" for k, v in s["errors"].items()), flush=True)
     row = {**stamp(), "scene": f"default press, 75 spm kinematic design, both clearances, {a.t_end:g} s from rest",
-           "repeat": a.repeat, "rtol": a.rtol, "t_end": a.t_end, "reference": reference, "cycles": cycles, "simeon": sims,
+           "repeat": a.repeat, "rtol": a.rtol, "method": a.method, "jit": not a.interpreted, "t_end": a.t_end, "reference": reference, "cycles": cycles, "simeon": sims,
            "goals": {"cycle_s": GOAL_CYCLE_S, "peak": GOAL_PEAK, "simeon": GOAL_SIMEON, "elements": GOAL_ELEMENTS}}
     OUT.mkdir(exist_ok=True)
     (OUT / "modal_rod.json").write_text(json.dumps(row, indent=1))
