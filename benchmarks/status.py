@@ -234,6 +234,24 @@ def optimum_sensitivity_row(res: Results) -> Row:
                f"optimum_sensitivity.json (press75, {case['parameter']}), {case.get('date', r.get('date'))}")
 
 
+def _reduced_agreement_row(r: dict, reduced: list[dict], goal: str, src: str) -> Row:
+    """The fastest reduced rod within Simeon's and the 8-element rod's tolerances (else the one nearest
+    to them), when no reduced rod meets the peak goal of the cycle."""
+    def errors(c):
+        sim = next((s for s in r["simeon"] if s["model"] == c["model"].replace(
+            ", clearance in crank_pin and wrist_pin", ", ideal joints")), None)
+        return (max(sim["errors"].values()) if sim else float("inf")), max(c["errors"].values())
+
+    fits = [c for c in reduced if errors(c)[0] <= GOAL_MODAL_SIMEON and errors(c)[1] <= GOAL_MODAL_ELEMENTS]
+    c = min(fits, key=lambda c: c["median_s"]) if fits else min(
+        reduced, key=lambda c: max(errors(c)[0] / GOAL_MODAL_SIMEON, errors(c)[1] / GOAL_MODAL_ELEMENTS))
+    sim_err, el_err = errors(c)
+    return Row(29, goal, f"{c['model']}: Simeon within {sim_err:.2%}; peaks within {el_err:.2%} of the full rod "
+               "(one transient from rest: its impacts are sensitive to rounding, see "
+               "docs/decisions/2026-11-26-reduced-rod.md)",
+               "**not robust**: met by this run's transient" if fits else verdict(False), src)
+
+
 def modal_rod_rows(res: Results) -> list[Row]:
     """The reduced rod: the fastest level that meets the peak goal, and its Simeon and 8-element checks."""
     goal = (f"flexible rod with both clearances, one impact cycle within {GOAL_MODAL_PEAK:g} of the full FE rod: "
@@ -257,7 +275,7 @@ def modal_rod_rows(res: Results) -> list[Row]:
         row1 = Row(29, goal, f"no reduced rod within the peak tolerance: the fastest, {fastest['model']}, "
                    f"{fastest['median_s']:.2f} s{part}, peak torque {fastest['errors']['torque']:.1e} from the full "
                    f"rod{base}", verdict(False), src)
-        return [row1, missing(29, goal2, "modal_rod.json")]
+        return [row1, _reduced_agreement_row(r, reduced, goal2, src)]
     # a window shorter than the cycle bounds the cycle's time from below: a miss is a miss, a pass is not shown
     ok = best["median_s"] < GOAL_MODAL_CYCLE_S
     row1 = Row(29, goal, f"{best['model']}: **{best['median_s']:.2f} s**{part} (median of {r['repeat']}), peak "
