@@ -167,7 +167,7 @@ class PressModel:
         (`pressocp.beam.modes`).
     jit : bool
         Integrate with SUNDIALS (``"idas"``, ``"cvodes"``) through compiled code
-        (`pressocp.simulate.integrator_dae`): 1.7-2.3 x faster per step, after a compile the first time
+        (`pressocp.simulate.integrator_dae`): 1.3-2.4 x faster per cycle, after a compile the first time
         for each press and DAE form (seconds: the rigid rod 1.6 s with IDAS, 2.7 s with CVODES; the
         4-element rod 5 s and 23 s), which the compile cache keeps for later processes. Without a C
         compiler a warning says the virtual machine is used. False by default: a one-off simulation of
