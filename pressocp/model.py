@@ -165,13 +165,14 @@ class PressModel:
     rod_modes : ndarray or None
         A reduced rod's mode shapes: its element DOFs per modal coordinate, 2 n_elements x n_modes
         (`pressocp.beam.modes`).
-    jit : bool
+    jit : bool or "auto"
         Integrate with SUNDIALS (``"idas"``, ``"cvodes"``) through compiled code
-        (`pressocp.simulate.integrator_dae`): 1.3-2.4 x faster per cycle, after a compile the first time
-        for each press and DAE form (seconds: the rigid rod 1.6 s with IDAS, 2.7 s with CVODES; the
-        4-element rod 5 s and 23 s), which the compile cache keeps for later processes. Without a C
-        compiler a warning says the virtual machine is used. False by default: a one-off simulation of
-        the rigid rod costs less than its compile.
+        (`pressocp.simulate.integrator_dae`): 1.3-2.4 x faster per cycle on the rigid rod, 2-30 x on a
+        flexible rod, after a compile the first time for each press and DAE form (the rigid rod 1.6 s
+        with IDAS, 2.7 s with CVODES; the 4-element rod 5 s and 23 s), which the compile cache keeps for
+        later processes. "auto" (the default): compiled for a flexible rod, interpreted for the rigid
+        rod, whose one-off check costs less than its compile. Without a C compiler a warning says the
+        virtual machine is used.
     functions : dict
         Functions built from this model by a transcription, kept for its later solves: collocation's
         point function and the solver of its last compiled solve, so that the point function and its
@@ -201,7 +202,7 @@ class PressModel:
     symbols: tuple[str, ...] = ()
     n_modes: int | None = None
     rod_modes: np.ndarray | None = field(default=None, repr=False, compare=False)
-    jit: bool = field(default=False, compare=False)
+    jit: bool | str = field(default="auto", compare=False)
     functions: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property

@@ -57,7 +57,7 @@ def _integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, a
     (`integrator_dae`)."""
     grid = np.asarray(grid, float)
     key = ("integrator", method, grid.tobytes(), float(rtol), float(atol), int(max_steps), float(step), bool(work),
-           bool(model.jit))
+           str(model.jit))
     kept = model.functions.setdefault("integrators", {})
     if key not in kept:
         if len(kept) >= KEPT_INTEGRATORS:
@@ -105,11 +105,18 @@ def calling(f: ca.Function) -> ca.Function:
     return ca.Function(f.name() + "_call", ins, f(*ins), f.name_in(), f.name_out())
 
 
+def runs_compiled(model: PressModel) -> bool:
+    """Whether `model`'s SUNDIALS integrators call compiled code: ``model.jit`` True, or "auto" on a
+    flexible rod, when a C compiler is found (else a warning says the virtual machine runs them)."""
+    wanted = model.jit is True or (model.jit == "auto" and model.rod == "flexible")
+    return wanted and use_jit("auto", "the simulation")
+
+
 def _build_integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, atol: float,
                       max_steps: int, step: float, work: bool) -> ca.Function:
     explicit = method != "idas"
     sundials = method in ("idas", "cvodes")
-    dae = (integrator_dae(model, explicit, work) if sundials and model.jit and use_jit("auto", "the simulation")
+    dae = (integrator_dae(model, explicit, work) if sundials and runs_compiled(model)
            else model.dae(explicit=explicit, work=work))
     opts: dict[str, Any] = {}
     if sundials:
@@ -190,8 +197,8 @@ def _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps, work=True):
     rhs = ca.Function("rhs", [model.t, model.x, model.p],
                       [ca.vertcat(model.ode_explicit, model.quad) if work else model.ode_explicit])
     xa = ca.SX.sym("xa", nx + nq)
-    # with model.jit the baseline calls compiled code too, as the SUNDIALS integrators do
-    opts = function_options(True, "quick") if model.jit and use_jit("auto", "the scipy baseline") else {}
+    # a compiled model's baseline calls compiled code too, as the SUNDIALS integrators do
+    opts = function_options(True, "quick") if runs_compiled(model) else {}
     with compiling():
         rhs_aug = ca.Function("rhs_aug", [model.t, xa], [rhs(model.t, xa[:nx], p)], opts)
         jac = ca.Function("rhs_jacobian", [model.t, xa], [ca.jacobian(rhs_aug(model.t, xa), xa)], opts)

@@ -12,7 +12,8 @@ import scipy.linalg as sla
 
 from pressocp import Bearing, FourierSpeed, PressParams, beam, rigid_response
 from pressocp.model import build_model, flexible_rod_energies
-from pressocp.simulate import SimulationError, expect_settled, periodic_orbit, periodic_state, simulate
+from pressocp.simulate import (SimulationError, expect_settled, periodic_orbit, periodic_state, runs_compiled,
+                               simulate)
 from pressocp.studies import simeon_crank
 
 FLORES_PERIOD = 60.0 / 5000.0
@@ -281,6 +282,17 @@ def test_a_compiled_model_integrates_the_same_motion(method):
         assert not any(k[0] == "integrator_dae" for k in plain.functions)
     np.testing.assert_allclose(b.torque, a.torque, rtol=1e-5, atol=1e-6 * np.abs(a.torque).max())
     np.testing.assert_allclose(b.wrist_pin_force, a.wrist_pin_force, rtol=1e-5, atol=1e-6 * np.abs(a.wrist_pin_force).max())
+
+
+def test_by_default_a_flexible_rod_runs_compiled_and_the_rigid_rod_interpreted():
+    from pressocp.compile_cache import compiler_available
+
+    flexible, rigid = build_model(PressParams(), rod="flexible", n_elements=1), build_model(PressParams())
+    assert flexible.jit == rigid.jit == "auto"
+    assert runs_compiled(flexible) == compiler_available()
+    assert not runs_compiled(rigid)
+    rigid.jit = True
+    assert runs_compiled(rigid) == compiler_available()
 
 
 def test_without_a_c_compiler_a_compiled_model_says_so_and_runs_interpreted(monkeypatch):
