@@ -100,7 +100,7 @@ def figure(row: dict, path: Path) -> None:
     how = ("compiled" if row.get("jit") else "interpreted") if "jit" in row else "interpreted"
     ax.set_xlabel(f"{row['t_end']:g} s from rest (the cycle is 0.8 s), wall s (median of {row['repeat']}; "
                   f"{row.get('method', 'cvodes').upper()} rtol {row['rtol']:g}, {how})")
-    ax.set_ylabel(f"largest peak error (torque, pin forces)\nagainst the full element rod (the same rtol)")
+    ax.set_ylabel("largest peak error (torque, pin forces)\nagainst the full element rod (the same rtol)")
     ax.set_title("75 spm kinematic design, both clearances: cost against error", fontsize=9)
     ax.legend(fontsize=7)
     names = [s["model"].replace("flexible rod ", "").replace(", ideal joints", "") for s in row["simeon"]]

@@ -234,13 +234,20 @@ def optimum_sensitivity_row(res: Results) -> Row:
                f"optimum_sensitivity.json (press75, {case['parameter']}), {case.get('date', r.get('date'))}")
 
 
+def _simeon_error(r: dict, cycle: dict) -> float | None:
+    """The largest of Simeon's errors on the rod of `cycle` (its ideal-joint run in ``r["simeon"]``), or
+    None when it was not run."""
+    name = cycle["model"].replace(", clearance in crank_pin and wrist_pin", ", ideal joints")
+    sim = next((s for s in r["simeon"] if s["model"] == name), None)
+    return None if sim is None else max(sim["errors"].values())
+
+
 def _reduced_agreement_row(r: dict, reduced: list[dict], goal: str, src: str) -> Row:
     """The fastest reduced rod within Simeon's and the 8-element rod's tolerances (else the one nearest
     to them), when no reduced rod meets the peak goal of the cycle."""
     def errors(c):
-        sim = next((s for s in r["simeon"] if s["model"] == c["model"].replace(
-            ", clearance in crank_pin and wrist_pin", ", ideal joints")), None)
-        return (max(sim["errors"].values()) if sim else float("inf")), max(c["errors"].values())
+        sim_err = _simeon_error(r, c)
+        return (float("inf") if sim_err is None else sim_err), max(c["errors"].values())
 
     fits = [c for c in reduced if errors(c)[0] <= GOAL_MODAL_SIMEON and errors(c)[1] <= GOAL_MODAL_ELEMENTS]
     c = min(fits, key=lambda c: c["median_s"]) if fits else min(
@@ -281,13 +288,12 @@ def modal_rod_rows(res: Results) -> list[Row]:
     row1 = Row(29, goal, f"{best['model']}: **{best['median_s']:.2f} s**{part} (median of {r['repeat']}), peak "
                f"torque {best['errors']['torque']:.1e} from the full rod{base}",
                verdict(ok) if window >= 0.8 or not ok else "not measured (a window of the cycle)", src)
-    sim = next((s for s in r["simeon"] if s["model"] == best["model"].replace(
-        ", clearance in crank_pin and wrist_pin", ", ideal joints")), None)
-    sim_err = max(sim["errors"].values()) if sim else float("nan")
+    sim_err = _simeon_error(r, best)
     el_err = max(best["errors"].values())
-    row2 = Row(29, goal2, f"{best['model']}: Simeon within {sim_err:.2%} (largest of slider position, velocity, "
-               f"midspan deflection and its extremes); peaks within {el_err:.2%} of the full rod",
-               verdict(sim is not None and sim_err <= GOAL_MODAL_SIMEON and el_err <= GOAL_MODAL_ELEMENTS), src)
+    row2 = Row(29, goal2, f"{best['model']}: Simeon within {float('nan') if sim_err is None else sim_err:.2%} "
+               f"(largest of slider position, velocity, midspan deflection and its extremes); peaks within "
+               f"{el_err:.2%} of the full rod",
+               verdict(sim_err is not None and sim_err <= GOAL_MODAL_SIMEON and el_err <= GOAL_MODAL_ELEMENTS), src)
     return [row1, row2]
 
 

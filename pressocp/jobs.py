@@ -16,7 +16,7 @@ from .design import design_speed
 from .io import SUMMARY_NAME, RunMismatch, atomic_write, check_run_file, write_json
 from .objectives import get as get_objective
 from .params import PressParams
-from .ocp.result import PEAK_SERIES, OcpResult, versions
+from .ocp.result import PEAK_SERIES, versions
 from .ocp.verify import is_periodic, rigid_reference, window_times
 from .plots import plot_impact_study, plot_responses, rigid_torque_level, save
 from .problem import SpeedProblem

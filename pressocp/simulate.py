@@ -11,7 +11,7 @@ import casadi as ca
 import numpy as np
 
 from . import checks as chk
-from .compile_cache import function_options, jit_options, use_jit
+from .compile_cache import check_jit, function_options, jit_options, use_jit
 from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, QUADRATURE_NAMES, PressModel
 from .result import SimResult
@@ -107,7 +107,9 @@ def calling(f: ca.Function) -> ca.Function:
 
 def runs_compiled(model: PressModel) -> bool:
     """Whether `model`'s SUNDIALS integrators call compiled code: ``model.jit`` True, or "auto" on a
-    flexible rod, when a C compiler is found (else a warning says the virtual machine runs them)."""
+    flexible rod, when a C compiler is found (else a warning says the virtual machine runs them).
+    Raises ValueError when ``model.jit`` is none of True, False, "auto"."""
+    check_jit(model.jit)
     wanted = model.jit is True or (model.jit == "auto" and model.rod == "flexible")
     return wanted and use_jit("auto", "the simulation")
 

@@ -295,6 +295,13 @@ def test_by_default_a_flexible_rod_runs_compiled_and_the_rigid_rod_interpreted()
     assert runs_compiled(rigid) == compiler_available()
 
 
+def test_a_jit_setting_that_is_not_true_false_or_auto_fails_before_integrating():
+    m = build_model(PressParams())
+    m.jit = "yes"
+    with pytest.raises(ValueError, match="jit must be True, False or 'auto', got 'yes'"):
+        simulate(m, FourierSpeed.constant(0.8), method="idas", rtol=1e-6, t_end=0.01, n_out=3, work=False)
+
+
 def test_without_a_c_compiler_a_compiled_model_says_so_and_runs_interpreted(monkeypatch):
     import pressocp.compile_cache as cc
 

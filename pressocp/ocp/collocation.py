@@ -19,7 +19,6 @@ simulation of the model, and its optimum means nothing. `collocation_defect` tel
 from __future__ import annotations
 
 import time
-import warnings
 from dataclasses import dataclass, field, replace
 from typing import ClassVar
 

@@ -141,7 +141,6 @@ class StateSettings(Transcription):
         return settings_repr(self)
 
 
-
 def check_states(problem: SpeedProblem, model: PressModel) -> None:
     """Checks shared by the state transcriptions, before any solve."""
     if model.is_rigid:
