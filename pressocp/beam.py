@@ -102,11 +102,17 @@ def integrals(length, n_elements: int) -> RodIntegrals:
 
 def deflection_at(length: float, n_elements: int, q, xi: float):
     """Transverse deflection w at axial position xi in [0, l], m."""
-    Le = length / n_elements
-    e = min(int(xi // Le), n_elements - 1)
-    N, _ = hermite(xi / Le - e, Le)
+    return deflection_at_share(length, n_elements, q, xi / length)
+
+
+def deflection_at_share(length, n_elements: int, q, share: float):
+    """Transverse deflection w at the axial position ``share * l`` (share in [0, 1]), m. The rod's
+    `length` may be a CasADi symbol (a carried parameter): the element and the local coordinate
+    follow from `share` alone."""
+    e = min(int(share * n_elements), n_elements - 1)
+    N, _ = hermite(share * n_elements - e, length / n_elements)
     qe = _gather(q, element_dofs(n_elements)[e])
-    return ca.dot(ca.DM(N), qe) if isinstance(qe, (ca.SX, ca.MX)) else float(N @ qe)
+    return ca.dot(ca.vertcat(*N), qe) if isinstance(qe, (ca.SX, ca.MX)) else float(N @ qe)
 
 
 def interpolate(length: float, n_elements: int, f, df) -> np.ndarray:

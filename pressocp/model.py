@@ -1,22 +1,21 @@
-"""The press as a CasADi DAE: rigid crank (prescribed speed), rigid or flexible rod, slider,
-journal-bearing contact in the joints that have clearance.
+"""The press as a CasADi DAE: a linkage (`pressocp.mechanism`) driven by a prescribed crank motion,
+with journal-bearing contact in the joints that have clearance.
 
 Coordinates
 -----------
-The full coordinate set is ``Q = [theta, x_S, e_A (2), e_B (2), w (2N)]``: crank angle, slider
-position across the slide, the eccentricities of the crank-pin and wrist-pin journals (bearing
-centre in the rod minus journal centre) and the rod's elastic DOFs (`pressocp.beam`). The slider
-position along the slide follows from the rod-length closure, so no index-3 constraint is left.
+The linkage states its coordinates ``Q`` (the slider-crank's: crank angle, slider position across
+the slide, the journals' eccentricities, the rod's elastic coordinates) and its energies.
 
-* *Free* coordinates: the eccentricities of the joints with clearance and the elastic DOFs.
+* *Free* coordinates: the eccentricities of the joints with clearance and the elastic coordinates.
   They are the DAE states (with their rates), scaled by the clearance and reference sizes.
-* *Locked* coordinates: theta (prescribed by the Fourier speed), x_S = 0 (ideal guide) and the
-  eccentricities of ideal joints (zero). The Lagrange equation rows of locked coordinates give
-  their reactions: the motor torque, the guide's normal force and the ideal pin forces.
+* *Locked* coordinates: theta (prescribed by the Fourier speed) and every other coordinate held
+  at 0 (the ideal guide, the eccentricities of ideal joints). The Lagrange equation rows of locked
+  coordinates give their reactions: the motor torque, the guide's normal force and the ideal pin
+  forces.
 
 CasADi derives the mass matrix and the velocity and potential forces from the kinetic and
 potential energies (`pressocp.mechanics.lagrangian`); contact forces enter as generalised forces
-through the Jacobian of the eccentricities.
+through the Jacobian of the eccentricities, the process force through that of the ram height.
 
 The DAE (semi-explicit, for IDAS) is ``x = [q/s_q, qd/s_v]``, ``z = qdd_free``,
 ``ode = [qd/s_q, z/s_v]``, ``alg = M_ff z - (F_f - M_fl qdd_locked)``; the explicit ODE used by
@@ -31,21 +30,17 @@ import casadi as ca
 import numpy as np
 
 from . import checks as chk
-from . import beam
 from . import mechanics as mech
 from .contact import contact_force
+from .mechanism import SLIDER_CRANK, Linkage
 from .params import PressParams
 from .speed import DEFAULT_HARMONICS, FourierSpeed, series
 
-JOINTS = ("crank_pin", "wrist_pin")
-RODS = ("rigid", "flexible")
+JOINTS = SLIDER_CRANK.joints
+RODS = SLIDER_CRANK.rods
 
 #: Reference speed of the eccentricity rates for state scaling: s_v = s_q * VELOCITY_SCALE_RATE.
 VELOCITY_SCALE_RATE = 1.0e3  # 1/s
-#: Transverse acceleration (m/s^2) whose static deflection of the pinned-pinned rod sets the scale of
-#: the elastic states: w_s = rho A a l^4 / (76.8 EI) (midspan deflection under a uniform load),
-#: slopes w_s * 3.2 / l (end slope of the same load case).
-ELASTIC_SCALE_ACCELERATION = 1.0e3
 
 OUTPUT_NAMES = (
     "theta", "omega", "torque", "ram_height", "ram_velocity", "ram_acceleration", "slider_normal_force",
@@ -248,65 +243,6 @@ class PressModel:
         return np.asarray(self.accelerations(t, x, p)).ravel()
 
 
-def _rod_kinematics(params: PressParams, theta, xs, eA, eB):
-    """Bearing centres, slider position and rod frame from the coordinates."""
-    l = params.rod_length
-    A_rod = mech.crank_pin(params, theta) + eA  # big-end bearing centre
-    dx = A_rod[0] - xs - eB[0]
-    ys = A_rod[1] - eB[1] - ca.sqrt(l**2 - dx**2)  # slider pin on the slide
-    S = ca.vertcat(xs, ys)
-    B_rod = S + eB  # small-end bearing centre
-    d = (A_rod - B_rod) / l  # unit vector from B to A
-    normal = ca.vertcat(-d[1], d[0])  # rod's transverse direction
-    return A_rod, B_rod, S, d, normal
-
-
-def flexible_rod_energies(P: PressParams, n_elements: int, A, A_dot, d, phi_dot, u, u_dot) -> tuple:
-    """Kinetic, gravitational and strain energy of the flexible rod in its chord frame (J), from the
-    rod integrals (`pressocp.beam.integrals`) instead of sums over quadrature points.
-
-    A point at xi from the big-end bearing centre A sits at r = A - xi d + w n (d the unit chord
-    from B to A, n = (-d_y, d_x), w = N(xi) . u). With d' = -phi' n and n' = phi' d its velocity is
-    A' + (xi phi' + w') n + w phi' d, so with rho A the mass per length, a = int N, b = int xi N and
-    M = int N N^T:  2 T / (rho A) = l |A'|^2 + 2 A'.n (phi' l^2/2 + a.u') + 2 A'.d phi' a.u
-    + phi'^2 (l^3/3 + u.M u) + 2 phi' b.u' + u'.M u',  V_g / (rho A g) = l A_y - l^2/2 d_y + a.u n_y,
-    and the strain energy EI u.K u / 2. These are the quadrature sums' own values (the Gauss rule is
-    exact on these polynomials) as expressions whose size does not grow with the quadrature points:
-    on the 4-element rod with both clearances the right-hand side has 6 318 nodes instead of 14 712.
-
-    Parameters
-    ----------
-    P : PressParams
-        The press (its rod's length, mass, bending stiffness; the gravity), numbers or CasADi symbols.
-    n_elements : int
-        Hermite elements of the rod.
-    A, A_dot : ca.SX or array (2,)
-        Big-end bearing centre (m) and its velocity (m/s).
-    d : ca.SX or array (2,)
-        Unit vector of the chord from the small end to the big end.
-    phi_dot : ca.SX or float
-        The chord's angular velocity, rad/s (d = (sin phi, cos phi)).
-    u, u_dot : ca.SX or array (2 N,)
-        The element DOFs (`pressocp.beam`) and their rates.
-
-    Returns
-    -------
-    T, V_g, strain
-        Kinetic, gravitational and strain energy, J (CasADi expressions).
-    """
-    l, rho_a, g = P.rod_length, P.rod_mass / P.rod_length, P.gravity
-    normal = ca.vertcat(-d[1], d[0])
-    rod = beam.integrals(l, n_elements)
-    a, b, M, K = (v if isinstance(v, ca.SX) else ca.DM(v) for v in (rod.first, rod.moment, rod.mass, rod.stiffness))
-    au, Mu = ca.dot(a, u), ca.mtimes(M, u)
-    twice_t = (l * ca.dot(A_dot, A_dot) + 2 * ca.dot(A_dot, normal) * (phi_dot * l**2 / 2 + ca.dot(a, u_dot))
-               + 2 * ca.dot(A_dot, d) * phi_dot * au + phi_dot**2 * (l**3 / 3 + ca.dot(u, Mu))
-               + 2 * phi_dot * ca.dot(b, u_dot) + ca.dot(u_dot, ca.mtimes(M, u_dot)))
-    V_g = rho_a * g * (l * A[1] - l**2 / 2 * d[1] + au * normal[1])
-    strain = 0.5 * P.rod_youngs_modulus * P.rod_area_moment * ca.dot(u, ca.mtimes(K, u))
-    return 0.5 * rho_a * twice_t, V_g, strain
-
-
 def build_model(
     params: PressParams,
     rod: str = "rigid",
@@ -349,179 +285,164 @@ def build_model(
     """
     chk.instance("params", params, PressParams)
     spec = ModelSpec(rod, clearance, n_elements, n_modes)
-    clearance, ne = spec.clearance, spec.n_elements
     nh = chk.integer("n_harmonics", n_harmonics, 1, 50)
-    flexible = rod == "flexible"
     parameters = tuple(parameters)
     P, phys = params.with_symbols(parameters) if parameters else (params, [])
-    l, g = P.rod_length, P.gravity
-
-    # --- coordinates --------------------------------------------------------------------------
-    t = ca.SX.sym("t")
-    p_speed = ca.SX.sym("p", 2 * nh + 2)
+    t, p_speed = ca.SX.sym("t"), ca.SX.sym("p", 2 * nh + 2)
     p = ca.vertcat(p_speed, *phys)
-    a, b, period, theta0 = p[:nh], p[nh : 2 * nh], p[2 * nh], p[2 * nh + 1]
     crank = ca.SX.sym("crank", 3)  # theta, omega, alpha: the prescribed crank motion, set from p at the end
-    theta_t, omega_t, alpha_t = crank[0], crank[1], crank[2]
-    shapes = None
-    if spec.n_modes is not None:
-        shapes, _ = beam.modes(params.rod_length, ne, params.rod_mass / params.rod_length,
-                               params.rod_youngs_modulus * params.rod_area_moment, spec.n_modes)
-    nw = (2 * ne if shapes is None else spec.n_modes) if flexible else 0
-    Q = ca.SX.sym("Q", 6 + nw)
-    Qd = ca.SX.sym("Qd", 6 + nw)
-    theta, xs, eA, eB, w = Q[0], Q[1], Q[2:4], Q[4:6], Q[6:]
-    names = ["theta", "x_slider", "crank_pin_ex", "crank_pin_ey", "wrist_pin_ex", "wrist_pin_ey"]
-    if flexible and shapes is not None:  # modal coordinates: each mode's largest deflection
-        names += [f"eta_{k + 1}" for k in range(nw)]
-    elif flexible:  # beam DOF order: w'_0, w_1, w'_1, ..., w_{N-1}, w'_{N-1}, w'_N
-        names += ["w'_0"] + [n for i in range(1, ne) for n in (f"w_{i}", f"w'_{i}")] + [f"w'_{ne}"]
-    free = []
-    scale = []
-    for j, sl in (("crank_pin", (2, 3)), ("wrist_pin", (4, 5))):
-        if j in clearance:
-            free += list(sl)
-            scale += [getattr(params, j).clearance] * 2  # scaling at the press's values
-    if flexible:
-        ln = params.rod_length
-        w_s = (params.rod_mass / ln) * ELASTIC_SCALE_ACCELERATION * ln**4 / (
-            76.8 * params.rod_youngs_modulus * params.rod_area_moment)
-        for k in range(nw):
-            free.append(6 + k)
-            scale.append(w_s * 3.2 / ln if names[6 + k].startswith("w'") else w_s)
-    locked = [i for i in range(6 + nw) if i not in free]
-    nf = len(free)
+    lk = SLIDER_CRANK.linkage(params, P, spec.rod, spec.n_elements, spec.n_modes)
+    st = Locked(lk, params, spec.clearance, crank)
+    lag = mech.lagrangian(lk.kinetic, lk.potential, lk.Q, lk.Qd)
+    F_gen, contacts = with_contacts(lk, P, spec.clearance, lag.Q + lk.forces)
+    hd = lk.rate(lk.ram_height)
+    F_gen = F_gen + ca.jacobian(lk.ram_height, lk.Q).T @ mech.process_force(P, lk.ram_height, hd)
 
-    # --- energies -----------------------------------------------------------------------------
-    A_rod, B_rod, S, d, normal = _rod_kinematics(P, theta, xs, eA, eB)
-
-    def rate(expr):
-        return ca.jtimes(expr, Q, Qd)
-
-    T_c, V_c = mech.crank_energy(P, theta, Qd[0])
-    T_s, V_s = mech.body_energy(P.slider_mass, 0.0, g, S, rate(S), 0)
-    phi = ca.atan2(d[0], d[1])  # rod angle: A - B = l (sin phi, cos phi)
-    if flexible:
-        w_dofs = w if shapes is None else ca.mtimes(ca.DM(shapes), w)  # the element DOFs
-        T_r, V_r, strain = flexible_rod_energies(P, ne, A_rod, rate(A_rod), d, rate(phi), w_dofs, rate(w_dofs))
-        V_r += strain
-        # a rod inertia other than m l^2/12 is kept as a rigid-body correction
-        T_r += 0.5 * (P.rod_inertia_value - P.rod_mass * l**2 / 12) * rate(phi) ** 2
-        midspan = beam.deflection_at(l, ne, w_dofs, 0.5 * l)
-        beta = 2 * P.rod_damping_ratio / P.rod_first_bending_frequency  # Rayleigh: D = beta K
-        rod_damping = -beta * ca.jtimes(ca.gradient(strain, w), w, Qd[6:])
-    else:
-        G = 0.5 * (A_rod + B_rod)
-        T_r, V_r = mech.body_energy(P.rod_mass, P.rod_inertia_value, g, G, rate(G), rate(phi))
-        midspan = ca.SX(0)
-        rod_damping = ca.SX(0, 1)
-    lag = mech.lagrangian(T_c + T_r + T_s, V_c + V_r + V_s, Q, Qd)
-
-    # --- applied forces: contact and process --------------------------------------------------
-    F_gen = lag.Q + ca.vertcat(ca.SX.zeros(6), rod_damping)
-    contacts = {}
-    for j, e in (("crank_pin", eA), ("wrist_pin", eB)):
-        if j in clearance:
-            cf = contact_force(getattr(P, j), e, rate(e))
-            contacts[j] = cf
-            F_gen = F_gen + ca.jacobian(e, Q).T @ cf.vector_on_bearing
-    h = S[1] + P.crank_radius + l
-    hd = rate(h)
-    f_proc = mech.process_force(P, h, hd)
-    F_gen = F_gen + ca.jacobian(S[1], Q).T @ f_proc
-
-    # --- split free / locked, solve accelerations, reactions ----------------------------------
-    M = lag.M
-    Mff, Mfl = M[free, free], M[free, locked]
-    Mlf, Mll = M[locked, free], M[locked, locked]
-    # locked values: theta(t) and its rates; x_S and ideal eccentricities zero
-    q_locked = ca.vertcat(theta_t, ca.SX.zeros(len(locked) - 1))
-    qd_locked = ca.vertcat(omega_t, ca.SX.zeros(len(locked) - 1))
-    qdd_locked = ca.vertcat(alpha_t, ca.SX.zeros(len(locked) - 1))
-    s_q = np.array(scale)
-    s_v = s_q * VELOCITY_SCALE_RATE
-    x = ca.SX.sym("x", 2 * nf)
-    z = ca.SX.sym("z", nf)
-    q_free, qd_free = x[:nf] * s_q, x[nf:] * s_v
-
-    def assemble(free_vals, locked_vals):
-        out = [None] * (6 + nw)
-        for k, i in enumerate(free):
-            out[i] = free_vals[k]
-        for k, i in enumerate(locked):
-            out[i] = locked_vals[k]
-        return ca.vertcat(*out)
-
-    Q_val = assemble(ca.vertsplit(q_free), ca.vertsplit(q_locked))
-    Qd_val = assemble(ca.vertsplit(qd_free), ca.vertsplit(qd_locked))
-
-    def at_state(exprs):
-        return ca.substitute(exprs, [Q, Qd], [Q_val, Qd_val])
-
-    Ff, Fl = F_gen[free], F_gen[locked]
-    rhs = Ff - Mfl @ qdd_locked
-    Mff_v, rhs_v = at_state([Mff, rhs]) if nf else (ca.SX(0, 0), ca.SX(0, 1))
-    qdd_free_expl = ca.solve(Mff_v, rhs_v) if nf else ca.SX(0, 1)
-    ode_expl = ca.vertcat(qd_free / s_q, qdd_free_expl / s_v) if nf else ca.SX(0, 1)
-
-    def reactions(qdd_free):
-        lam = Mlf @ qdd_free + Mll @ qdd_locked - Fl if nf else Mll @ qdd_locked - Fl
-        return at_state([lam])[0]
-
-    lam_expl = reactions(qdd_free_expl)
-    idx = {i: k for k, i in enumerate(locked)}
-    torque = lam_expl[idx[0]]
-    normal_force = lam_expl[idx[1]]
-
-    def pin_force(j, sl):
-        if j in contacts:
-            return at_state([contacts[j].force])[0]
-        return ca.norm_2(lam_expl[[idx[sl[0]], idx[sl[1]]]])
-
-    def ecc(j):
-        return at_state([contacts[j].eccentricity_ratio])[0] if j in contacts else ca.SX(0)
-
-    # ram acceleration: d/dt of h_dot along the motion
-    Qdd_expl = assemble(ca.vertsplit(qdd_free_expl), ca.vertsplit(qdd_locked))
-    Qdd_sym = ca.SX.sym("Qdd_all", 6 + nw)
-    hdd = ca.jtimes(hd, Q, Qd) + ca.jtimes(hd, Qd, Qdd_sym)
-    hdd = ca.substitute(at_state([hdd])[0], Qdd_sym, Qdd_expl)
-
-    out_exprs = [
-        theta_t, omega_t, torque, at_state([h])[0], at_state([hd])[0], hdd, normal_force,
-        pin_force("crank_pin", (2, 3)), pin_force("wrist_pin", (4, 5)), ecc("crank_pin"), ecc("wrist_pin"),
-        at_state([midspan])[0],
-    ]
-    at_crank = ca.Function("at_crank", [x, crank, ca.vertcat(*phys) if phys else ca.SX(0, 1)],
-                           [ode_expl, *out_exprs], ["x", "crank", "q"], ["ode", *OUTPUT_NAMES])
+    Mff, rhs, qdd_free, lam = st.solve(lag.M, F_gen)
+    out_exprs = outputs_of(lk, st, lam, contacts, qdd_free, crank)
+    quad = quadratures(lk, st, P, lam, contacts, crank)
+    a, b, period, theta0 = p[:nh], p[nh : 2 * nh], p[2 * nh], p[2 * nh + 1]
     motion = ca.vertcat(*series(t, a, b, period, theta0))
 
     def timed(exprs):  # the crank motion of the Fourier speed in p at time t
         return ca.substitute(exprs, [crank], [motion])
 
-    outputs = ca.Function("outputs", [t, x, p], timed(out_exprs), ["t", "x", "p"], list(OUTPUT_NAMES))
-    energy = ca.Function("energy", [t, x, p], timed(at_state([lag.T, lag.V])), ["t", "x", "p"],
+    ode_expl = ca.vertcat(st.qd_free / st.s_q, qdd_free / st.s_v) if st.nf else ca.SX(0, 1)
+    at_crank = ca.Function("at_crank", [st.x, crank, ca.vertcat(*phys) if phys else ca.SX(0, 1)],
+                           [ode_expl, *out_exprs], ["x", "crank", "q"], ["ode", *OUTPUT_NAMES])
+    outputs = ca.Function("outputs", [t, st.x, p], timed(out_exprs), ["t", "x", "p"], list(OUTPUT_NAMES))
+    energy = ca.Function("energy", [t, st.x, p], timed(st.at_state([lag.T, lag.V])), ["t", "x", "p"],
                          ["kinetic", "potential"])
-
-    # --- quadratures: motor, contact and process power ----------------------------------------
-    e_of = {"crank_pin": eA, "wrist_pin": eB}
-    contact_power = sum((at_state([-ca.dot(cf.vector_on_bearing, rate(e_of[j]))])[0] for j, cf in contacts.items()),
-                        ca.SX(0))
-    elastic_power = sum((at_state([cf.elastic_force * cf.penetration_rate])[0] for cf in contacts.values()), ca.SX(0))
-    damping_power = at_state([-ca.dot(rod_damping, Qd[6:])])[0] if flexible else ca.SX(0)
-    quad = ca.vertcat(torque * omega_t, contact_power, elastic_power, at_state([f_proc * hd])[0], damping_power)
-
-    # --- DAE ----------------------------------------------------------------------------------
-    ode = ca.vertcat(qd_free / s_q, z / s_v) if nf else ca.SX(0, 1)
-    alg = Mff_v @ z - rhs_v if nf else ca.SX(0, 1)
-    ode_expl, ode, alg, quad, qdd_free_expl = timed([ode_expl, ode, alg, quad, qdd_free_expl])
-    state_names = [names[i] for i in free] + [names[i] + "_dot" for i in free]
-    x_scale = np.concatenate([s_q, s_v]) if nf else np.zeros(0)
-
+    ode = ca.vertcat(st.qd_free / st.s_q, st.z / st.s_v) if st.nf else ca.SX(0, 1)
+    alg = Mff @ st.z - rhs if st.nf else ca.SX(0, 1)
+    ode_expl, ode, alg, quad, qdd_free = timed([ode_expl, ode, alg, quad, qdd_free])
     return PressModel(
-        params=params, rod=rod, clearance=clearance, n_elements=ne, n_harmonics=nh, t=t, x=x, z=z, p=p,
-        ode=ode, alg=alg, quad=quad, ode_explicit=ode_expl, state_names=state_names, x_scale=x_scale,
-        outputs=outputs, energy=energy, at_crank=at_crank, x0=np.zeros(2 * nf),
-        accelerations=ca.Function("accelerations", [t, x, p], [qdd_free_expl], ["t", "x", "p"], ["qdd"]),
-        symbols=parameters, n_modes=spec.n_modes, rod_modes=shapes,
+        params=params, rod=spec.rod, clearance=spec.clearance, n_elements=spec.n_elements, n_harmonics=nh, t=t,
+        x=st.x, z=st.z, p=p, ode=ode, alg=alg, quad=quad, ode_explicit=ode_expl, state_names=st.state_names,
+        x_scale=st.x_scale, outputs=outputs, energy=energy, at_crank=at_crank, x0=np.zeros(2 * st.nf),
+        accelerations=ca.Function("accelerations", [t, st.x, p], [qdd_free], ["t", "x", "p"], ["qdd"]),
+        symbols=parameters, n_modes=spec.n_modes, rod_modes=lk.details.get("rod_modes"),
     )
+
+
+class Locked:
+    """The split of a linkage's coordinates into free ones (the states: the eccentricities of the
+    joints with clearance, then the elastic coordinates) and locked ones (the crank angle, held to
+    the prescribed motion ``crank``, and the rest held at 0), with the scaled states.
+
+    Attributes
+    ----------
+    free, locked : list of int
+        Indices in ``Q``.
+    s_q, s_v : ndarray
+        Scales of the free coordinates (m, rad) and of their rates (`VELOCITY_SCALE_RATE` x s_q).
+    x, z : ca.SX
+        Scaled states ``[q_free / s_q, qd_free / s_v]`` and the free accelerations (the DAE's z).
+    q_free, qd_free : ca.SX
+        The free coordinates and rates in physical units, from x.
+    qdd_locked : ca.SX
+        Accelerations of the locked coordinates: alpha, then zeros.
+    """
+
+    def __init__(self, lk: Linkage, params: PressParams, clearance: tuple[str, ...], crank: ca.SX) -> None:
+        ecc = [(i, getattr(params, j).clearance) for j, ij in lk.joints.items() if j in clearance for i in ij]
+        free = ecc + list(lk.elastic.items())  # scales at the press's values
+        self.free, self.lk = [i for i, _ in free], lk
+        self.locked = [i for i in range(lk.Q.numel()) if i not in self.free]
+        self.nf = nf = len(free)
+        self.s_q = np.array([s for _, s in free])
+        self.s_v = self.s_q * VELOCITY_SCALE_RATE
+        self.x, self.z = ca.SX.sym("x", 2 * nf), ca.SX.sym("z", nf)
+        self.q_free, self.qd_free = self.x[:nf] * self.s_q, self.x[nf:] * self.s_v
+        zeros = ca.SX.zeros(len(self.locked) - 1)
+        self.qdd_locked = ca.vertcat(crank[2], zeros)
+        self.values = [self.assemble(self.q_free, ca.vertcat(crank[0], zeros)),
+                       self.assemble(self.qd_free, ca.vertcat(crank[1], zeros))]
+
+    @property
+    def state_names(self) -> list[str]:
+        names = [self.lk.names[i] for i in self.free]
+        return names + [n + "_dot" for n in names]
+
+    @property
+    def x_scale(self) -> np.ndarray:
+        return np.concatenate([self.s_q, self.s_v]) if self.nf else np.zeros(0)
+
+    def assemble(self, free_values: ca.SX, locked_values: ca.SX) -> ca.SX:
+        """The full coordinate vector from its free and locked parts."""
+        out = [None] * (len(self.free) + len(self.locked))
+        for idx, vals in ((self.free, free_values), (self.locked, locked_values)):
+            for i, v in zip(idx, ca.vertsplit(vals)):
+                out[i] = v
+        return ca.vertcat(*out)
+
+    def solve(self, M: ca.SX, F: ca.SX) -> tuple[ca.SX, ca.SX, ca.SX, ca.SX]:
+        """Lagrange's equations ``M Qdd = F + reactions`` at the states: the free rows
+        ``M_ff qdd_free = rhs`` (returned as M_ff, rhs and the explicit solution) and the locked
+        rows' reactions ``M_l Qdd - F_l``."""
+        free, locked = self.free, self.locked
+        if not self.nf:
+            return ca.SX(0, 0), ca.SX(0, 1), ca.SX(0, 1), self.at_state([M[locked, locked] @ self.qdd_locked
+                                                                        - F[locked]])[0]
+        Mff, rhs = self.at_state([M[free, free], F[free] - M[free, locked] @ self.qdd_locked])
+        qdd_free = ca.solve(Mff, rhs)
+        lam = M[locked, free] @ qdd_free + M[locked, locked] @ self.qdd_locked - F[locked]
+        return Mff, rhs, qdd_free, self.at_state([lam])[0]
+
+    def at_state(self, exprs: list) -> list:
+        """`exprs` (in Q, Qd) at the states and the prescribed crank motion."""
+        return ca.substitute(exprs, [self.lk.Q, self.lk.Qd], self.values)
+
+
+def with_contacts(lk: Linkage, P: PressParams, clearance: tuple[str, ...], F_gen: ca.SX) -> tuple[ca.SX, dict]:
+    """The generalised forces `F_gen` on ``Q`` plus the contact forces of the joints with clearance,
+    and each joint's `pressocp.contact.contact_force`."""
+    contacts = {}
+    for j in lk.joints:
+        if j in clearance:
+            e = lk.eccentricity(j)
+            contacts[j] = contact_force(getattr(P, j), e, lk.rate(e))
+            F_gen = F_gen + ca.jacobian(e, lk.Q).T @ contacts[j].vector_on_bearing
+    return F_gen, contacts
+
+
+def outputs_of(lk: Linkage, st: Locked, lam: ca.SX, contacts: dict, qdd_free: ca.SX, crank: ca.SX) -> list:
+    """The `OUTPUT_NAMES` at the states and the crank motion: the motor torque is the crank angle's
+    reaction, an ideal joint's pin force the norm of its eccentricity's reactions, a joint with
+    clearance its contact force; the ram acceleration is d/dt of its velocity along the motion."""
+    idx = {i: k for k, i in enumerate(st.locked)}
+
+    def pin_force(j):
+        if j in contacts:
+            return st.at_state([contacts[j].force])[0]
+        return ca.norm_2(lam[[idx[i] for i in lk.joints[j]]])
+
+    def ecc(j):
+        return st.at_state([contacts[j].eccentricity_ratio])[0] if j in contacts else ca.SX(0)
+
+    h = lk.ram_height
+    hd = lk.rate(h)
+    Qdd = ca.SX.sym("Qdd", lk.Q.numel())
+    hdd = ca.jtimes(hd, lk.Q, lk.Qd) + ca.jtimes(hd, lk.Qd, Qdd)
+    hdd = ca.substitute(st.at_state([hdd])[0], Qdd, st.assemble(qdd_free, st.qdd_locked))
+    values = {"theta": crank[0], "omega": crank[1], "torque": lam[idx[0]], "ram_height": st.at_state([h])[0],
+              "ram_velocity": st.at_state([hd])[0], "ram_acceleration": hdd,
+              **{n: lam[idx[i]] for n, i in lk.reactions.items()},
+              **{f"{j}_force": pin_force(j) for j in lk.joints},
+              **{f"{j}_eccentricity": ecc(j) for j in lk.joints},
+              **{n: st.at_state([v])[0] for n, v in lk.outputs.items()}}
+    return [values[n] for n in OUTPUT_NAMES]
+
+
+def quadratures(lk: Linkage, st: Locked, P: PressParams, lam: ca.SX, contacts: dict, crank: ca.SX) -> ca.SX:
+    """The integrands of `QUADRATURE_NAMES`: motor power, the power the contacts absorb and its
+    elastic part, the process force's power and the power dissipated by the linkage's forces, W."""
+    idx0 = st.locked.index(0)
+    contact_power = sum((st.at_state([-ca.dot(cf.vector_on_bearing, lk.rate(lk.eccentricity(j)))])[0]
+                         for j, cf in contacts.items()), ca.SX(0))
+    elastic_power = sum((st.at_state([cf.elastic_force * cf.penetration_rate])[0] for cf in contacts.values()),
+                        ca.SX(0))
+    h = lk.ram_height
+    process_power = st.at_state([mech.process_force(P, h, lk.rate(h)) * lk.rate(h)])[0]
+    return ca.vertcat(lam[idx0] * crank[1], contact_power, elastic_power, process_power,
+                      st.at_state([lk.dissipated])[0])

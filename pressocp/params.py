@@ -423,8 +423,10 @@ class PressParams:
     @property
     def rod_first_bending_frequency(self) -> float:
         """First pinned-pinned bending frequency (pi/l)^2 sqrt(EI/(rho A)), rad/s."""
-        return (math.pi / self.rod_length) ** 2 * math.sqrt(
-            self.rod_youngs_modulus * self.rod_area_moment * self.rod_length / self.rod_mass)
+        ratio = self.rod_youngs_modulus * self.rod_area_moment * self.rod_length / self.rod_mass
+        # a carried parameter is a CasADi symbol, whose math.sqrt is a silent NaN
+        root = math.sqrt(ratio) if isinstance(ratio, (int, float)) else ratio**0.5
+        return (math.pi / self.rod_length) ** 2 * root
 
     @property
     def rod_inertia_value(self) -> float:

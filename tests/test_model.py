@@ -11,7 +11,8 @@ import pytest
 import scipy.linalg as sla
 
 from pressocp import Bearing, FourierSpeed, PressParams, beam, rigid_response
-from pressocp.model import build_model, flexible_rod_energies
+from pressocp.mechanism.slider_crank import flexible_rod_energies
+from pressocp.model import build_model
 from pressocp.simulate import (SimulationError, expect_settled, periodic_orbit, periodic_state, runs_compiled,
                                simulate)
 from pressocp.studies import simeon_crank
@@ -121,6 +122,42 @@ def test_flexible_rod_energies_equal_sums_over_the_rod(n_elements):
     assert T == pytest.approx(kinetic, rel=1e-8)
     assert V == pytest.approx(gravity, rel=1e-12)
     assert U == pytest.approx(strain, rel=1e-12)
+
+
+def test_a_flexible_rod_carries_its_length_as_a_parameter():
+    """With the rod's length and mass carried as symbols, the flexible rod's outputs and
+    accelerations at the press's values equal those of the model built with numbers, and their
+    derivatives with respect to the length equal central differences of models built with numbers
+    at l -/+ h (the same physical state: the scaling stays at the press's values)."""
+    import casadi as ca
+
+    p = PressParams()
+    carried = build_model(p, rod="flexible", n_elements=3, parameters=("rod_length", "rod_mass"))
+    speed = FourierSpeed.constant(0.8, n_harmonics=carried.n_harmonics)
+    x = np.random.default_rng(3).normal(size=carried.nx) * 0.3
+    x[:4] = [0.3, -1.01, -0.2, 1.02]  # both journals pressed 2-5 % of their clearance into the bearing
+    names = ("ram_height", "rod_midspan_deflection")
+
+    def values(model, t, x, p):
+        out = model.outputs(t=t, x=x, p=p)
+        return ca.vertcat(*[out[n] for n in names], model.accelerations(t, x, p))
+
+    def numeric(length):
+        m = build_model(p.with_value("rod_length", length), rod="flexible", n_elements=3)
+        return np.asarray(values(m, 0.1, x * carried.x_scale / m.x_scale, m.parameters(speed))).ravel()
+
+    pv = carried.parameters(speed)
+    assert np.isfinite(values(carried, 0.1, x, pv)).all()
+    assert np.allclose(np.asarray(values(carried, 0.1, x, pv)).ravel(), numeric(p.rod_length), rtol=1e-9,
+                       atol=0.0)
+    t, X, P = ca.SX.sym("t"), ca.SX.sym("x", carried.nx), ca.SX.sym("p", carried.p.numel())
+    k = len(pv) - 2  # the rod length's place in p
+    dl = ca.Function("d", [t, X, P], [ca.jacobian(values(carried, t, X, P), P)[:, k]])
+    h = 1e-4 * p.rod_length  # smaller steps lose digits to cancellation in the accelerations
+    fd = (numeric(p.rod_length + h) - numeric(p.rod_length - h)) / (2 * h)
+    ad = np.asarray(dl(0.1, x, pv)).ravel()
+    assert np.all(np.abs(fd) > 0.0)  # every value depends on the length
+    assert np.allclose(ad, fd, rtol=1e-5, atol=0.0)
 
 
 def test_simeon_flexible_slider_crank():
