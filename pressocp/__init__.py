@@ -6,6 +6,7 @@
 """
 
 from .design import DesignSettings, SpeedDesign, design_speed
+from .mechanism import SixBar, SliderCrank
 from .model import ModelSpec, PressModel, build_model
 from .objectives import OBJECTIVES, Objective
 from .ocp import (Collocation, MultipleShooting, OcpResult, OptimumSensitivities, Rigid, SensitivityError,
@@ -18,6 +19,7 @@ from .scenario import Scenario, ScenarioError
 from .rigid import crank_angle_at_height, rigid_inverse_dynamics, rigid_kinematics, rigid_response
 from .sensitivity import Sensitivities, sensitivities
 from .simulate import SimulationError, simulate
+from .sixbar import SixBarPress
 from .speed import FourierSpeed
 from .sweeps import sweep
 
@@ -25,6 +27,7 @@ __all__ = [
     "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "FourierSpeed", "ModelRecommendation", "ModelSpec",
     "MultipleShooting", "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams",
     "ProcessForce", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",
+    "SixBar", "SixBarPress", "SliderCrank",
     "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "Transcription", "WarmStart", "build_model", "crank_angle_at_height",
     "design_speed", "hertz_internal_stiffness", "optimize_speed", "optimum_sensitivities", "recommend_model",
     "rigid_inverse_dynamics", "rigid_kinematics", "rigid_response", "sensitivities", "Sensitivities", "simulate",

@@ -32,7 +32,7 @@ import numpy as np
 from . import checks as chk
 from . import mechanics as mech
 from .contact import contact_force
-from .mechanism import SLIDER_CRANK, Linkage
+from .mechanism import SLIDER_CRANK, Linkage, Mechanism, mechanism_from_dict, mechanism_to_dict
 from .params import PressParams
 from .speed import DEFAULT_HARMONICS, FourierSpeed, series
 
@@ -61,25 +61,28 @@ class ModelSpec:
     ----------
     rod : {"rigid", "flexible"}
     clearance : tuple of str
-        Joints with clearance (``()``: the rigid press).
+        Joints with clearance, of the mechanism's `Mechanism.joints` (``()``: the rigid press).
     n_elements : int
         Elements of a flexible rod.
     n_modes : int or None
         A flexible rod reduced to the first `n_modes` bending modes of its `n_elements`-element
         model (Craig-Bampton with the pinned ends as the interface; `pressocp.beam.modes`), 1..2
         `n_elements`; None: every element DOF.
+    mechanism : Mechanism
+        The linkage (`pressocp.mechanism`), the slider-crank by default.
     """
 
     rod: str = "rigid"
     clearance: tuple[str, ...] = JOINTS
     n_elements: int = 4
     n_modes: int | None = None
+    mechanism: Mechanism = SLIDER_CRANK
 
     def __post_init__(self) -> None:
-        chk.choice("rod", self.rod, RODS)
+        chk.choice("rod", self.rod, self.mechanism.rods)
         clearance = (self.clearance,) if isinstance(self.clearance, str) else tuple(self.clearance)
         for j in clearance:
-            chk.choice("clearance joint", j, JOINTS)
+            chk.choice("clearance joint", j, self.mechanism.joints)
         if len(set(clearance)) != len(clearance):
             raise ValueError(f"clearance names a joint twice: {clearance!r}")
         object.__setattr__(self, "clearance", clearance)
@@ -91,26 +94,30 @@ class ModelSpec:
 
     def build(self, params: PressParams, n_harmonics: int = DEFAULT_HARMONICS) -> "PressModel":
         """`build_model` of this level for a press."""
-        return build_model(params, self.rod, self.clearance, self.n_elements, n_harmonics, n_modes=self.n_modes)
+        return build_model(params, self.rod, self.clearance, self.n_elements, n_harmonics, n_modes=self.n_modes,
+                           mechanism=self.mechanism)
 
     def describe(self) -> str:
         """E.g. "rigid rod, clearance in crank_pin and wrist_pin" or "rigid press (ideal joints)"."""
         n, m = self.n_elements, self.n_modes
         modes = "" if m is None else f", {m} mode{'s' * (m != 1)}"
         rod = f"flexible rod ({n} element{'s' * (n != 1)}{modes})" if self.rod == "flexible" else "rigid rod"
+        press = "" if self.mechanism.name == SLIDER_CRANK.name else f"{self.mechanism.name.replace('_', '-')} press, "
         if not self.clearance:
-            return "rigid press (ideal joints)" if self.rod == "rigid" else f"{rod}, ideal joints"
-        return f"{rod}, clearance in {' and '.join(self.clearance)}"
+            return f"{press}rigid press (ideal joints)" if self.rod == "rigid" else f"{press}{rod}, ideal joints"
+        return f"{press}{rod}, clearance in {' and '.join(self.clearance)}"
 
     def to_dict(self) -> dict:
         """Plain data (``n_modes`` only when set)."""
         d = {"rod": self.rod, "clearance": list(self.clearance), "n_elements": self.n_elements}
-        return d if self.n_modes is None else {**d, "n_modes": self.n_modes}
+        d = d if self.n_modes is None else {**d, "n_modes": self.n_modes}
+        return d if self.mechanism == SLIDER_CRANK else {**d, "mechanism": mechanism_to_dict(self.mechanism)}
 
     @classmethod
     def from_dict(cls, data: dict) -> "ModelSpec":
-        return cls(data.get("rod", "rigid"), tuple(data.get("clearance", JOINTS)), data.get("n_elements", 4),
-                   data.get("n_modes"))
+        mechanism = mechanism_from_dict(data["mechanism"]) if "mechanism" in data else SLIDER_CRANK
+        return cls(data.get("rod", "rigid"), tuple(data.get("clearance", mechanism.joints)),
+                   data.get("n_elements", 4), data.get("n_modes"), mechanism)
 
 
 @dataclass
@@ -199,6 +206,7 @@ class PressModel:
     rod_modes: np.ndarray | None = field(default=None, repr=False, compare=False)
     jit: bool | str = field(default="auto", compare=False)
     functions: dict = field(default_factory=dict, repr=False, compare=False)
+    mechanism: Mechanism = field(default=SLIDER_CRANK, repr=False)
 
     @property
     def nx(self) -> int:
@@ -213,7 +221,7 @@ class PressModel:
     @property
     def spec(self) -> ModelSpec:
         """The model level (`ModelSpec`)."""
-        return ModelSpec(self.rod, self.clearance, self.n_elements, self.n_modes)
+        return ModelSpec(self.rod, self.clearance, self.n_elements, self.n_modes, self.mechanism)
 
     @property
     def ram_drop(self) -> float:
@@ -251,6 +259,7 @@ def build_model(
     n_harmonics: int = DEFAULT_HARMONICS,
     parameters: tuple[str, ...] = (),
     n_modes: int | None = None,
+    mechanism: Mechanism = SLIDER_CRANK,
 ) -> PressModel:
     """Build the press DAE.
 
@@ -278,20 +287,23 @@ def build_model(
         elastic coordinates are then modal, each the largest deflection of its mode (m), and the
         energies are those of the element model at w = shapes @ eta. The mode shapes come from
         the press's values, also when the rod's parameters are carried as symbols.
+    mechanism : Mechanism
+        The linkage (`pressocp.mechanism`): the slider-crank by default, or e.g. a
+        `pressocp.mechanism.SixBar` whose slider-crank part is `params`.
 
     Returns
     -------
     PressModel
     """
     chk.instance("params", params, PressParams)
-    spec = ModelSpec(rod, clearance, n_elements, n_modes)
+    spec = ModelSpec(rod, clearance, n_elements, n_modes, mechanism)
     nh = chk.integer("n_harmonics", n_harmonics, 1, 50)
     parameters = tuple(parameters)
     P, phys = params.with_symbols(parameters) if parameters else (params, [])
     t, p_speed = ca.SX.sym("t"), ca.SX.sym("p", 2 * nh + 2)
     p = ca.vertcat(p_speed, *phys)
     crank = ca.SX.sym("crank", 3)  # theta, omega, alpha: the prescribed crank motion, set from p at the end
-    lk = SLIDER_CRANK.linkage(params, P, spec.rod, spec.n_elements, spec.n_modes)
+    lk = spec.mechanism.linkage(params, P, spec.rod, spec.n_elements, spec.n_modes)
     st = Locked(lk, params, spec.clearance, crank)
     lag = mech.lagrangian(lk.kinetic, lk.potential, lk.Q, lk.Qd)
     F_gen, contacts = with_contacts(lk, P, spec.clearance, lag.Q + lk.forces)
@@ -321,7 +333,7 @@ def build_model(
         x=st.x, z=st.z, p=p, ode=ode, alg=alg, quad=quad, ode_explicit=ode_expl, state_names=st.state_names,
         x_scale=st.x_scale, outputs=outputs, energy=energy, at_crank=at_crank, x0=np.zeros(2 * st.nf),
         accelerations=ca.Function("accelerations", [t, st.x, p], [qdd_free], ["t", "x", "p"], ["qdd"]),
-        symbols=parameters, n_modes=spec.n_modes, rod_modes=lk.details.get("rod_modes"),
+        symbols=parameters, n_modes=spec.n_modes, rod_modes=lk.details.get("rod_modes"), mechanism=spec.mechanism,
     )
 
 

@@ -172,6 +172,12 @@ class SixBarPress:
         g, gam = float(self.ground_length), float(self.ground_angle)
         return -g * np.array([math.sin(gam), math.cos(gam)])
 
+    @property
+    def input_at_top_dead_centre(self) -> float:
+        """Input-crank clock angle (rad) at which the ram is at top dead centre: the input angle
+        ``theta`` of the public functions is measured from it."""
+        return self._theta_offset
+
     @cached_property
     def _theta_offset(self) -> float:
         """Input-crank clock angle (rad) at which the ram is at top dead centre."""

@@ -8,6 +8,25 @@ linkage is one module here that implements `Mechanism.linkage`.
 """
 
 from .base import Linkage, Mechanism
+from .six_bar import SixBar
 from .slider_crank import SLIDER_CRANK, SliderCrank
 
-__all__ = ["Linkage", "Mechanism", "SLIDER_CRANK", "SliderCrank"]
+#: The linkages by name (`Mechanism.name`), for reading a model level back from plain data.
+MECHANISMS = {"slider_crank": SliderCrank, "six_bar": SixBar}
+
+
+def mechanism_to_dict(mechanism: Mechanism) -> dict:
+    """Plain data of a mechanism: its name and its fields (`mechanism_from_dict` reads it back)."""
+    return {"name": mechanism.name, **mechanism.to_dict()}
+
+
+def mechanism_from_dict(data: dict) -> Mechanism:
+    """The mechanism of `mechanism_to_dict`'s data."""
+    name = data.get("name")
+    if name not in MECHANISMS:
+        raise ValueError(f"mechanism name must be one of {', '.join(MECHANISMS)}; got {name!r}")
+    return MECHANISMS[name].from_dict({k: v for k, v in data.items() if k != "name"})
+
+
+__all__ = ["Linkage", "MECHANISMS", "Mechanism", "SLIDER_CRANK", "SixBar", "SliderCrank", "mechanism_from_dict",
+           "mechanism_to_dict"]

@@ -73,14 +73,26 @@ class Mechanism(Protocol):
 
     Attributes
     ----------
+    name : str
+        Its key in `pressocp.mechanism.MECHANISMS`.
     joints : tuple of str
         Joints where a clearance may sit, each a `pressocp.params.Bearing` of the press by that name.
     rods : tuple of str
         The rod models it offers ("rigid", and "flexible" when it has an elastic rod).
     """
 
+    name: str
     joints: tuple[str, ...]
     rods: tuple[str, ...]
+
+    def to_dict(self) -> dict:
+        """Its settings as plain data."""
+        ...
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "Mechanism":
+        """The mechanism of `to_dict`'s data."""
+        ...
 
     def linkage(self, params: PressParams, values: PressParams, rod: str, n_elements: int,
                 n_modes: int | None) -> Linkage:

@@ -10,6 +10,7 @@ closure, so no index-3 constraint is left.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import casadi as ca
 import numpy as np
@@ -106,8 +107,17 @@ class SliderCrank:
     crank pin and the wrist pin; the rod is rigid or an Euler-Bernoulli rod of Hermite elements in
     its chord frame (axially rigid), whose midspan deflection is an output."""
 
-    joints: tuple[str, ...] = ("crank_pin", "wrist_pin")
-    rods: tuple[str, ...] = ("rigid", "flexible")
+    name: ClassVar[str] = "slider_crank"
+    joints: ClassVar[tuple[str, ...]] = ("crank_pin", "wrist_pin")
+    rods: ClassVar[tuple[str, ...]] = ("rigid", "flexible")
+
+    def to_dict(self) -> dict:
+        """No settings of its own: the press is `PressParams`."""
+        return {}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "SliderCrank":
+        return cls()
 
     def linkage(self, params: PressParams, values: PressParams, rod: str, n_elements: int,
                 n_modes: int | None) -> Linkage:

@@ -80,6 +80,9 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     chk.instance("model", model, PressModel)
     if model.params != problem.press:
         raise ValueError("model.params must be the problem's press (build the model from problem.press)")
+    if model.mechanism.name != "slider_crank":
+        raise NotImplementedError(f"the optimiser's rigid stage and ram window use the slider-crank's kinematics; a "
+                                  f"{model.mechanism.name.replace('_', '-')} press is simulated, not yet optimised")
     if not model.is_rigid and not tr.has_states:
         raise ValueError(f"{type(tr).__name__} solves the rigid press only; the model has states: pass "
                          "MultipleShooting or Collocation (or a model built with clearance=())")

@@ -1,0 +1,135 @@
+"""The six-bar drag-link press as a model (`pressocp.mechanism.SixBar` through `build_model`).
+
+References: the numpy kinematics of `pressocp.sixbar` (a separate implementation), and for the
+dynamics the power balance of the ideal press at constant input speed, tau = dE/dtheta, with the
+energy of every body summed from the numpy joint positions (velocities by central differences).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from pressocp import FourierSpeed, PressParams
+from pressocp.mechanism import SixBar, mechanism_from_dict, mechanism_to_dict
+from pressocp.model import ModelSpec, build_model
+from pressocp.simulate import simulate
+from pressocp.sixbar import SixBarPress, sixbar_kinematics, sixbar_positions
+
+OTHER = SixBarPress(ground_length=0.03, ground_angle=0.4, input_crank=0.12, coupler=0.11, output_link=0.09,
+                    arm_phase=2.0, assembly=-1, crank_radius=0.03, rod_length=0.2)
+
+
+def press_for(drive: SixBarPress) -> PressParams:
+    return PressParams(crank_radius=drive.crank_radius, rod_length=drive.rod_length, crank_com=0.01)
+
+
+def samples(model, speed, t):
+    """The model's outputs at times t of a rigid press (no states)."""
+    n = len(t)
+    out = model.outputs.map(n)(t[None, :], np.zeros((0, n)), np.tile(model.parameters(speed)[:, None], (1, n)))
+    return {k: np.asarray(v).ravel() for k, v in zip(model.outputs.name_out(), out)}
+
+
+@pytest.mark.parametrize("drive", [SixBarPress(), OTHER], ids=["default", "other"])
+def test_six_bar_ram_motion_equals_the_numpy_kinematics(drive):
+    model = build_model(press_for(drive), clearance=(), mechanism=SixBar(drive))
+    period = 0.8
+    speed = FourierSpeed.constant(period, n_harmonics=model.n_harmonics)
+    t = np.linspace(0.0, period, 97)
+    y = samples(model, speed, t)
+    k = sixbar_kinematics(drive, 2 * math.pi * t / period)
+    w = 2 * math.pi / period
+    assert np.allclose(y["ram_height"], k["ram_height"], rtol=0, atol=1e-12)
+    assert np.allclose(y["ram_velocity"], k["dh_dtheta"] * w, rtol=0, atol=1e-9)
+    assert np.allclose(y["ram_acceleration"], k["d2h_dtheta2"] * w**2, rtol=0, atol=1e-9 * w**2)
+
+
+@pytest.mark.parametrize("drive", [SixBarPress(), OTHER], ids=["default", "other"])
+def test_six_bar_motor_torque_is_the_power_balance_of_its_bodies(drive):
+    """At constant input speed tau = dE/dtheta; E from the numpy joint positions of every body."""
+    p = press_for(drive)
+    mech = SixBar(drive, input_inertia=0.3, coupler_mass=4.0, coupler_inertia=0.02)
+    model = build_model(p, clearance=(), mechanism=mech)
+    period = 0.8
+    w = 2 * math.pi / period
+    speed = FourierSpeed.constant(period, n_harmonics=model.n_harmonics)
+
+    def energy(theta):
+        h = 1e-5
+
+        def pos(th):
+            q = sixbar_positions(drive, th)
+            return q, sixbar_kinematics(drive, th)["psi"]
+
+        (q_m, psi_m), (q_0, psi_0), (q_p, psi_p) = pos(theta - h), pos(theta), pos(theta + h)
+
+        def vel(key_or_values):  # d/dt at constant input speed
+            a, b = key_or_values
+            return (b - a) / (2 * h) * w
+
+        def angle(q, a, b):
+            d = q[b] - q[a]
+            return np.arctan2(d[..., 0], d[..., 1])
+
+        def centre(q, a, b):
+            return (q[a] + q[b]) / 2
+
+        T = 0.5 * mech.input_inertia * w**2 + 0.5 * p.crank_inertia * vel((psi_m, psi_p)) ** 2
+        V = p.crank_mass * p.gravity * p.crank_com * np.cos(psi_0)
+        for (a, b), m, J in ((("A", "B"), mech.coupler_mass, mech.coupler_inertia),
+                             (("C", "D"), p.rod_mass, p.rod_inertia_value)):
+            v = vel((centre(q_m, a, b), centre(q_p, a, b)))
+            T = T + 0.5 * m * np.sum(v**2, axis=-1) + 0.5 * J * vel((angle(q_m, a, b), angle(q_p, a, b))) ** 2
+            V = V + m * p.gravity * centre(q_0, a, b)[..., 1]
+        v_s = vel((q_m["D"], q_p["D"]))
+        T = T + 0.5 * p.slider_mass * np.sum(v_s**2, axis=-1)
+        return T + V + p.slider_mass * p.gravity * q_0["D"][..., 1]
+
+    t = np.linspace(0.0, period, 41)
+    theta = w * t
+    H = 1e-3
+    reference = (energy(theta + H) - energy(theta - H)) / (2 * H)
+    torque = samples(model, speed, t)["torque"]
+    assert np.max(np.abs(torque - reference)) <= 1e-5 * np.max(np.abs(reference))
+
+
+def test_six_bar_with_clearances_keeps_its_energy_balance():
+    """W_motor = dT + dV + contact work over an impacting run of the six-bar with both clearances."""
+    mech = SixBar(input_inertia=0.3, coupler_mass=4.0)
+    model = build_model(press_for(mech.drive), mechanism=mech)
+    speed = FourierSpeed.constant(0.5, n_harmonics=model.n_harmonics)
+    r = simulate(model, speed, t_end=0.5, method="cvodes", rtol=1e-10, work=True)
+    E = r.energy
+    dE = E["kinetic_end"] + E["potential_end"] - E["kinetic_start"] - E["potential_start"]
+    imbalance = E["motor_work"] + E["process_work"] - dE - E["contact_work"] - E["rod_damping_work"]
+    assert abs(imbalance) <= 1e-4 * max(abs(E["motor_work"]), abs(dE), abs(E["contact_work"]))
+    assert E["contact_work"] - E["contact_elastic_work"] > 0  # the journals hit and dissipate
+
+
+def test_a_six_bar_model_level_reads_back_from_plain_data():
+    mech = SixBar(OTHER, input_inertia=0.3, coupler_mass=4.0)
+    spec = ModelSpec("rigid", ("wrist_pin",), mechanism=mech)
+    assert ModelSpec.from_dict(spec.to_dict()) == spec
+    assert mechanism_from_dict(mechanism_to_dict(mech)) == mech
+    assert spec.describe() == "six-bar press, rigid rod, clearance in wrist_pin"
+    assert "mechanism" not in ModelSpec().to_dict()  # a slider-crank level reads as before
+
+
+def test_a_six_bar_whose_press_crank_differs_from_the_press_fails_before_building():
+    with pytest.raises(ValueError, match=r"crank_radius = 0.05 m of the press differs .* 0.03 m"):
+        build_model(PressParams(), mechanism=SixBar(OTHER))
+    with pytest.raises(ValueError, match="coupler_mass"):
+        SixBar(coupler_mass=-1.0)
+
+
+def test_optimising_a_six_bar_says_it_is_not_supported_before_any_solve():
+    from pressocp import SpeedProblem, optimize_speed
+
+    mech = SixBar()
+    press = press_for(mech.drive)
+    problem = SpeedProblem(press)
+    with pytest.raises(NotImplementedError, match="six-bar press is simulated, not yet optimised"):
+        optimize_speed(problem, build_model(press, mechanism=mech))
