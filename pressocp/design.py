@@ -18,6 +18,7 @@ import numpy as np
 from . import checks as chk
 from .params import PressParams
 from .interrupt import interruptible
+from .model import build_model
 from .problem import SpeedProblem
 from .rigid import crank_angle_at_height, kinematics_function, rigid_kinematics
 from .speed import DEFAULT_HARMONICS, FourierSpeed, series
@@ -268,14 +269,17 @@ def speed_for_ram_motion(
 
 def emulate_sixbar(params: PressParams, sixbar=None, period: float = 1.0, n_harmonics: int = DEFAULT_HARMONICS,
                    n: int = 2001) -> dict:
-    """Crank speed that makes the four-bar `params` reproduce a six-bar press's stroke.
+    """Crank speed that makes the four-bar `params` reproduce a six-bar press's stroke, and both
+    presses' motion and motor torque on ideal joints, each from its model (`build_model`).
 
     Parameters
     ----------
     params : PressParams
-        The four-bar (its stroke must equal the six-bar's).
-    sixbar : pressocp.sixbar.SixBarPress, optional
-        Reference link press; default `SixBarPress()`.
+        The four-bar (its stroke must equal the six-bar's). The six-bar's slider-crank part is the
+        same press with the six-bar drive's crank radius and rod length.
+    sixbar : SixBar or SixBarPress, optional
+        Reference link press (`pressocp.mechanism.SixBar`, or its geometry alone: no input-crank or
+        coupler inertia); default `SixBar()`.
     period : float
         Cycle time, s (constant input speed of the six-bar).
     n_harmonics : int
@@ -286,16 +290,24 @@ def emulate_sixbar(params: PressParams, sixbar=None, period: float = 1.0, n_harm
     Returns
     -------
     dict
-        ``t``, ``h_sixbar``, ``v_sixbar``, ``speed`` (FourierSpeed), ``h_fourbar`` and ``v_fourbar``
-        (rigid four-bar with that speed), ``max_position_error`` (m).
+        ``t``, ``h_sixbar``, ``v_sixbar``, ``torque_sixbar`` (six-bar at constant input speed),
+        ``speed`` (FourierSpeed), ``h_fourbar``, ``v_fourbar`` and ``torque_fourbar`` (the four-bar with
+        that speed), ``max_position_error`` (m); heights m, velocities m/s, torques N m.
     """
-    from .sixbar import SixBarPress, sixbar_stroke
+    from .mechanism import SixBar
+    from .sixbar import SixBarPress
 
-    six = SixBarPress() if sixbar is None else sixbar
-    if not np.isclose(six.stroke, params.stroke, rtol=1e-9):
-        raise ValueError(f"the four-bar's stroke ({params.stroke:g} m) must equal the six-bar's ({six.stroke:g} m)")
-    t, h6, v6 = sixbar_stroke(six, period, n)
-    speed = speed_for_ram_motion(params, t, h6, period=period, n_harmonics=n_harmonics)
-    k = rigid_kinematics(params, *speed.evaluate(t))
-    return {"t": t, "h_sixbar": h6, "v_sixbar": v6, "speed": speed, "h_fourbar": k["ram_height"],
-            "v_fourbar": k["ram_velocity"], "max_position_error": float(np.max(np.abs(k["ram_height"] - h6)))}
+    six = SixBar() if sixbar is None else SixBar(sixbar) if isinstance(sixbar, SixBarPress) else sixbar
+    chk.instance("sixbar", six, SixBar)
+    if not np.isclose(six.drive.stroke, params.stroke, rtol=1e-9):
+        raise ValueError(f"the four-bar's stroke ({params.stroke:g} m) must equal the six-bar's ({six.drive.stroke:g} m)")
+    period = chk.positive("period", period, "s")
+    t = np.linspace(0.0, period, chk.integer("n", n, 2, 10_000_000))
+    press6 = params.replace(crank_radius=six.drive.crank_radius, rod_length=six.drive.rod_length)
+    y6 = build_model(press6, clearance=(), mechanism=six).ideal_series(FourierSpeed.constant(period), t)
+    speed = speed_for_ram_motion(params, t, y6["ram_height"], period=period, n_harmonics=n_harmonics)
+    y4 = build_model(params, clearance=(), n_harmonics=speed.n_harmonics).ideal_series(speed, t)
+    return {"t": t, "h_sixbar": y6["ram_height"], "v_sixbar": y6["ram_velocity"], "torque_sixbar": y6["torque"],
+            "speed": speed, "h_fourbar": y4["ram_height"], "v_fourbar": y4["ram_velocity"],
+            "torque_fourbar": y4["torque"],
+            "max_position_error": float(np.max(np.abs(y4["ram_height"] - y6["ram_height"])))}

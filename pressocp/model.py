@@ -246,6 +246,17 @@ class PressModel:
             {"t": self.t, "x": self.x, "z": self.z, "p": self.p, "ode": self.ode, "alg": self.alg}
         return {**dae, "quad": self.quad} if work else dae
 
+    def ideal_series(self, speed: FourierSpeed, t: np.ndarray) -> dict[str, np.ndarray]:
+        """The outputs (`OUTPUT_NAMES`) of a model without states (ideal joints, rigid rod) driven by
+        `speed`, at the times `t` (s): no integration is needed."""
+        if not self.is_rigid:
+            raise ValueError(f"ideal_series needs a model without states (ideal joints, rigid rod); this one is "
+                             f"{self.spec.describe()}")
+        t = np.atleast_1d(np.asarray(t, float))
+        out = self.outputs.map(t.size)(t[None, :], np.zeros((0, t.size)),
+                                       np.tile(self.parameters(speed)[:, None], (1, t.size)))
+        return {name: np.asarray(v).ravel() for name, v in zip(OUTPUT_NAMES, out)}
+
     def z0(self, x: np.ndarray, p: np.ndarray, t: float = 0.0) -> np.ndarray:
         """Consistent algebraic state (free accelerations) for a state."""
         return np.asarray(self.accelerations(t, x, p)).ravel()

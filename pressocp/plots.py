@@ -137,7 +137,8 @@ def save(fig, path: str | Path) -> Path:
 
 
 def plot_sixbar_emulation(emulation: dict, constant_height=None, zone_times=None):
-    """Figs. 3-5 of the source paper: six-bar stroke, the four-bar's with the fitted speed, and that speed.
+    """Figs. 3-5 of the source paper: six-bar stroke, the four-bar's with the fitted speed, that
+    speed, and both presses' motor torque on ideal joints (the six-bar at constant input speed).
 
     Parameters
     ----------
@@ -150,7 +151,7 @@ def plot_sixbar_emulation(emulation: dict, constant_height=None, zone_times=None
     """
     e = emulation
     t = e["t"]
-    fig, axes = plt.subplots(3, 1, figsize=(8, 7.5), sharex=True)
+    fig, axes = plt.subplots(4, 1, figsize=(8, 9.5), sharex=True)
     axes[0].plot(t, e["h_sixbar"] * 1e3, lw=2.5, color="0.6", label="six-bar drag-link press")
     axes[0].plot(t, e["h_fourbar"] * 1e3, "--", color="C3", label="four-bar, fitted 15-harmonic speed")
     if constant_height is not None:
@@ -162,7 +163,12 @@ def plot_sixbar_emulation(emulation: dict, constant_height=None, zone_times=None
     axes[2].plot(t, e["speed"].omega(t), color="C3", label="required four-bar crank speed")
     axes[2].axhline(e["speed"].mean_speed, color="0.5", lw=0.8, ls=":", label="mean speed 2π/T")
     axes[2].set_ylabel("crank speed ω [rad/s]")
-    axes[2].set_xlabel("time t [s]")
+    axes[3].plot(t, e["torque_sixbar"], lw=2.5, color="0.6",
+                 label=f"six-bar, constant input speed (peak {np.max(np.abs(e['torque_sixbar'])):.3g} N·m)")
+    axes[3].plot(t, e["torque_fourbar"], "--", color="C3",
+                 label=f"four-bar, fitted speed (peak {np.max(np.abs(e['torque_fourbar'])):.3g} N·m)")
+    axes[3].set_ylabel("motor torque [N·m]\n(ideal joints)")
+    axes[3].set_xlabel("time t [s]")
     err = e["max_position_error"] / (np.max(e["h_sixbar"]) - np.min(e["h_sixbar"]))
     axes[0].set_title(f"Four-bar servo press emulating a six-bar link press (max position error {100 * err:.2g} % of stroke)",
                       fontsize=9)
