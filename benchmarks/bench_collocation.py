@@ -37,7 +37,7 @@ from pressocp.model import build_model
 from pressocp.ocp.verify import ram_speed_violation, verify_speed
 from pressocp.plots import save
 from pressocp.rigid import rigid_response
-from pressocp.simulate import periodic_state
+from pressocp.simulate import Integrator, periodic_state
 from goals import GOAL_WALL_S, GOAL_VERIFY_PCT, GOAL_PEAK_NM, GOAL_FLOOR_RATIO
 
 OUT = Path(__file__).parent / "results"
@@ -63,7 +63,7 @@ def main() -> None:
     start = strategy.rigid.solve(problem.replace(min_tension=strategy.margins[0] * problem.hanging_weight),
                                  model, WarmStart(rigid.speed), "no_reversal")
     start_time = time.perf_counter() - t0
-    x0, _ = periodic_state(model, start.speed, method="cvodes", rtol=1e-9)
+    x0, _ = periodic_state(model, start.speed, integrator=Integrator(method="cvodes", rtol=1e-9))
     start_peak = verify_speed(model, start.speed, 1e-9, x0=x0).peak("torque")
     floor = rigid_response(params, rigid.speed, np.linspace(0.0, PERIOD, 20001)).peak("torque")
     rows = []

@@ -29,7 +29,7 @@ import numpy as np
 from pressocp import PressParams, SpeedProblem, design_speed
 from pressocp.model import ModelSpec
 from pressocp.report import stamp
-from pressocp.simulate import simulate
+from pressocp.simulate import Integrator, simulate
 from pressocp.studies import SIMEON_REFERENCE, simeon_crank
 
 OUT = Path(__file__).parent / "results"
@@ -52,12 +52,12 @@ def cycle(spec: ModelSpec, rtol: float, repeat: int, t_end: float, method: str =
     model = spec.build(problem.press, problem.n_harmonics)
     model.jit = jit
     t0 = time.perf_counter()
-    simulate(model, speed, t_end=1e-3, method=method, rtol=rtol, n_out=3, work=False)
+    simulate(model, speed, t_end=1e-3, integrator=Integrator(method=method, rtol=rtol), n_out=3, work=False)
     compile_s = time.perf_counter() - t0
 
     def once():
         t0 = time.perf_counter()
-        sim = simulate(model, speed, t_end=t_end, method=method, rtol=rtol, n_out=4001, work=False)
+        sim = simulate(model, speed, t_end=t_end, integrator=Integrator(method=method, rtol=rtol), n_out=4001, work=False)
         return time.perf_counter() - t0, sim
 
     runs = [once() for _ in range(repeat)]

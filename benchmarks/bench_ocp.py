@@ -50,7 +50,7 @@ import sys
 import time
 from pathlib import Path
 
-from pressocp import (Collocation, FourierSpeed, MultipleShooting, PressParams, Scenario, SpeedProblem, build_model,
+from pressocp import (Integrator, Collocation, FourierSpeed, MultipleShooting, PressParams, Scenario, SpeedProblem, build_model,
                       design_speed, optimize_speed, simulate)
 from pressocp.ocp.strategy import max_relative_change
 from pressocp.plots import draw_levels, plot_speed_design, rigid_torque_level, save
@@ -97,7 +97,7 @@ def element_check(r, elements=(2, 4, 8)) -> list[dict]:
                             n_harmonics=r.problem.n_harmonics)
         for label, speed in (("rigid_optimum", r.stages[0].speed), ("answer", r.speed)):
             t0 = time.perf_counter()
-            sim = simulate(model, speed, periodic=True, method="cvodes", rtol=1e-9, n_out=20001)
+            sim = simulate(model, speed, periodic=True, integrator=Integrator(method="cvodes", rtol=1e-9), n_out=20001)
             rows.append({"n_elements": n, "speed": label, "peak_torque": sim.peak("torque"),
                          "periodic": sim.stats.get("periodic", {}).get("found", True),
                          "max_midspan_deflection": float(abs(sim.rod_midspan_deflection).max()),
@@ -117,7 +117,7 @@ def slender_figure(row: dict) -> "plt.Figure":
               "flexible-rod optimum (the answer)": FourierSpeed.from_dict(row["stages"][-1]["speed"])}
     fig, ax = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
     for (label, speed), color in zip(speeds.items(), ("C3", "C0")):
-        sim = simulate(model, speed, periodic=True, method="cvodes", rtol=1e-9, n_out=8001)
+        sim = simulate(model, speed, periodic=True, integrator=Integrator(method="cvodes", rtol=1e-9), n_out=8001)
         ax[0].plot(sim.t * 1e3, sim.torque, color=color, label=f"{label}: peak {sim.peak('torque'):.1f} N·m")
         ax[1].plot(sim.t * 1e3, sim.rod_midspan_deflection * 1e3, color=color, label=label)
     draw_levels(ax[0], [rigid_torque_level(problem.objective, row["rigid_peak_torque"])], legend=False)

@@ -107,7 +107,7 @@ def plot(data: dict) -> plt.Figure:
                 est.append(row["error_estimate"])
             rt = [run["rtol"] for run in data["ad"]]
             ax.loglog(rt, err, "o-", color=f"C{k}", label=f"peak at t = {t:.3f} s: AD against FD")
-            ax.loglog(rt, est, "x:", color=f"C{k}", label=f"its error estimate (run at 10 rtol)")
+            ax.loglog(rt, est, "x:", color=f"C{k}", label="its error estimate (run at 10 rtol)")
         ax.axhline(data["goal"], ls="--", color="tab:red", lw=0.8)
         ax.text(1.1e-13, data["goal"] * 1.3, "goal 2 %", color="tab:red", fontsize=7)
         ax.set_title(name, fontsize=9)

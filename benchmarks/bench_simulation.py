@@ -34,7 +34,7 @@ from pressocp import PressParams, SpeedProblem  # noqa: E402
 from pressocp.design import design_speed  # noqa: E402
 from pressocp.model import build_model  # noqa: E402
 from pressocp.report import stamp  # noqa: E402
-from pressocp.simulate import SimulationError, periodic_state, simulate  # noqa: E402
+from pressocp.simulate import Integrator, SimulationError, periodic_state, simulate  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 
@@ -44,10 +44,10 @@ def flexible_start(model, speed):
     deformation, then one warm-up cycle (the flexible periodic shooting through impacts took
     > 11 CPU-minutes without converging at rtol 1e-7, so it is not used here)."""
     rigid = build_model(model.params)
-    xc, _ = periodic_state(rigid, speed, rtol=1e-9)
+    xc, _ = periodic_state(rigid, speed, integrator=Integrator(method="cvodes", rtol=1e-9))
     nw = model.nx // 2 - 4
     x = np.concatenate([xc[:4], np.zeros(nw), xc[4:], np.zeros(nw)])
-    return simulate(model, speed, x0=x, method="cvodes", rtol=1e-7, n_out=3).states[:, -1] / model.x_scale
+    return simulate(model, speed, x0=x, integrator=Integrator(method="cvodes", rtol=1e-7), n_out=3).states[:, -1] / model.x_scale
 
 
 INTERPRETED = " (interpreted)"
@@ -63,9 +63,9 @@ def run_case(name, model, speed, methods, rtols, repeats, budget, rtol_ref=1e-10
     if model.rod == "flexible":
         x0, info = flexible_start(model, speed), "rigid-rod periodic state + 1 warm-up cycle"
     else:
-        x0, info = periodic_state(model, speed, rtol=1e-9)
+        x0, info = periodic_state(model, speed, integrator=Integrator(method="cvodes", rtol=1e-9))
     print(f"{name}: start state {info} in {time.perf_counter() - t0:.1f} s", flush=True)
-    ref = simulate(model, speed, x0=x0, method="cvodes", rtol=rtol_ref, n_out=16001, work=False)
+    ref = simulate(model, speed, x0=x0, integrator=Integrator(method="cvodes", rtol=rtol_ref), n_out=16001, work=False)
     compiled = dataclasses.replace(model, jit=True, functions={})
     rows, compile_s = [], {}
     for label in methods:
@@ -73,7 +73,7 @@ def run_case(name, model, speed, methods, rtols, repeats, budget, rtol_ref=1e-10
         sim_model = model if label.endswith(INTERPRETED) else compiled
         if sim_model is compiled:
             t0 = time.perf_counter()
-            simulate(compiled, speed, x0=x0, method=method, rtol=1e-4, t_end=1e-3, n_out=3, work=False)
+            simulate(compiled, speed, x0=x0, integrator=Integrator(method=method, rtol=1e-4), t_end=1e-3, n_out=3, work=False)
             compile_s[label] = time.perf_counter() - t0
             print(f"{label}: compiled in {compile_s[label]:.1f} s", flush=True)
         for rtol in rtols:
@@ -86,7 +86,7 @@ def run_case(name, model, speed, methods, rtols, repeats, budget, rtol_ref=1e-10
             for _ in range(repeats):
                 t0 = time.perf_counter()
                 try:
-                    r = simulate(sim_model, speed, x0=x0, method=method, rtol=rtol, n_out=16001, work=False)
+                    r = simulate(sim_model, speed, x0=x0, integrator=Integrator(method=method, rtol=rtol), n_out=16001, work=False)
                 except SimulationError as e:
                     ok, err = False, str(e).splitlines()[0]
                     break

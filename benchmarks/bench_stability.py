@@ -92,7 +92,7 @@ from pressocp.ocp.result import versions  # noqa: E402
 from pressocp.ocp.strategy import soft_params  # noqa: E402
 from pressocp.plots import save  # noqa: E402
 from pressocp.report import stamp  # noqa: E402
-from pressocp.simulate import SimulationError, periodic_state, simulate  # noqa: E402
+from pressocp.simulate import Integrator, SimulationError, periodic_state, simulate  # noqa: E402
 from pressocp.speed import FourierSpeed  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
@@ -249,11 +249,11 @@ class Scene:
         self.model = build_model(self.params, rod=self.rod, n_elements=self.n_elements)
         x_start = None
         if self.rod == "flexible":  # the rigid-rod eccentricities, no elastic deformation
-            xr, _ = periodic_state(build_model(self.params), self.speed, rtol=1e-9)
+            xr, _ = periodic_state(build_model(self.params), self.speed, integrator=Integrator(method="cvodes", rtol=1e-9))
             nw = self.model.nx // 2 - 4
             x_start = np.concatenate([xr[:4], np.zeros(nw), xr[4:], np.zeros(nw)])
-        self.x0, settle = periodic_state(self.model, self.speed, rtol=1e-9, x_start=x_start)
-        self.ref = simulate(self.model, self.speed, x0=self.x0, method="cvodes", rtol=REF_RTOL, n_out=REF_OUTPUTS)
+        self.x0, settle = periodic_state(self.model, self.speed, integrator=Integrator(method="cvodes", rtol=1e-9), x_start=x_start)
+        self.ref = simulate(self.model, self.speed, x0=self.x0, integrator=Integrator(method="cvodes", rtol=REF_RTOL), n_out=REF_OUTPUTS)
         self.ref_peak = self.ref.peak("torque")
         self.info = {"settle": settle, "reference_wall_time_s": self.ref.stats["wall_time"],
                      "prepare_wall_time_s": time.perf_counter() - t0,
@@ -322,7 +322,7 @@ class Search:
         error = None
         try:
             with quiet_stderr():
-                res = simulate(s.model, s.speed, x0=s.x0, method=self.method, step=h, n_out=n + 1)
+                res = simulate(s.model, s.speed, x0=s.x0, integrator=Integrator(method=self.method, step=h), n_out=n + 1)
             peak = res.peak("torque")
             finite = bool(np.isfinite(peak))
         except (SimulationError, FloatingPointError) as err:

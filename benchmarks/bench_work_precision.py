@@ -65,7 +65,7 @@ from pressocp import FourierSpeed, PressParams, SpeedProblem, build_model, desig
 from pressocp.ocp.result import versions
 from pressocp.plots import save
 from pressocp.report import stamp
-from pressocp.simulate import SimulationError, periodic_state
+from pressocp.simulate import Integrator, SimulationError, periodic_state
 
 sys.path.insert(0, str(Path(__file__).parent))
 from bench_simulation import flexible_start  # noqa: E402
@@ -98,7 +98,7 @@ def model_of(name: str, press: PressParams):
 
 
 def start_of(model, speed) -> np.ndarray:
-    return periodic_state(model, speed, rtol=1e-9)[0] if model.rod == "rigid" else flexible_start(model, speed)
+    return periodic_state(model, speed, integrator=Integrator(method="cvodes", rtol=1e-9))[0] if model.rod == "rigid" else flexible_start(model, speed)
 
 
 def timed(run) -> tuple:
@@ -152,7 +152,7 @@ def write(data: dict, path: Path) -> None:
 def _run_reference(model, speed, x0: np.ndarray, method: str, rtol: float) -> tuple:
     """(SimResult, wall time s) of one reference run of one cycle, `REF_SAMPLES` outputs."""
     t0 = time.perf_counter()
-    sim = simulate(model, speed, x0=x0, method=method, rtol=rtol, n_out=REF_SAMPLES)
+    sim = simulate(model, speed, x0=x0, integrator=Integrator(method=method, rtol=rtol), n_out=REF_SAMPLES)
     return sim, time.perf_counter() - t0
 
 
@@ -291,10 +291,10 @@ def measure(model_names: list[str], scene_names: list[str], path: Path, ref_rtol
                 if method in ("rk", "collocation"):
                     row["steps_per_cycle"] = setting
                     row["step_s"] = T / setting
-                    kwargs = {"method": method, "step": T / setting, "n_out": setting + 1}
+                    kwargs = {"integrator": Integrator(method, step=T / setting), "n_out": setting + 1}
                 else:
                     row["rtol"] = setting
-                    kwargs = {"method": method, "rtol": setting, "n_out": REF_SAMPLES}
+                    kwargs = {"integrator": Integrator(method, setting), "n_out": REF_SAMPLES}
                 if method in over:
                     rows.append({**row, "ok": False, "skipped": f"a looser setting took over {BUDGET:g} s"})
                     continue

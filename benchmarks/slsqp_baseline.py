@@ -22,7 +22,7 @@ from pressocp.model import PressModel
 from pressocp.ocp.nlp import ram_function
 from pressocp.ocp.verify import settled_state
 from pressocp.problem import SpeedProblem
-from pressocp.simulate import SimulationError, simulate
+from pressocp.simulate import Integrator, SimulationError, simulate
 from pressocp.speed import FourierSpeed
 
 
@@ -61,10 +61,10 @@ def slsqp_baseline(model: PressModel, problem: SpeedProblem, initial: FourierSpe
                 raise _Stop
             sp = FourierSpeed.from_coefficients(T, c)
             try:
-                r = simulate(model, sp, periodic=True, method="cvodes", rtol=rtol, n_out=samples + 1, x0=state["x0"])
+                r = simulate(model, sp, periodic=True, integrator=Integrator(method="cvodes", rtol=rtol), n_out=samples + 1, x0=state["x0"])
                 state["x0"] = r.states[:, 0] / model.x_scale
             except SimulationError:  # no periodic state (impacting, chaotic): the 4th cycle, as the seed did
-                r = simulate(model, sp, method="cvodes", rtol=rtol, n_out=samples + 1,
+                r = simulate(model, sp, integrator=Integrator(method="cvodes", rtol=rtol), n_out=samples + 1,
                              x0=settled_state(model, sp, 3, rtol))
             out = (r.torque[:-1], r.ram_velocity[:-1])
             state["evals"] += 1

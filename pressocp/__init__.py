@@ -18,13 +18,13 @@ from .result import SimResult
 from .scenario import Scenario, ScenarioError
 from .rigid import crank_angle_at_height, rigid_inverse_dynamics, rigid_kinematics, rigid_response
 from .sensitivity import Sensitivities, sensitivities
-from .simulate import SimulationError, simulate
+from .simulate import Integrator, SimulationError, simulate
 from .sixbar import SixBarPress
 from .speed import FourierSpeed
 from .sweeps import sweep
 
 __all__ = [
-    "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "FourierSpeed", "ModelRecommendation", "ModelSpec",
+    "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "FourierSpeed", "Integrator", "ModelRecommendation", "ModelSpec",
     "MultipleShooting", "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams",
     "ProcessForce", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",
     "SixBar", "SixBarPress", "SliderCrank",

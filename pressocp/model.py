@@ -308,24 +308,20 @@ def build_model(
     """
     chk.instance("params", params, PressParams)
     spec = ModelSpec(rod, clearance, n_elements, n_modes, mechanism)
-    nh = chk.integer("n_harmonics", n_harmonics, 1, 50)
-    parameters = tuple(parameters)
+    nh, parameters = chk.integer("n_harmonics", n_harmonics, 1, 50), tuple(parameters)
     P, phys = params.with_symbols(parameters) if parameters else (params, [])
-    t, p_speed = ca.SX.sym("t"), ca.SX.sym("p", 2 * nh + 2)
-    p = ca.vertcat(p_speed, *phys)
+    t, p = ca.SX.sym("t"), ca.vertcat(ca.SX.sym("p", 2 * nh + 2), *phys)
     crank = ca.SX.sym("crank", 3)  # theta, omega, alpha: the prescribed crank motion, set from p at the end
     lk = spec.mechanism.linkage(params, P, spec.rod, spec.n_elements, spec.n_modes)
     st = Locked(lk, params, spec.clearance, crank)
     lag = mech.lagrangian(lk.kinetic, lk.potential, lk.Q, lk.Qd)
     F_gen, contacts = with_contacts(lk, P, spec.clearance, lag.Q + lk.forces)
-    hd = lk.rate(lk.ram_height)
-    F_gen = F_gen + ca.jacobian(lk.ram_height, lk.Q).T @ mech.process_force(P, lk.ram_height, hd)
+    F_gen = F_gen + ca.jacobian(lk.ram_height, lk.Q).T @ mech.process_force(P, lk.ram_height, lk.rate(lk.ram_height))
 
     Mff, rhs, qdd_free, lam = st.solve(lag.M, F_gen)
     out_exprs = outputs_of(lk, st, lam, contacts, qdd_free, crank)
     quad = quadratures(lk, st, P, lam, contacts, crank)
-    a, b, period, theta0 = p[:nh], p[nh : 2 * nh], p[2 * nh], p[2 * nh + 1]
-    motion = ca.vertcat(*series(t, a, b, period, theta0))
+    motion = ca.vertcat(*series(t, p[:nh], p[nh : 2 * nh], p[2 * nh], p[2 * nh + 1]))
 
     def timed(exprs):  # the crank motion of the Fourier speed in p at time t
         return ca.substitute(exprs, [crank], [motion])

@@ -37,7 +37,7 @@ import pandas as pd
 from .compile_cache import use_jit
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
-from .simulate import SimulationError, calling, compiled_dae, periodic_state, simulate
+from .simulate import Integrator, SimulationError, calling, compiled_dae, periodic_state, simulate
 from .speed import FourierSpeed
 
 #: Quantities (peak magnitudes) and the model output they are the peak of.
@@ -240,8 +240,8 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
                        n_modes=model.n_modes)
     pv = msym.parameters(speed)
     T = speed.period
-    x0 = periodic_state(model, speed, "cvodes", rtol, tol=PERIODIC_TOL * rtol)[0] if periodic else model.x0
-    res = simulate(model, speed, method="cvodes", rtol=rtol, n_out=SAMPLES, x0=x0, work=False)
+    x0 = periodic_state(model, speed, Integrator("cvodes", rtol), tol=PERIODIC_TOL * rtol)[0] if periodic else model.x0
+    res = simulate(model, speed, integrator=Integrator(method="cvodes", rtol=rtol), n_out=SAMPLES, x0=x0, work=False)
     t_rel = res.t - res.t[0]
     peaks = {q: [min(max(tq, 0.0), T) for tq in peak_times(t_rel, getattr(res, QUANTITIES[q]), T)]
              for q in quantities}
@@ -250,8 +250,8 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     # the estimate repeats everything at the looser tolerance, the periodic state included (found anew
     # from the model's start): on the wall of a stiff contact its error moves a small derivative most
     try:
-        x_loose = (periodic_state(model, speed, "cvodes", LOOSER * rtol, tol=PERIODIC_TOL * LOOSER * rtol)[0]
-                   if periodic else x0)
+        loose = Integrator("cvodes", LOOSER * rtol)
+        x_loose = periodic_state(model, speed, loose, tol=PERIODIC_TOL * loose.rtol)[0] if periodic else x0
         d_loose = peak_derivatives(msym, speed, targets, x_loose, len(names), LOOSER * rtol, periodic)[1]
         errors = np.abs(d - d_loose) / np.maximum(np.abs(d), np.finfo(float).tiny)
         unverified = ""

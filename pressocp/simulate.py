@@ -5,6 +5,7 @@ scipy baselines on the same equations, with an optional periodic steady state.
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass, replace
 from typing import Any
 
 import casadi as ca
@@ -24,6 +25,51 @@ OUTPUTS_PER_CYCLE = 4000
 FIXED_STEP = 1e-5
 
 
+@dataclass(frozen=True)
+class Integrator:
+    """How a simulation integrates: the method, its tolerances and its step limits (checked here,
+    before any integration).
+
+    Attributes
+    ----------
+    method : {"idas", "cvodes", "collocation", "rk", "scipy-radau", "scipy-bdf"}
+        "idas" integrates the semi-explicit DAE (accelerations algebraic), the others the explicit
+        ODE; "collocation" and "rk" are CasADi's fixed-step methods (step `step`), the scipy ones
+        baselines.
+    rtol : float
+        Relative tolerance, > 0.
+    atol : float or None
+        Absolute tolerance on the scaled states (eccentricity / clearance), > 0; None: `rtol`.
+    max_steps : int
+        Step limit of the adaptive integrators, 1..1e9.
+    step : float
+        Step of the fixed-step methods, s.
+    """
+
+    method: str = "idas"
+    rtol: float = 1e-6
+    atol: float | None = None
+    max_steps: int = 10**7
+    step: float = FIXED_STEP
+
+    def __post_init__(self) -> None:
+        chk.choice("method", self.method, METHODS)
+        chk.positive("rtol", self.rtol)
+        if self.atol is not None:
+            chk.positive("atol", self.atol)
+        chk.integer("max_steps", self.max_steps, 1, 10**9)
+        chk.positive("step", self.step, "s")
+
+    @property
+    def abstol(self) -> float:
+        """The absolute tolerance used: `atol`, or `rtol` when it is None."""
+        return self.rtol if self.atol is None else self.atol
+
+
+#: The periodic search's shots by default: CVODES at rtol 1e-8.
+SHOTS = Integrator("cvodes", 1e-8)
+
+
 class SimulationError(RuntimeError):
     """An integrator failed. Attributes: ``time`` reached (s, NaN if unknown), ``method``, ``hint``."""
 
@@ -40,7 +86,7 @@ class SimulationError(RuntimeError):
 
 HINT = (
     "the contact is stiff: try a larger bearing smoothing or damping, a softer contact stiffness, "
-    "a looser rtol, more steps (max_steps), or method='cvodes'"
+    "a looser rtol, more steps (Integrator.max_steps), or Integrator('cvodes')"
 )
 
 
@@ -48,21 +94,20 @@ HINT = (
 KEPT_INTEGRATORS = 8
 
 
-def _integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, atol: float,
-                max_steps: int, step: float, work: bool = True) -> ca.Function:
+def _integrator(model: PressModel, integ: Integrator, grid: np.ndarray, work: bool = True) -> ca.Function:
     """The CasADi integrator of `model` over `grid`, built once per model and settings and kept in
     ``model.functions`` (the last `KEPT_INTEGRATORS`): building one took 20 ms on the rigid rod and
     0.1 s on a 2-element rod (2026-11-26), paid again by every call of a sweep or a repeated check.
     With ``model.jit`` the SUNDIALS integrators evaluate the compiled right-hand side
     (`integrator_dae`)."""
     grid = np.asarray(grid, float)
-    key = ("integrator", method, grid.tobytes(), float(rtol), float(atol), int(max_steps), float(step), bool(work),
-           str(model.jit))
+    key = ("integrator", integ.method, grid.tobytes(), float(integ.rtol), float(integ.abstol), int(integ.max_steps),
+           float(integ.step), bool(work), str(model.jit))
     kept = model.functions.setdefault("integrators", {})
     if key not in kept:
         if len(kept) >= KEPT_INTEGRATORS:
             kept.pop(next(iter(kept)))
-        kept[key] = _build_integrator(model, method, grid, rtol, atol, max_steps, step, work)
+        kept[key] = _build_integrator(model, integ, grid, work)
     return kept[key]
 
 
@@ -114,20 +159,20 @@ def runs_compiled(model: PressModel) -> bool:
     return wanted and use_jit("auto", "the simulation")
 
 
-def _build_integrator(model: PressModel, method: str, grid: np.ndarray, rtol: float, atol: float,
-                      max_steps: int, step: float, work: bool) -> ca.Function:
+def _build_integrator(model: PressModel, integ: Integrator, grid: np.ndarray, work: bool) -> ca.Function:
+    method = integ.method
     explicit = method != "idas"
     sundials = method in ("idas", "cvodes")
     dae = (integrator_dae(model, explicit, work) if sundials and runs_compiled(model)
            else model.dae(explicit=explicit, work=work))
     opts: dict[str, Any] = {}
     if sundials:
-        opts.update(reltol=rtol, abstol=atol, max_num_steps=max_steps)
+        opts.update(reltol=integ.rtol, abstol=integ.abstol, max_num_steps=integ.max_steps)
         if method == "idas":
             opts.update(calc_ic=True, suppress_algebraic=True)
     else:
         # CasADi takes the number of steps over the whole run [0, grid[-1]] (at least one per output)
-        opts.update(number_of_finite_elements=max(grid.size, int(np.ceil(float(grid[-1]) / step))))
+        opts.update(number_of_finite_elements=max(grid.size, int(np.ceil(float(grid[-1]) / integ.step))))
         if method == "collocation":
             opts.update(interpolation_order=3, collocation_scheme="radau")
     return ca.integrator("press_" + method.replace("-", "_"), method, dae, 0.0, grid, opts)
@@ -143,12 +188,15 @@ def _stats(raw: dict, wall: float) -> dict:
     return out
 
 
-def integrate(model, method, x0, p, grid, rtol, atol, max_steps, step, work=True):
-    """Integrate from t = 0 over `grid` (the first entry > 0). Returns (X, Qf, stats); Qf has no rows
-    without `work` (no quadratures integrated, by any method)."""
+def integrate(model: PressModel, integ: Integrator, x0: np.ndarray, p: np.ndarray, grid: np.ndarray,
+              work: bool = True) -> tuple[np.ndarray, np.ndarray, dict]:
+    """Integrate the scaled states from `x0` at t = 0 over `grid` (s, the first entry > 0) with the
+    parameter vector `p`. Returns (X, Qf, stats); Qf has no rows without `work` (no quadratures
+    integrated, by any method)."""
+    method = integ.method
     if method.startswith("scipy"):
-        return _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps, work)
-    F = _integrator(model, method, grid, rtol, atol, max_steps, step, work)
+        return _run_scipy(model, integ, x0, p, grid, work)
+    F = _integrator(model, integ, grid, work)
     args = {"x0": x0, "p": p}
     if method == "idas":
         args["z0"] = model.z0(x0, p)
@@ -192,9 +240,11 @@ def first_line(err: Exception) -> str:
     return (useful or lines or ["integrator error"])[-1].strip()[:500]
 
 
-def _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps, work=True):
+def _run_scipy(model: PressModel, integ: Integrator, x0: np.ndarray, p: np.ndarray, grid: np.ndarray,
+               work: bool = True) -> tuple[np.ndarray, np.ndarray, dict]:
     from scipy.integrate import BDF, Radau  # baseline only
 
+    method, max_steps = integ.method, integ.max_steps
     nx, nq = model.nx, (model.quad.numel() if work else 0)
     rhs = ca.Function("rhs", [model.t, model.x, model.p],
                       [ca.vertcat(model.ode_explicit, model.quad) if work else model.ode_explicit])
@@ -207,7 +257,7 @@ def _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps, work=True):
     solver_cls = Radau if method == "scipy-radau" else BDF
     t0 = time.perf_counter()
     solver = solver_cls(lambda t, y: np.asarray(rhs_aug(t, y)).ravel(), 0.0, np.concatenate([x0, np.zeros(nq)]),
-                        float(grid[-1]), rtol=rtol, atol=atol, jac=lambda t, y: np.asarray(jac(t, y)))
+                        float(grid[-1]), rtol=integ.rtol, atol=integ.abstol, jac=lambda t, y: np.asarray(jac(t, y)))
     Y = np.empty((nx + nq, grid.size))
     k, steps = 0, 0
     while k < grid.size:
@@ -230,9 +280,9 @@ def _run_scipy(model, method, x0, p, grid, rtol, atol, max_steps, work=True):
                             "jacobian_evaluations": int(solver.njev), "lu_decompositions": int(solver.nlu)}
 
 
-def periodic_state(model: PressModel, speed: FourierSpeed, method: str = "cvodes", rtol: float = 1e-8,
-                   atol: float | None = None, x_start: np.ndarray | None = None, tol: float | None = None,
-                   max_settle: int = 12, max_newton: int = 8) -> tuple[np.ndarray, dict]:
+def periodic_state(model: PressModel, speed: FourierSpeed, integrator: Integrator = SHOTS,
+                   x_start: np.ndarray | None = None, tol: float | None = None, max_settle: int = 12,
+                   max_newton: int = 8) -> tuple[np.ndarray, dict]:
     """Periodic steady state x(T) = x(0) of the scaled states.
 
     First it simulates cycle by cycle (the bearings' normal and film damping make the periodic
@@ -245,15 +295,14 @@ def periodic_state(model: PressModel, speed: FourierSpeed, method: str = "cvodes
     ----------
     model : PressModel
     speed : FourierSpeed
-    method : {"cvodes", "idas"}
-        Integrator of the shots.
-    rtol, atol : float
-        Tolerances of the shots.
+    integrator : Integrator
+        Integrator of the shots ("idas" or "cvodes"; any other method shoots with CVODES), default
+        CVODES at rtol 1e-8 (`SHOTS`).
     x_start : ndarray, optional
         Scaled start state; default the model's initial state.
     tol : float, optional
         Max-norm of x(T) - x(0) in scaled states (eccentricity/clearance; rates/(1000 clearance));
-        default max(1e-4, 100 rtol): 1e-8 m and 1e-5 m/s at a 0.1 mm clearance.
+        default max(1e-4, 100 rtol) (the integrator's rtol): 1e-8 m and 1e-5 m/s at a 0.1 mm clearance.
     max_settle, max_newton : int
         Cycle and Newton-step limits.
 
@@ -269,15 +318,14 @@ def periodic_state(model: PressModel, speed: FourierSpeed, method: str = "cvodes
     SimulationError
         When neither settling nor Newton reach ``tol``.
     """
-    X, info = periodic_orbit(model, speed, np.zeros(1), method, rtol, atol, x_start, tol, max_settle, max_newton)
+    X, info = periodic_orbit(model, speed, np.zeros(1), integrator, x_start, tol, max_settle, max_newton)
     info.pop("last_cycle")
     return X[:, 0], info
 
 
-def periodic_orbit(model: PressModel, speed: FourierSpeed, times: np.ndarray, method: str = "cvodes",
-                   rtol: float = 1e-8, atol: float | None = None, x_start: np.ndarray | None = None,
-                   tol: float | None = None, max_settle: int = 12, max_newton: int = 8,
-                   from_rest: bool = False) -> tuple[np.ndarray, dict]:
+def periodic_orbit(model: PressModel, speed: FourierSpeed, times: np.ndarray, integrator: Integrator = SHOTS,
+                   x_start: np.ndarray | None = None, tol: float | None = None, max_settle: int = 12,
+                   max_newton: int = 8, from_rest: bool = False) -> tuple[np.ndarray, dict]:
     """Scaled states at `times` along the periodic steady state (`periodic_state`), found and sampled
     in the same integrations: a settling cycle expected to settle is integrated on `times`, and the
     first cycle that ends within `tol` of where it started is the answer (its states at `times`, the
@@ -294,7 +342,7 @@ def periodic_orbit(model: PressModel, speed: FourierSpeed, times: np.ndarray, me
     times : ndarray
         Non-decreasing sample times in [0, T], the first 0 (s); T is appended for the shots when the
         last one is earlier.
-    method, rtol, atol, x_start, tol, max_settle, max_newton
+    integrator, x_start, tol, max_settle, max_newton
         As in `periodic_state`.
     from_rest : bool
         The start is far from the orbit (the model's rest state: the journals centred, the rod
@@ -315,14 +363,16 @@ def periodic_orbit(model: PressModel, speed: FourierSpeed, times: np.ndarray, me
         raise ValueError(f"times must not decrease, from 0 to at most the period {T:g} s")
     if model.is_rigid:
         return np.zeros((0, times.size)), {"cycles": 0, "newton": 0, "residual": 0.0}
-    method = method if method in ("idas", "cvodes") else "cvodes"
-    atol = rtol if atol is None else atol
-    tol = max(1e-4, 100 * rtol) if tol is None else tol
+    chk.instance("integrator", integrator, Integrator)
+    shots = replace(integrator, method=integrator.method if integrator.method in ("idas", "cvodes") else "cvodes",
+                    max_steps=10**8, step=FIXED_STEP)
+    method = shots.method
+    tol = max(1e-4, 100 * shots.rtol) if tol is None else tol
     p = model.parameters(speed)
     x = model.x0 if x_start is None else np.asarray(x_start, float)
     ends_at_T = times[-1] >= T * (1 - 1e-12)
     grid = np.append(times[1:-1], T) if ends_at_T else np.append(times[1:], T)
-    F = _integrator(model, method, grid, rtol, atol, 10**8, FIXED_STEP, work=False)
+    F = _integrator(model, shots, grid, work=False)
 
     def shoot(xs: np.ndarray, Fn: ca.Function = F) -> np.ndarray:
         try:
@@ -343,7 +393,7 @@ def periodic_orbit(model: PressModel, speed: FourierSpeed, times: np.ndarray, me
         """The integrator of one period that returns only its end state (built when first needed)."""
         if not built:
             built.append(F if grid.size == 1 else
-                         _integrator(model, method, np.array([T]), rtol, atol, 10**8, FIXED_STEP, work=False))
+                         _integrator(model, shots, np.array([T]), work=False))
         return built[0]
 
     res, residuals = np.inf, []
@@ -404,12 +454,8 @@ def simulate(
     t_end: float | None = None,
     cycles: int = 1,
     periodic: bool = False,
-    method: str = "idas",
-    rtol: float = 1e-6,
-    atol: float | None = None,
+    integrator: Integrator = Integrator(),
     n_out: int | None = None,
-    max_steps: int = 10**7,
-    step: float = FIXED_STEP,
     x0: np.ndarray | None = None,
     work: bool = True,
 ) -> SimResult:
@@ -427,19 +473,11 @@ def simulate(
         Cycles to simulate when ``t_end`` is not given, 1..1000.
     periodic : bool
         First find the periodic steady state (`periodic_state`), then return ``cycles`` cycles from it.
-    method : {"idas", "cvodes", "collocation", "rk", "scipy-radau", "scipy-bdf"}
-        Integrator. "idas" integrates the semi-explicit DAE (accelerations algebraic), the others the
-        explicit ODE; "collocation" and "rk" are CasADi's fixed-step methods (step ``step``).
-    rtol : float
-        Relative tolerance, > 0.
-    atol : float, optional
-        Absolute tolerance on the scaled states (eccentricity / clearance), default ``rtol``.
+    integrator : Integrator
+        Method, tolerances and step limits, e.g. ``Integrator("cvodes", rtol=1e-9)``; default IDAS at
+        rtol 1e-6.
     n_out : int, optional
         Output samples; default 4000 per cycle + 1.
-    max_steps : int
-        Step limit of the adaptive integrators.
-    step : float
-        Step of the fixed-step methods, s.
     x0 : ndarray, optional
         Scaled initial state; default the model's consistent initial state (journals centred).
     work : bool
@@ -463,15 +501,16 @@ def simulate(
     SimulationError
         The integrator failed.
     """
-    chk.choice("method", method, METHODS)
-    r = chk.positive("rtol", rtol)
-    a = r if atol is None else chk.positive("atol", atol)
+    if isinstance(integrator, str):
+        raise ValueError(f"integrator must be an Integrator, e.g. Integrator({integrator!r}, rtol=1e-8); got the "
+                         f"string {integrator!r}")
+    chk.instance("integrator", integrator, Integrator)
+    method, r, a = integrator.method, integrator.rtol, integrator.abstol
     chk.instance("model", model, PressModel)
     chk.instance("speed", speed, FourierSpeed)
     ncyc = chk.integer("cycles", cycles, 1, 1000)
     T_end = ncyc * speed.period if t_end is None else chk.positive("t_end", t_end, "s")
     n = max(2, int(round(OUTPUTS_PER_CYCLE * T_end / speed.period)) + 1) if n_out is None else chk.integer("n_out", n_out, 2, 10**8)
-    chk.positive("step", step, "s")
     p = model.parameters(speed)
     t = np.linspace(0.0, T_end, n)
     stats: dict = {}
@@ -484,19 +523,19 @@ def simulate(
         search = "idas" if method == "idas" else "cvodes"
         if not work and method == search and r <= 1e-8 and a == r and T_end == speed.period:
             # the cycle returned is the search's last, not one more after it: settled 10 x tighter
-            X, info = periodic_orbit(model, speed, t, search, r, x_start=x_init, tol=max(1e-5, 1000 * r),
-                                     from_rest=x0 is None)
+            X, info = periodic_orbit(model, speed, t, Integrator(search, r), x_start=x_init,
+                                     tol=max(1e-5, 1000 * r), from_rest=x0 is None)
             x_init = X[:, 0]
             stats.update(info.pop("last_cycle"))
         else:
-            x_init, info = periodic_state(model, speed, method=search, rtol=min(r, 1e-8), x_start=x_init)
+            x_init, info = periodic_state(model, speed, Integrator(search, min(r, 1e-8)), x_start=x_init)
         stats["periodic"] = {**info, "wall_time": time.perf_counter() - t0}
     Qf = None
     if model.is_rigid:
         X = np.zeros((0, n))
         stats["wall_time"] = 0.0
     elif X is None:
-        X, Qf, run_stats = integrate(model, method, x_init, p, t[1:], r, a, max_steps, step, work)
+        X, Qf, run_stats = integrate(model, integrator, x_init, p, t[1:], work)
         X = np.hstack([x_init[:, None], X])
         stats.update(run_stats)
     out = output_function(model, n)(t[None, :], X if X.size else np.zeros((0, n)), np.tile(p[:, None], (1, n)))

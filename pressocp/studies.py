@@ -14,7 +14,7 @@ from . import beam
 from .model import build_model
 from .params import PressParams
 from .result import SimResult
-from .simulate import simulate
+from .simulate import Integrator, simulate
 from .speed import FourierSpeed
 from .sweeps import sweep
 
@@ -53,7 +53,7 @@ def simeon_crank(n_elements: int = 4, rtol: float = 1e-10, t_end: float = 0.1, n
         qd = beam.modal_coordinates(m.rod_modes, mass, qd)
     x0 = np.concatenate([np.zeros(qd.size), qd]) / m.x_scale
     speed = FourierSpeed.constant(2 * np.pi / 150.0, theta0=np.pi)
-    return simulate(m, speed, t_end=t_end, x0=x0, method="cvodes", rtol=rtol, n_out=n_out)
+    return simulate(m, speed, t_end=t_end, x0=x0, integrator=Integrator(method="cvodes", rtol=rtol), n_out=n_out)
 
 
 #: Clearances of the wear study (every clearance joint at once), m.

@@ -26,7 +26,7 @@ if sys.argv[1] == "ipopt":
 else:
     model = po.build_model(po.PressParams())
     print("solving", flush=True)
-    po.simulate(model, po.FourierSpeed.constant(0.8), cycles=200, method="cvodes", rtol=1e-10)
+    po.simulate(model, po.FourierSpeed.constant(0.8), cycles=200, integrator=po.Integrator("cvodes", rtol=1e-10))
 print("returned", flush=True)
 """
 

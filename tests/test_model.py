@@ -13,7 +13,7 @@ import scipy.linalg as sla
 from pressocp import Bearing, FourierSpeed, PressParams, beam, rigid_response
 from pressocp.mechanism.slider_crank import flexible_rod_energies
 from pressocp.model import build_model
-from pressocp.simulate import (SimulationError, expect_settled, periodic_orbit, periodic_state, runs_compiled,
+from pressocp.simulate import (Integrator, SimulationError, expect_settled, periodic_orbit, periodic_state, runs_compiled,
                                simulate)
 from pressocp.studies import simeon_crank
 
@@ -39,7 +39,7 @@ def test_rigid_limit_flores(stiffness):
     b = Bearing(clearance=1e-6, journal_radius=0.01, stiffness=stiffness)
     p = PressParams.flores().replace(crank_pin=b, wrist_pin=b)
     s = FourierSpeed.constant(FLORES_PERIOD)
-    r = simulate(build_model(p), s, periodic=True, method="cvodes", rtol=1e-8)
+    r = simulate(build_model(p), s, periodic=True, integrator=Integrator(method="cvodes", rtol=1e-8))
     ref = rigid_response(p, s, r.t)
     for n in ("torque", "crank_pin_force", "wrist_pin_force", "slider_normal_force"):
         assert np.max(np.abs(getattr(r, n) - getattr(ref, n))) <= 0.02 * ref.peak(n), n
@@ -50,8 +50,7 @@ def test_rigid_limit_flores(stiffness):
 def test_flexible_rod_with_large_EI_is_rigid():
     p = PressParams.flores(clearance=1e-6).replace(rod_youngs_modulus=2.1e13)
     s = FourierSpeed.constant(FLORES_PERIOD)
-    r = simulate(build_model(p, rod="flexible", clearance=(), n_elements=4), s, periodic=True, method="cvodes",
-                 rtol=1e-8)
+    r = simulate(build_model(p, rod="flexible", clearance=(), n_elements=4), s, periodic=True, integrator=Integrator(method="cvodes", rtol=1e-8))
     ref = rigid_response(p, s, r.t)
     assert max(abs(e) for e in _rel_peak_errors(r, ref).values()) < 1e-3
     assert np.max(np.abs(r.rod_midspan_deflection)) < 1e-7
@@ -61,8 +60,7 @@ def test_flexible_rod_with_large_EI_is_rigid():
 def test_energy_balance_with_clearances(rod, impact_speed):
     """W_motor + W_process = dT + dV + contact work (stored + dissipated) + rod damping work."""
     m = build_model(PressParams(), rod=rod, n_elements=2)
-    r = simulate(m, impact_speed, t_end=0.8 if rod == "rigid" else 0.3, method="cvodes",
-                 rtol=1e-10 if rod == "rigid" else 1e-9, work=True)
+    r = simulate(m, impact_speed, t_end=0.8 if rod == "rigid" else 0.3, integrator=Integrator(method="cvodes", rtol=1e-10 if rod == "rigid" else 1e-9), work=True)
     E = r.energy
     dE = E["kinetic_end"] + E["potential_end"] - E["kinetic_start"] - E["potential_start"]
     imbalance = E["motor_work"] + E["process_work"] - dE - E["contact_work"] - E["rod_damping_work"]
@@ -176,7 +174,7 @@ def test_simeon_flexible_slider_crank():
 def settled_impact_state(impact_speed):
     """Scaled state after two cycles of the impacting design (CVODES, rtol 1e-9)."""
     m = build_model(PressParams())
-    return m, simulate(m, impact_speed, t_end=1.6, method="cvodes", rtol=1e-9, n_out=3).states[:, -1] / m.x_scale
+    return m, simulate(m, impact_speed, t_end=1.6, integrator=Integrator(method="cvodes", rtol=1e-9), n_out=3).states[:, -1] / m.x_scale
 
 
 @pytest.mark.parametrize("method", ["idas", pytest.param("scipy-radau", marks=pytest.mark.slow)])
@@ -184,7 +182,7 @@ def test_cross_method_agreement(impact_speed, settled_impact_state, method):
     """IDAS and scipy's Radau agree with CVODES at rtol 1e-8 on the peaks within 1 % (impacting case).
     Radau (35 s) runs with the slow tests."""
     m, x0 = settled_impact_state
-    runs = {meth: simulate(m, impact_speed, x0=x0, method=meth, rtol=1e-8, n_out=16001)
+    runs = {meth: simulate(m, impact_speed, x0=x0, integrator=Integrator(method=meth, rtol=1e-8), n_out=16001)
             for meth in ("cvodes", method)}
     for n in ("torque", "slider_normal_force", "crank_pin_force", "wrist_pin_force"):
         assert runs[method].peak(n) == pytest.approx(runs["cvodes"].peak(n), rel=0.01), (method, n)
@@ -195,11 +193,11 @@ def test_impacts_of_the_kinematic_design_at_75_spm(impact_speed):
     p = PressParams()
     m = build_model(p)
     const = FourierSpeed.constant(0.8)
-    rc = simulate(m, const, periodic=True, method="cvodes", rtol=1e-8)
+    rc = simulate(m, const, periodic=True, integrator=Integrator(method="cvodes", rtol=1e-8))
     rigid_c = rigid_response(p, const, rc.t)
     assert rigid_c.wrist_pin_force.min() > 500 and rc.wrist_pin_force.min() > 500  # never reverses
     assert rc.peak("torque") == pytest.approx(rigid_c.peak("torque"), rel=0.02)
-    rd = simulate(m, impact_speed, periodic=True, method="cvodes", rtol=1e-8)
+    rd = simulate(m, impact_speed, periodic=True, integrator=Integrator(method="cvodes", rtol=1e-8))
     rigid_d = rigid_response(p, impact_speed, rd.t)
     assert rigid_d.wrist_pin_force.min() < 0.01 * rigid_d.peak("wrist_pin_force")  # the force reverses
     assert rd.wrist_pin_eccentricity.min() < 0.99  # the journal leaves the bearing surface (free flight)
@@ -225,9 +223,6 @@ def test_build_model_bad_input(kwargs, match):
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        (dict(method="euler"), "method"),
-        (dict(rtol=0.0), "rtol"),
-        (dict(rtol=-1e-6), "rtol"),
         (dict(t_end=0.0), "t_end"),
         (dict(t_end=-1.0), "t_end"),
         (dict(cycles=0), "cycles"),
@@ -238,11 +233,29 @@ def test_simulate_bad_input(kwargs, match):
         simulate(build_model(PressParams()), FourierSpeed.constant(1.0), **kwargs)
 
 
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(method="euler"), r"method must be one of 'idas', 'cvodes'.*got 'euler'"),
+    (dict(rtol=0.0), r"rtol must be in \(0, inf\), got 0.0"),
+    (dict(rtol=-1e-6), "rtol"),
+    (dict(atol=-1.0), "atol"),
+    (dict(max_steps=0), "max_steps"),
+    (dict(step=0.0), r"step must be in \(0, inf\) s"),
+])
+def test_integrator_bad_input_fails_when_it_is_made(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        Integrator(**kwargs)
+
+
+def test_simulate_takes_integrator_settings_only_as_an_integrator():
+    with pytest.raises(ValueError, match=r"integrator must be an Integrator, e.g. Integrator\('cvodes'"):
+        simulate(build_model(PressParams()), FourierSpeed.constant(1.0), integrator="cvodes")
+
+
 @pytest.mark.parametrize("method", ["idas", "cvodes", "scipy-bdf"])
 def test_forced_integrator_failure_is_typed_and_readable(method):
     m = build_model(PressParams())
     with pytest.raises(SimulationError) as info:
-        simulate(m, FourierSpeed.constant(1.0), method=method, max_steps=20)
+        simulate(m, FourierSpeed.constant(1.0), integrator=Integrator(method=method, max_steps=20))
     msg = str(info.value)
     assert method in msg and "hint" in msg
     assert info.value.method == method
@@ -252,9 +265,9 @@ def test_forced_integrator_failure_is_typed_and_readable(method):
 def test_fixed_step_methods_agree_with_cvodes(method, step):
     m = build_model(PressParams())
     s = FourierSpeed.constant(1.0)
-    x0 = simulate(m, s, t_end=2.0, method="cvodes", rtol=1e-9, n_out=3).states[:, -1] / m.x_scale
-    ref = simulate(m, s, t_end=0.02, x0=x0, method="cvodes", rtol=1e-10, n_out=21)
-    r = simulate(m, s, t_end=0.02, x0=x0, method=method, step=step, n_out=21)
+    x0 = simulate(m, s, t_end=2.0, integrator=Integrator(method="cvodes", rtol=1e-9), n_out=3).states[:, -1] / m.x_scale
+    ref = simulate(m, s, t_end=0.02, x0=x0, integrator=Integrator(method="cvodes", rtol=1e-10), n_out=21)
+    r = simulate(m, s, t_end=0.02, x0=x0, integrator=Integrator(method=method, step=step), n_out=21)
     assert np.max(np.abs(r.torque - ref.torque)) < 1e-4 * ref.peak("torque")
     assert np.max(np.abs(r.wrist_pin_force - ref.wrist_pin_force)) < 1e-4 * ref.peak("wrist_pin_force")
 
@@ -265,9 +278,9 @@ def test_fixed_step_methods_take_the_step_asked_for():
     response; stepping at the output interval instead diverges."""
     m = build_model(PressParams())
     s = FourierSpeed.constant(1.0)
-    x0 = simulate(m, s, t_end=2.0, method="cvodes", rtol=1e-9, n_out=3).states[:, -1] / m.x_scale
-    ref = simulate(m, s, t_end=0.1, x0=x0, method="cvodes", rtol=1e-10, n_out=501)
-    r = simulate(m, s, t_end=0.1, x0=x0, method="rk", step=5e-5, n_out=501)
+    x0 = simulate(m, s, t_end=2.0, integrator=Integrator(method="cvodes", rtol=1e-9), n_out=3).states[:, -1] / m.x_scale
+    ref = simulate(m, s, t_end=0.1, x0=x0, integrator=Integrator(method="cvodes", rtol=1e-10), n_out=501)
+    r = simulate(m, s, t_end=0.1, x0=x0, integrator=Integrator(method="rk", step=5e-5), n_out=501)
     assert np.max(np.abs(r.wrist_pin_force - ref.wrist_pin_force)) < 1e-4 * ref.peak("wrist_pin_force")
 
 
@@ -277,9 +290,9 @@ def test_periodic_orbit_is_a_periodic_solution():
     quadratures. Reference: the classic path at rtol 1e-10 (states 1e-3 of the clearance, peak 1e-5)."""
     m = build_model(PressParams())
     s = FourierSpeed.constant(0.8)
-    ref = simulate(m, s, periodic=True, method="cvodes", rtol=1e-10, n_out=2001, work=True)
+    ref = simulate(m, s, periodic=True, integrator=Integrator(method="cvodes", rtol=1e-10), n_out=2001, work=True)
     assert "motor_work" in ref.energy
-    fast = simulate(m, s, periodic=True, method="cvodes", rtol=1e-9, n_out=2001, work=False)
+    fast = simulate(m, s, periodic=True, integrator=Integrator(method="cvodes", rtol=1e-9), n_out=2001, work=False)
     assert "motor_work" not in fast.energy and fast.stats["steps"] > 0
     assert fast.stats["periodic"]["cycles"] >= 1
     scale = m.x_scale[:, None]
@@ -293,12 +306,12 @@ def test_a_kept_integrator_gives_the_same_bits():
     same numbers to the bit; other settings build another."""
     m = build_model(PressParams())
     s = FourierSpeed.constant(0.8)
-    a = simulate(m, s, method="cvodes", rtol=1e-7, n_out=201)
+    a = simulate(m, s, integrator=Integrator(method="cvodes", rtol=1e-7), n_out=201)
     kept = dict(m.functions["integrators"])
-    b = simulate(m, s, method="cvodes", rtol=1e-7, n_out=201)
+    b = simulate(m, s, integrator=Integrator(method="cvodes", rtol=1e-7), n_out=201)
     assert len(kept) == 1 and all(m.functions["integrators"][k] is f for k, f in kept.items())
     assert np.array_equal(a.states, b.states) and np.array_equal(a.torque, b.torque)
-    simulate(m, s, method="cvodes", rtol=1e-8, n_out=201)
+    simulate(m, s, integrator=Integrator(method="cvodes", rtol=1e-8), n_out=201)
     assert len(m.functions["integrators"]) == 2
 
 
@@ -310,10 +323,10 @@ def test_a_compiled_model_integrates_the_same_motion(method):
     s = FourierSpeed.constant(0.8)
     plain, compiled = build_model(PressParams()), build_model(PressParams())
     compiled.jit = True
-    x0 = periodic_state(plain, s, rtol=1e-9)[0]
+    x0 = periodic_state(plain, s, integrator=Integrator(method="cvodes", rtol=1e-9))[0]
     rtol = 1e-6 if method.startswith("scipy") else 1e-9
-    a = simulate(plain, s, method=method, rtol=rtol, t_end=0.2, n_out=201, work=False, x0=x0)
-    b = simulate(compiled, s, method=method, rtol=rtol, t_end=0.2, n_out=201, work=False, x0=x0)
+    a = simulate(plain, s, integrator=Integrator(method=method, rtol=rtol), t_end=0.2, n_out=201, work=False, x0=x0)
+    b = simulate(compiled, s, integrator=Integrator(method=method, rtol=rtol), t_end=0.2, n_out=201, work=False, x0=x0)
     if not method.startswith("scipy"):
         assert any(k[0] == "integrator_dae" for k in compiled.functions)
         assert not any(k[0] == "integrator_dae" for k in plain.functions)
@@ -336,7 +349,7 @@ def test_a_jit_setting_that_is_not_true_false_or_auto_fails_before_integrating()
     m = build_model(PressParams())
     m.jit = "yes"
     with pytest.raises(ValueError, match="jit must be True, False or 'auto', got 'yes'"):
-        simulate(m, FourierSpeed.constant(0.8), method="idas", rtol=1e-6, t_end=0.01, n_out=3, work=False)
+        simulate(m, FourierSpeed.constant(0.8), integrator=Integrator(method="idas", rtol=1e-6), t_end=0.01, n_out=3, work=False)
 
 
 def test_without_a_c_compiler_a_compiled_model_says_so_and_runs_interpreted(monkeypatch):
@@ -346,8 +359,8 @@ def test_without_a_c_compiler_a_compiled_model_says_so_and_runs_interpreted(monk
     m = build_model(PressParams())
     m.jit = True
     with pytest.warns(RuntimeWarning, match="no C compiler"):
-        b = simulate(m, FourierSpeed.constant(0.8), method="idas", rtol=1e-7, t_end=0.05, n_out=51, work=False)
-    a = simulate(build_model(PressParams()), FourierSpeed.constant(0.8), method="idas", rtol=1e-7, t_end=0.05,
+        b = simulate(m, FourierSpeed.constant(0.8), integrator=Integrator(method="idas", rtol=1e-7), t_end=0.05, n_out=51, work=False)
+    a = simulate(build_model(PressParams()), FourierSpeed.constant(0.8), integrator=Integrator(method="idas", rtol=1e-7), t_end=0.05,
                  n_out=51, work=False)
     assert np.array_equal(a.torque, b.torque)
     assert not any(k[0] == "integrator_dae" for k in m.functions)
@@ -371,9 +384,9 @@ def test_the_orbit_does_not_depend_on_which_cycles_are_sampled():
     m = build_model(PressParams())
     s = FourierSpeed.constant(0.8)
     times = np.linspace(0.0, 0.8, 401)
-    every, info = periodic_orbit(m, s, times, "cvodes", 1e-9, tol=1e-5)
-    rest, info_rest = periodic_orbit(m, s, times, "cvodes", 1e-9, tol=1e-5, from_rest=True)
+    every, info = periodic_orbit(m, s, times, Integrator("cvodes", 1e-9), tol=1e-5)
+    rest, info_rest = periodic_orbit(m, s, times, Integrator("cvodes", 1e-9), tol=1e-5, from_rest=True)
     assert info_rest["cycles"] == info["cycles"] >= 2
     assert np.max(np.abs(rest - every)) < 1e-5
-    on, info_on = periodic_orbit(m, s, times, "cvodes", 1e-9, x_start=every[:, 0], tol=1e-5, from_rest=True)
+    on, info_on = periodic_orbit(m, s, times, Integrator("cvodes", 1e-9), x_start=every[:, 0], tol=1e-5, from_rest=True)
     assert info_on["cycles"] == 1 and np.max(np.abs(on - every)) < 1e-5

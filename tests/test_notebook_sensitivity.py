@@ -5,7 +5,6 @@ forced matplotlib backend). The full notebook runs with ``pytest -m slow`` (nbma
 from pathlib import Path
 
 import papermill
-import pytest
 
 NOTEBOOK = Path(__file__).resolve().parents[1] / "notebooks" / "06_sensitivity.ipynb"
 REDUCED = {"wear_clearances": [1e-4, 4e-4], "press_parameters": ["slider_mass", "crank_pin.stiffness"],

@@ -17,7 +17,7 @@ from pressocp.ocp.nlp import crank_motion
 from pressocp.ocp.states import states_at
 from pressocp.ocp.strategy import soft_params
 from pressocp.ocp.verify import ram_speed_violation, verify_speed
-from pressocp.simulate import periodic_state
+from pressocp.simulate import Integrator, periodic_state
 
 SMOOTH = SpeedProblem(PressParams(), period=1.0, ram_speed=-0.15, n_harmonics=4)
 
@@ -42,7 +42,7 @@ def test_collocation_defects_of_a_simulated_response_converge():
     do not resolve the contact dynamics yet."""
     model = build_model(soft_params(SMOOTH.press, 1e4), n_harmonics=4)
     speed = design_speed(SMOOTH).speed
-    x0, _ = periodic_state(model, speed, method="cvodes", rtol=1e-9)
+    x0, _ = periodic_state(model, speed, integrator=Integrator(method="cvodes", rtol=1e-9))
     defects = []
     for K in (200, 400):
         g = CollocationGrid(1.0, K, 3)

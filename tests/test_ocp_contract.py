@@ -12,7 +12,7 @@ each verified by an independent periodic IDAS re-simulation of its answer on the
 import numpy as np
 import pytest
 
-from pressocp import (Collocation, MultipleShooting, PressParams, Rigid, SpeedProblem, Strategy, build_model,
+from pressocp import (Integrator, Collocation, MultipleShooting, PressParams, Rigid, SpeedProblem, Strategy, build_model,
                       optimize_speed, simulate)
 from pressocp.ocp.strategy import soft_params
 
@@ -26,7 +26,7 @@ def verified_peak(problem, speed):
     """Peak torque of a speed on the problem's clearance model: periodic IDAS at rtol 1e-9, with the
     ram speed in tolerance wherever the simulated ram is in the window on the downstroke."""
     model = build_model(problem.press, n_harmonics=problem.n_harmonics)
-    sim = simulate(model, speed, periodic=True, method="idas", rtol=1e-9, n_out=20001)
+    sim = simulate(model, speed, periodic=True, integrator=Integrator(method="idas", rtol=1e-9), n_out=20001)
     h1, h2 = problem.window_heights
     mask = (np.mod(sim.theta, 2 * np.pi) < np.pi) & (sim.ram_height <= h1) & (sim.ram_height >= h2)
     assert mask.sum() > 1000

@@ -13,7 +13,7 @@ import pytest
 from pressocp import (FourierSpeed, ModelSpec, OcpResult, PressParams, Rigid, SimResult, SpeedProblem, Strategy,
                       Transcription, build_model, optimize_speed, simulate)
 from pressocp.problem import in_window
-from pressocp.simulate import periodic_state
+from pressocp.simulate import Integrator, periodic_state
 
 SMOOTH = SpeedProblem(PressParams(), period=1.0, ram_speed=-0.15, n_harmonics=4)
 
@@ -54,7 +54,7 @@ def test_auto_accepts_a_verified_rigid_optimum(smooth):
     assert r.peak_torque <= 1.02 * r.rigid_peak_torque
     # an independent periodic simulation (IDAS, another tolerance) of the answer
     model = build_model(SMOOTH.press, n_harmonics=4)
-    check = simulate(model, r.speed, periodic=True, method="idas", rtol=1e-8, n_out=20001)
+    check = simulate(model, r.speed, periodic=True, integrator=Integrator(method="idas", rtol=1e-8), n_out=20001)
     assert check.peak("torque") == pytest.approx(r.peak_torque, rel=2e-3)
     assert window_error(check, SMOOTH) <= SMOOTH.tol
     assert r.t1 == pytest.approx(check.t[in_window(SMOOTH, check.theta, check.ram_height)][0], abs=1e-3)
@@ -164,7 +164,7 @@ def test_polish_keeps_only_a_verified_improvement(smooth):
     # rtol 1e-8; the result's answer is the relaxed one)
     assert kept.details["verified_value"] == pytest.approx(rigid_verified(smooth), rel=1e-3)
     # the detuned start's ram leaves its speed tolerance: it sets no bar to beat
-    start = simulate(model, detuned.speed, periodic=True, method="cvodes", rtol=1e-8, n_out=20001)
+    start = simulate(model, detuned.speed, periodic=True, integrator=Integrator(method="cvodes", rtol=1e-8), n_out=20001)
     assert window_error(start, SMOOTH) > SMOOTH.tol and kept.details["previous_verified_value"] is None
     assert dropped.was_skipped and dropped.status.startswith("not kept") and dropped.speed is best.speed
     assert dropped.details["verified_value"] > dropped.details["previous_verified_value"]
@@ -227,7 +227,7 @@ def test_flexible_rod_between_ideal_joints_skips_or_runs_only_the_flexible_stage
     assert replay.calls == 0 and [s.name for s in auto] == ["flexible"] and auto[0].was_skipped
     assert rigid.check.verified and rigid.check.model == "flexible rod (1 element), ideal joints"
     # the check against IDAS at rtol 1e-10 on the same model (another integrator and tolerance)
-    ref = simulate(model, rigid.speed, periodic=True, method="idas", rtol=1e-10, n_out=20001)
+    ref = simulate(model, rigid.speed, periodic=True, integrator=Integrator(method="idas", rtol=1e-10), n_out=20001)
     assert rigid.check.peak_torque == pytest.approx(ref.peak("torque"), rel=1e-4)
     assert rigid.check.peak_torque == pytest.approx(rigid_verified(smooth), rel=1e-3)  # the clearances change little
     stages = Strategy(mode="all", verify_rtol=1e-8).flexible_only(SMOOTH, model, rigid, replay, False)
@@ -249,8 +249,8 @@ def test_flexible_rod_with_clearances_checks_the_rigid_rod_answer_first(smooth):
     assert [s.name for s in r.stages] == ["rigid", "relaxed", "target", "flexible"] and r.stages[3].was_skipped
     assert r.verified and r.stages[3].check.verified and r.stages[3].check.model == model.spec.describe()
     assert r.simulation is r.stages[3].simulation
-    x_periodic, _ = periodic_state(model, r.speed, method="idas", rtol=1e-10, tol=1e-7)
-    ref = simulate(model, r.speed, method="idas", rtol=1e-10, n_out=20001, x0=x_periodic)
+    x_periodic, _ = periodic_state(model, r.speed, integrator=Integrator(method="idas", rtol=1e-10), tol=1e-7)
+    ref = simulate(model, r.speed, integrator=Integrator(method="idas", rtol=1e-10), n_out=20001, x0=x_periodic)
     assert r.peak_torque == pytest.approx(ref.peak("torque"), rel=1e-4)
     assert r.peak_torque == pytest.approx(smooth.peak_torque, rel=2e-3)  # the stiff rod changes little
     last = dataclasses.replace(r.stages[2], simulation=None)
@@ -278,7 +278,7 @@ def test_slender_rod_scene_optimum_beats_the_rigid_optimum_on_the_flexible_rod()
     rigid = r.stages[0]
     assert not rigid.check.verified and recommend_model(sc.press, rigid.speed).level == "flexible"
     model = sc.build_model()
-    on_rod = {k: simulate(model, s, periodic=True, method="idas", rtol=1e-8, n_out=20001)
+    on_rod = {k: simulate(model, s, periodic=True, integrator=Integrator(method="idas", rtol=1e-8), n_out=20001)
               for k, s in (("rigid", rigid.speed), ("answer", r.speed))}
     assert on_rod["answer"].peak("torque") == pytest.approx(r.peak_torque, rel=2e-3)
     assert on_rod["answer"].peak("torque") < 0.75 * on_rod["rigid"].peak("torque")

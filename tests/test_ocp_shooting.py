@@ -12,7 +12,7 @@ from pressocp import (MultipleShooting, PressParams, Rigid, SpeedProblem, Strate
 from pressocp.ocp import ShootingError, ShootingGrid, transcription_from
 from pressocp.ocp.shooting import interval_function
 from pressocp.ocp.states import states_at
-from pressocp.simulate import periodic_state, simulate
+from pressocp.simulate import Integrator, periodic_state, simulate
 
 N_HARM = 4
 PROBLEM = SpeedProblem(PressParams(), period=1.0, ram_speed=-0.15, n_harmonics=N_HARM)
@@ -22,7 +22,7 @@ PROBLEM = SpeedProblem(PressParams(), period=1.0, ram_speed=-0.15, n_harmonics=N
 def case():
     model = build_model(PROBLEM.press, n_harmonics=N_HARM)
     speed = design_speed(PROBLEM).speed
-    x0, _ = periodic_state(model, speed, rtol=1e-9)
+    x0, _ = periodic_state(model, speed, integrator=Integrator(method="cvodes", rtol=1e-9))
     return model, speed, x0
 
 
@@ -37,7 +37,7 @@ def test_intervals_reproduce_a_whole_cycle_simulation(case, integrator):
     p = model.parameters(speed)
     xf, y = (np.asarray(v) for v in G.map(grid.intervals)(nodes, np.tile(p[:, None], (1, 5)), grid.nodes[None, :]))
     assert np.max(np.abs(xf - np.hstack([nodes[:, 1:], nodes[:, :1]]))) < 1e-4  # periodic: last wraps to first
-    ref = simulate(model, speed, x0=x0, rtol=1e-10, method="cvodes", n_out=21)  # t = 0, 0.05, ..., 1
+    ref = simulate(model, speed, x0=x0, integrator=Integrator(method="cvodes", rtol=1e-10), n_out=21)  # t = 0, 0.05, ..., 1
     assert np.allclose(ref.t[1:], grid.times)
     assert np.allclose(y[0], ref.torque[1:], rtol=1e-4, atol=1e-3 * ref.peak("torque"))
     assert np.allclose(y[1], ref.wrist_pin_force[1:], rtol=1e-4, atol=1e-3 * ref.peak("wrist_pin_force"))

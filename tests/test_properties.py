@@ -7,7 +7,6 @@ traceback."""
 import math
 
 import numpy as np
-import pytest
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 

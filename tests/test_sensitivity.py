@@ -26,7 +26,7 @@ PARAMETERS = ("slider_mass", "wrist_pin.clearance", "crank_pin.stiffness")
 def refined_peak_torque(press, speed, rtol):
     """Peak |torque| of the periodic response, the parabola's vertex through the top three samples
     (written here, apart from the package's peak search)."""
-    r = po.simulate(po.build_model(press), speed, periodic=True, method="cvodes", rtol=rtol, n_out=20001)
+    r = po.simulate(po.build_model(press), speed, periodic=True, integrator=po.Integrator(method="cvodes", rtol=rtol), n_out=20001)
     y = np.abs(r.torque)
     k = int(np.argmax(y))
     y0, y1, y2 = y[k - 1], y[k], y[k + 1]
@@ -165,10 +165,10 @@ def test_without_a_looser_run_every_derivative_is_unverified(monkeypatch):
 
     found = sens.periodic_state
 
-    def stalls_when_loose(model, speed, method, rtol, **kwargs):
-        if rtol > 1e-8:
+    def stalls_when_loose(model, speed, integrator, **kwargs):
+        if integrator.rtol > 1e-8:
             raise po.SimulationError("periodic steady state not found: residual 3e-05 (tol 1e-05)")
-        return found(model, speed, method, rtol, **kwargs)
+        return found(model, speed, integrator, **kwargs)
 
     monkeypatch.setattr(sens, "periodic_state", stalls_when_loose)
     model = po.build_model(po.PressParams(), clearance=("wrist_pin",))

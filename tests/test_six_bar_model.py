@@ -15,7 +15,7 @@ import pytest
 from pressocp import FourierSpeed, PressParams
 from pressocp.mechanism import SixBar, mechanism_from_dict, mechanism_to_dict
 from pressocp.model import ModelSpec, build_model
-from pressocp.simulate import simulate
+from pressocp.simulate import Integrator, simulate
 from pressocp.sixbar import SixBarPress, sixbar_kinematics, sixbar_positions
 
 OTHER = SixBarPress(ground_length=0.03, ground_angle=0.4, input_crank=0.12, coupler=0.11, output_link=0.09,
@@ -101,7 +101,7 @@ def test_six_bar_with_clearances_keeps_its_energy_balance():
     mech = SixBar(input_inertia=0.3, coupler_mass=4.0)
     model = build_model(press_for(mech.drive), mechanism=mech)
     speed = FourierSpeed.constant(0.5, n_harmonics=model.n_harmonics)
-    r = simulate(model, speed, t_end=0.5, method="cvodes", rtol=1e-10, work=True)
+    r = simulate(model, speed, t_end=0.5, integrator=Integrator(method="cvodes", rtol=1e-10), work=True)
     E = r.energy
     dE = E["kinetic_end"] + E["potential_end"] - E["kinetic_start"] - E["potential_start"]
     imbalance = E["motor_work"] + E["process_work"] - dE - E["contact_work"] - E["rod_damping_work"]

@@ -21,7 +21,7 @@ import pytest
 
 from pressocp import PressParams
 from pressocp.model import build_model
-from pressocp.simulate import SimulationError, periodic_state, simulate
+from pressocp.simulate import Integrator, SimulationError, periodic_state, simulate
 from pressocp.speed import FourierSpeed
 
 RESULTS = Path(__file__).resolve().parents[1] / "benchmarks" / "results" / "stability.json"
@@ -72,7 +72,7 @@ def peak_torque_error(method: str, step: float, model, speed, x0, ref_peak: floa
     raises or is not finite."""
     n = max(1, int(round(PERIOD / step)))
     try:
-        res = simulate(model, speed, x0=x0, method=method, step=PERIOD / n, n_out=n + 1)
+        res = simulate(model, speed, x0=x0, integrator=Integrator(method=method, step=PERIOD / n), n_out=n + 1)
     except (SimulationError, FloatingPointError):
         return math.inf
     peak = res.peak("torque")
@@ -83,8 +83,8 @@ def peak_torque_error(method: str, step: float, model, speed, x0, ref_peak: floa
 def seed_scene():
     speed = FourierSpeed.constant(PERIOD)
     model = build_model(PressParams())
-    x0, _ = periodic_state(model, speed, rtol=1e-9)
-    ref = simulate(model, speed, x0=x0, method="cvodes", rtol=1e-10, n_out=16001)
+    x0, _ = periodic_state(model, speed, integrator=Integrator(method="cvodes", rtol=1e-9))
+    ref = simulate(model, speed, x0=x0, integrator=Integrator(method="cvodes", rtol=1e-10), n_out=16001)
     return model, speed, x0, ref
 
 

@@ -16,7 +16,7 @@ from .. import checks as chk
 from ..model import PressModel
 from ..objectives import get as get_objective
 from ..problem import SpeedProblem
-from ..simulate import SimulationError, integrate, periodic_orbit
+from ..simulate import Integrator, SimulationError, integrate, periodic_orbit
 from ..speed import FourierSpeed
 from .nlp import (IPOPT_WARM, Constraints, NlpData, NlpRun, add_dense_speed_bounds, add_objective, add_pin_cap,
                   needed_outputs, parameter_symbols, solve_nlp)
@@ -34,7 +34,7 @@ def warm_states(model: PressModel, start: WarmStart, times: np.ndarray, rtol: fl
     states, facts for the stage record)."""
     x_start = None if start.x0 is None else np.asarray(start.x0, float)
     try:
-        X, info = periodic_orbit(model, start.speed, times, "cvodes", rtol, x_start=x_start)
+        X, info = periodic_orbit(model, start.speed, times, Integrator("cvodes", rtol), x_start=x_start)
         return X, {"periodic_warm_start": True, "settle_cycles": info["cycles"], "newton_steps": info["newton"]}
     except SimulationError as err:
         x0 = settled_state(model, start.speed, 3, rtol)
@@ -49,8 +49,8 @@ def states_at(model: PressModel, speed: FourierSpeed, x_start: np.ndarray, times
     x_start = np.asarray(x_start, float)[:, None]
     if len(times) == 1:
         return x_start
-    X, _, _ = integrate(model, "cvodes", x_start[:, 0], model.parameters(speed), np.asarray(times)[1:], rtol, rtol,
-                        10**7, 1e-5, work=False)
+    X, _, _ = integrate(model, Integrator("cvodes", rtol), x_start[:, 0], model.parameters(speed),
+                        np.asarray(times)[1:], work=False)
     return np.hstack([x_start, X])
 
 

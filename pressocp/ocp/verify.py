@@ -10,7 +10,7 @@ from ..objectives import get as get_objective
 from ..problem import SpeedProblem, in_window
 from ..result import SimResult
 from ..rigid import rigid_response
-from ..simulate import SimulationError, simulate
+from ..simulate import Integrator, SimulationError, simulate
 from ..speed import FourierSpeed
 
 #: A response whose objective exceeds the rigid model's by this factor impacts (journals in free
@@ -53,7 +53,7 @@ def window_times(sim: SimResult, problem: SpeedProblem) -> tuple[float, float]:
 
 def settled_state(model: PressModel, speed: FourierSpeed, cycles: int, rtol: float) -> np.ndarray:
     """Scaled state after `cycles` cycles from rest (CVODES at `rtol`)."""
-    r = simulate(model, speed, cycles=cycles, method="cvodes", rtol=rtol, n_out=cycles + 1, work=False)
+    r = simulate(model, speed, cycles=cycles, integrator=Integrator("cvodes", rtol), n_out=cycles + 1, work=False)
     return r.states[:, -1] / model.x_scale
 
 
@@ -61,7 +61,7 @@ def cycle_from(model: PressModel, speed: FourierSpeed, rtol: float, x0: np.ndarr
                reason: str) -> SimResult:
     """One cycle from the scaled state `x0` on the fine grid, standing in for a periodic response that
     was not found or not searched for: ``stats["periodic"]`` records which cycle from rest it is and why."""
-    sim = simulate(model, speed, method="cvodes", rtol=rtol, n_out=VERIFY_SAMPLES, x0=x0, work=False)
+    sim = simulate(model, speed, integrator=Integrator("cvodes", rtol), n_out=VERIFY_SAMPLES, x0=x0, work=False)
     sim.stats["periodic"] = {"found": False, "reason": reason, "cycle": cycle}
     return sim
 
@@ -73,8 +73,8 @@ def verify_speed(model: PressModel, speed: FourierSpeed, rtol: float = 1e-9,
     model's). When the response has no periodic steady state (an
     impacting, chaotic one), the 6th cycle from rest is returned and ``stats["periodic"]`` says so."""
     try:
-        return simulate(model, speed, periodic=True, method="cvodes", rtol=rtol, n_out=VERIFY_SAMPLES, x0=x0,
-                        work=False)
+        return simulate(model, speed, periodic=True, integrator=Integrator("cvodes", rtol), n_out=VERIFY_SAMPLES,
+                        x0=x0, work=False)
     except SimulationError as err:
         return cycle_from(model, speed, rtol, settled_state(model, speed, 5, rtol), cycle=6,
                           reason=str(err).splitlines()[0])
