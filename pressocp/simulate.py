@@ -366,74 +366,102 @@ def periodic_orbit(model: PressModel, speed: FourierSpeed, times: np.ndarray, in
     chk.instance("integrator", integrator, Integrator)
     shots = replace(integrator, method=integrator.method if integrator.method in ("idas", "cvodes") else "cvodes",
                     max_steps=10**8, step=FIXED_STEP)
-    method = shots.method
     tol = max(1e-4, 100 * shots.rtol) if tol is None else tol
-    p = model.parameters(speed)
+    sh = PeriodicShots(model, speed, times, shots)
     x = model.x0 if x_start is None else np.asarray(x_start, float)
-    ends_at_T = times[-1] >= T * (1 - 1e-12)
-    grid = np.append(times[1:-1], T) if ends_at_T else np.append(times[1:], T)
-    F = _integrator(model, shots, grid, work=False)
-
-    def shoot(xs: np.ndarray, Fn: ca.Function = F) -> np.ndarray:
-        try:
-            with interruptible():
-                return np.asarray(Fn(x0=xs, p=np.tile(p[:, None], (1, xs.shape[1])) if xs.ndim > 1 else p)["xf"])
-        except RuntimeError as err:
-            raise SimulationError(first_line(err), method=method + " (periodic shooting)", hint=HINT) from None
-
-    def sampled(x_from: np.ndarray, X: np.ndarray) -> np.ndarray:
-        return np.hstack([x_from[:, None], X if ends_at_T else X[:, :-1]])
-
-    def last_cycle() -> dict:
-        return _stats(F.stats(), time.perf_counter() - t_shot)
-
-    built: list[ca.Function] = []
-
-    def end_only() -> ca.Function:
-        """The integrator of one period that returns only its end state (built when first needed)."""
-        if not built:
-            built.append(F if grid.size == 1 else
-                         _integrator(model, shots, np.array([T]), work=False))
-        return built[0]
-
     res, residuals = np.inf, []
     for cycle in range(1, max_settle + 1):
         dense = expect_settled(residuals, tol, from_rest)
-        t_shot = time.perf_counter()
-        X = shoot(x, F if dense else end_only())
+        X = sh.shoot(x, sh.F if dense else sh.end_only())
         res = float(np.max(np.abs(X[:, -1] - x)))
         if res <= tol:
-            if not dense:
-                t_shot = time.perf_counter()
-                X = shoot(x)
-            return sampled(x, X), {"cycles": cycle, "newton": 0, "residual": res, "last_cycle": last_cycle()}
+            X = X if dense else sh.shoot(x)
+            return sh.sampled(x, X), {"cycles": cycle, "newton": 0, "residual": res, "last_cycle": sh.last_cycle()}
         residuals.append(res)
         x = X[:, -1]
-    F1 = end_only()
-    Fmap = F1.map(model.nx + 1, "thread", 2)
+    x, res, it = newton_periodic(sh, x, res, tol, max_newton)
+    if res <= tol:
+        X = sh.shoot(x) if times.size > 1 else np.zeros((model.nx, 1))
+        return sh.sampled(x, X), {"cycles": max_settle, "newton": it, "residual": res, "last_cycle": sh.last_cycle()}
+    raise SimulationError(
+        f"periodic steady state not found: residual {res:.3g} (tol {tol:.3g}) after {max_settle} cycles and "
+        f"{max_newton} Newton steps", method=shots.method + " (periodic shooting)",
+        hint="more bearing damping (damping, tangential_damping) or a looser tol")
+
+
+class PeriodicShots:
+    """One-period shots of the periodic search (`periodic_orbit`): the integrator on the sample grid
+    `F`, the one that returns only the end state (built when first needed), the samples of a cycle
+    and the integrator's statistics of the last shot.
+
+    Parameters
+    ----------
+    times : ndarray
+        Sample times in [0, T] from 0, s; T is appended for the shots when the last one is earlier.
+    shots : Integrator
+        IDAS or CVODES.
+    """
+
+    def __init__(self, model: PressModel, speed: FourierSpeed, times: np.ndarray, shots: Integrator) -> None:
+        T = speed.period
+        self.model, self.shots, self.period, self.p = model, shots, T, model.parameters(speed)
+        self.ends_at_T = bool(times[-1] >= T * (1 - 1e-12))
+        grid = np.append(times[1:-1], T) if self.ends_at_T else np.append(times[1:], T)
+        self.F = _integrator(model, shots, grid, work=False)
+        self.started, self.last = time.perf_counter(), self.F
+        self.end = self.F if grid.size == 1 else None
+
+    def shoot(self, xs: np.ndarray, F: ca.Function | None = None) -> np.ndarray:
+        """The states at `F`'s grid (default `F`) of the shots from the columns of `xs` (or from `xs`)."""
+        F = self.F if F is None else F
+        self.started, self.last = time.perf_counter(), F
+        p = np.tile(self.p[:, None], (1, xs.shape[1])) if xs.ndim > 1 else self.p
+        try:
+            with interruptible():
+                return np.asarray(F(x0=xs, p=p)["xf"])
+        except RuntimeError as err:
+            raise SimulationError(first_line(err), method=self.shots.method + " (periodic shooting)",
+                                  hint=HINT) from None
+
+    def end_only(self) -> ca.Function:
+        """The integrator of one period that returns only its end state."""
+        if self.end is None:
+            self.end = _integrator(self.model, self.shots, np.array([self.period]), work=False)
+        return self.end
+
+    def sampled(self, x_from: np.ndarray, X: np.ndarray) -> np.ndarray:
+        """The states at the sample times of the shot from `x_from` whose grid states are `X`."""
+        return np.hstack([x_from[:, None], X if self.ends_at_T else X[:, :-1]])
+
+    def last_cycle(self) -> dict:
+        """The statistics of the last shot (as in ``SimResult.stats``)."""
+        return _stats(self.last.stats(), time.perf_counter() - self.started)
+
+
+def newton_periodic(sh: PeriodicShots, x: np.ndarray, res: float, tol: float,
+                    max_newton: int) -> tuple[np.ndarray, float, int]:
+    """Newton's method on x(T) - x(0) from `x` (residual `res`): a finite-difference Jacobian from
+    nx + 1 shots run in 2 threads, and a backtracking line search. Returns the state, its residual and
+    the steps taken (it stops at `tol` or after `max_newton` steps)."""
+    nx = sh.model.nx
+    F1 = sh.end_only()
+    Fmap = F1.map(nx + 1, "thread", 2)
     h = 1e-6
     for it in range(1, max_newton + 1):
-        shots = np.hstack([x[:, None], x[:, None] + h * np.eye(model.nx)])
-        Y = shoot(shots, Fmap)
-        r = Y[:, 0] - x
+        Y = sh.shoot(np.hstack([x[:, None], x[:, None] + h * np.eye(nx)]), Fmap)
         J = (Y[:, 1:] - Y[:, [0]]) / h
-        dx = np.linalg.lstsq(J - np.eye(model.nx), -r, rcond=None)[0]
+        dx = np.linalg.lstsq(J - np.eye(nx), -(Y[:, 0] - x), rcond=None)[0]
         step = 1.0
         while step > 1e-3:
             xn = x + step * dx
-            rn = float(np.max(np.abs(shoot(xn, F1).ravel() - xn)))
+            rn = float(np.max(np.abs(sh.shoot(xn, F1).ravel() - xn)))
             if rn < res:
                 break
             step /= 2
         x, res = xn, rn
         if res <= tol:
-            t_shot = time.perf_counter()
-            X = shoot(x) if times.size > 1 else np.zeros((model.nx, 1))
-            return sampled(x, X), {"cycles": max_settle, "newton": it, "residual": res, "last_cycle": last_cycle()}
-    raise SimulationError(
-        f"periodic steady state not found: residual {res:.3g} (tol {tol:.3g}) after {max_settle} cycles and "
-        f"{max_newton} Newton steps", method=method + " (periodic shooting)",
-        hint="more bearing damping (damping, tangential_damping) or a looser tol")
+            return x, res, it
+    return x, res, max_newton
 
 
 def expect_settled(residuals: list[float], tol: float, from_rest: bool) -> bool:
@@ -505,7 +533,6 @@ def simulate(
         raise ValueError(f"integrator must be an Integrator, e.g. Integrator({integrator!r}, rtol=1e-8); got the "
                          f"string {integrator!r}")
     chk.instance("integrator", integrator, Integrator)
-    method, r, a = integrator.method, integrator.rtol, integrator.abstol
     chk.instance("model", model, PressModel)
     chk.instance("speed", speed, FourierSpeed)
     ncyc = chk.integer("cycles", cycles, 1, 1000)
@@ -519,17 +546,7 @@ def simulate(
         raise ValueError(f"x0 must have {model.nx} entries (the model's states), got {x_init.size}")
     X = None
     if periodic and not model.is_rigid:
-        t0 = time.perf_counter()
-        search = "idas" if method == "idas" else "cvodes"
-        if not work and method == search and r <= 1e-8 and a == r and T_end == speed.period:
-            # the cycle returned is the search's last, not one more after it: settled 10 x tighter
-            X, info = periodic_orbit(model, speed, t, Integrator(search, r), x_start=x_init,
-                                     tol=max(1e-5, 1000 * r), from_rest=x0 is None)
-            x_init = X[:, 0]
-            stats.update(info.pop("last_cycle"))
-        else:
-            x_init, info = periodic_state(model, speed, Integrator(search, min(r, 1e-8)), x_start=x_init)
-        stats["periodic"] = {**info, "wall_time": time.perf_counter() - t0}
+        X, x_init = periodic_start(model, speed, integrator, t, x_init, x0 is None, work, stats)
     Qf = None
     if model.is_rigid:
         X = np.zeros((0, n))
@@ -538,13 +555,43 @@ def simulate(
         X, Qf, run_stats = integrate(model, integrator, x_init, p, t[1:], work)
         X = np.hstack([x_init[:, None], X])
         stats.update(run_stats)
+    return sim_result(model, p, t, X, Qf, stats, integrator.method)
+
+
+def periodic_start(model: PressModel, speed: FourierSpeed, integrator: Integrator, t: np.ndarray, x_init: np.ndarray,
+                   from_rest: bool, work: bool, stats: dict) -> tuple[np.ndarray | None, np.ndarray]:
+    """The periodic state of a periodic `simulate` run, searched from `x_init`, and the run's states at
+    `t` when the search's own last cycle is the answer (no work, one cycle, IDAS or CVODES at rtol
+    <= 1e-8 with atol = rtol: settled 10 x tighter than `periodic_state`), else None. The search's
+    statistics go to ``stats["periodic"]`` (and its last cycle's to `stats`)."""
+    t0, r = time.perf_counter(), integrator.rtol
+    search = "idas" if integrator.method == "idas" else "cvodes"
+    X = None
+    if not work and integrator.method == search and r <= 1e-8 and integrator.abstol == r and t[-1] == speed.period:
+        X, info = periodic_orbit(model, speed, t, Integrator(search, r), x_start=x_init, tol=max(1e-5, 1000 * r),
+                                 from_rest=from_rest)
+        x_init = X[:, 0]
+        stats.update(info.pop("last_cycle"))
+    else:
+        x_init, info = periodic_state(model, speed, Integrator(search, min(r, 1e-8)), x_start=x_init)
+    stats["periodic"] = {**info, "wall_time": time.perf_counter() - t0}
+    return X, x_init
+
+
+def sim_result(model: PressModel, p: np.ndarray, t: np.ndarray, X: np.ndarray, Qf: np.ndarray | None, stats: dict,
+               method: str) -> SimResult:
+    """The `SimResult` of scaled states `X` at times `t` (s) with the parameter vector `p`: the outputs
+    (a non-finite one raises `SimulationError`), the energies at both ends and the work integrals
+    `Qf` (None or no rows: not integrated)."""
+    n = t.size
     out = output_function(model, n)(t[None, :], X if X.size else np.zeros((0, n)), np.tile(p[:, None], (1, n)))
     series = {name: np.asarray(v).ravel() for name, v in zip(OUTPUT_NAMES, out)}
     for name, v in series.items():
         if not np.all(np.isfinite(v)):
             raise SimulationError(f"non-finite {name}", method=method, hint=HINT)
-    E0 = [float(v) for v in model.energy(0.0, x_init, p)]
-    E1 = [float(v) for v in model.energy(T_end, X[:, -1] if X.size else x_init, p)]
+    x_start, x_end = (X[:, 0], X[:, -1]) if X.size else (model.x0, model.x0)
+    E0 = [float(v) for v in model.energy(0.0, x_start, p)]
+    E1 = [float(v) for v in model.energy(t[-1], x_end, p)]
     energy = {"kinetic_start": E0[0], "potential_start": E0[1], "kinetic_end": E1[0], "potential_end": E1[1]}
     if Qf is not None and Qf.shape[0]:
         energy.update({k: float(Qf[i, -1]) for i, k in enumerate(QUADRATURE_NAMES)})
