@@ -237,7 +237,7 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     if model.is_rigid:
         raise ValueError("the model has no states: differentiate the closed-form rigid response instead")
     msym = build_model(model.params, model.rod, model.clearance, model.n_elements, model.n_harmonics, names,
-                       n_modes=model.n_modes)
+                       n_modes=model.n_modes, mechanism=model.mechanism)
     pv = msym.parameters(speed)
     T = speed.period
     x0 = periodic_state(model, speed, Integrator("cvodes", rtol), tol=PERIODIC_TOL * rtol)[0] if periodic else model.x0
@@ -258,26 +258,35 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     except SimulationError as err:  # no estimate: every derivative is unverified, and says why
         errors = np.full(d.shape, np.inf)
         unverified = f"the run at {LOOSER:g} rtol failed: {str(err).splitlines()[0]}"
-    n_speed = pv.size - len(names)
+    rows, per_peak = sensitivity_rows(peaks, names, pv[pv.size - len(names):], y, d, errors)
+    return Sensitivities(pd.DataFrame(rows), pd.DataFrame(per_peak), periodic, time.perf_counter() - t_start,
+                         unverified)
+
+
+def sensitivity_rows(peaks: dict, names: tuple[str, ...], values: np.ndarray, y: np.ndarray, d: np.ndarray,
+                     errors: np.ndarray) -> tuple[list[dict], list[dict]]:
+    """The rows of `Sensitivities.table` (one per quantity and parameter, at its first peak) and of
+    ``per_peak``, from the peak times of each quantity (`peaks`), the parameters' `names` and
+    `values`, and the values `y`, derivatives `d` and error estimates `errors` at every peak (rows in
+    the order of `peaks`, columns per parameter)."""
     rows, per_peak = [], []
     i = 0
-    for q in quantities:
-        k = slice(i, i + len(peaks[q]))
-        i += len(peaks[q])
+    for q, times in peaks.items():
+        k = slice(i, i + len(times))
+        i += len(times)
         yq, dq, eq = y[k], d[k], errors[k]
         value = float(abs(yq[0]))
         for j, n in enumerate(names):
-            pval = float(pv[n_speed + j])
+            pval = float(values[j])
             per_peak += [{"quantity": q, "parameter": n, "time": tk, "value": float(abs(yk)), "derivative": float(dk),
-                          "error_estimate": float(ek)} for tk, yk, dk, ek in zip(peaks[q], yq, dq[:, j], eq[:, j])]
+                          "error_estimate": float(ek)} for tk, yk, dk, ek in zip(times, yq, dq[:, j], eq[:, j])]
             rows.append({"quantity": q, "parameter": n, "value": value, "parameter_value": pval,
                          "derivative": float(dq[0, j]), "derivative_up": float(dq[:, j].max()),
                          "derivative_down": float(dq[:, j].min()),
                          "normalised": float(dq[0, j]) * pval / value if value else float("nan"),
                          "error_estimate": float(eq[:, j].max()), "resolved": bool(eq[:, j].max() <= RESOLVED),
-                         "time": peaks[q][0], "peaks": len(peaks[q]), "unique": len(peaks[q]) == 1})
-    return Sensitivities(pd.DataFrame(rows), pd.DataFrame(per_peak), periodic, time.perf_counter() - t_start,
-                         unverified)
+                         "time": times[0], "peaks": len(times), "unique": len(times) == 1})
+    return rows, per_peak
 
 
 __all__ = ["QUANTITIES", "Sensitivities", "peak_times", "sensitivities"]

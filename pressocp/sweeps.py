@@ -20,7 +20,7 @@ import itertools
 import json
 import os
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import Executor, as_completed
 from dataclasses import replace
 from pathlib import Path
@@ -220,10 +220,7 @@ def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence
     keys = list(points[0])
     csv = None if csv is None else Path(csv)
     done = _done_rows(csv, keys)
-    rows: dict[int, dict] = {}
-    for i, p in enumerate(points):
-        if _key_of(p) in done:
-            rows[i] = {**done[_key_of(p)], **p}
+    rows: dict[int, dict] = {i: {**done[_key_of(p)], **p} for i, p in enumerate(points) if _key_of(p) in done}
     todo = [i for i in range(len(points)) if i not in rows]
     bar = tqdm(total=len(points), initial=len(rows), desc=f"sweep ({task})", disable=not progress)
 
@@ -235,36 +232,52 @@ def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence
 
     try:
         if is_path and task == "optimize" and continuation:  # one after the other, each from its neighbour
-            previous = None
-            for i in range(len(points)):
-                if i in rows:
-                    previous = FourierSpeed.from_dict(json.loads(rows[i]["speed"])) if rows[i].get("speed") else None
-                    continue
-                start = None if previous is None else rescale(previous, scenarios[i].problem.period)
-                if start is not None and start.n_harmonics > scenarios[i].problem.n_harmonics:
-                    start = None
-                row = (executor.submit(run_point, task, scenarios[i], None, start).result() if executor is not None
-                       else run_point(task, scenarios[i], None, start))
-                record(i, row)
-                previous = FourierSpeed.from_dict(json.loads(row["speed"])) if row.get("ok") else previous
+            run_path(scenarios, rows, executor, record)
         elif todo:
-            own = executor is None
-            pool = _default_executor(len(todo)) if own else executor
-            futures = {}
-            try:
-                futures = {pool.submit(run_point, task, scenarios[i], speed): i for i in todo}
-                for fut in as_completed(futures):
-                    record(futures[fut], fut.result())
-            except BaseException:
-                for f in futures:
-                    f.cancel()
-                raise
-            finally:
-                if own:
-                    pool.shutdown(wait=True, cancel_futures=True)
+            run_parallel(task, [scenarios[i] for i in todo], todo, speed, executor, record)
     finally:
         bar.close()
     return _table(rows, keys)
+
+
+def run_path(scenarios: list[Scenario], rows: dict[int, dict], executor: Executor | None,
+             record: Callable[[int, dict], None]) -> None:
+    """The optima of a path of `scenarios`, one after the other, each started from its neighbour's
+    answer (rescaled to its period), in `executor` or here; the points already in `rows` are skipped
+    (their speed is the next one's start); each new row goes to `record`."""
+    previous = None
+    for i, scenario in enumerate(scenarios):
+        if i in rows:
+            previous = FourierSpeed.from_dict(json.loads(rows[i]["speed"])) if rows[i].get("speed") else None
+            continue
+        start = None if previous is None else rescale(previous, scenario.problem.period)
+        if start is not None and start.n_harmonics > scenario.problem.n_harmonics:
+            start = None
+        row = (executor.submit(run_point, "optimize", scenario, None, start).result() if executor is not None
+               else run_point("optimize", scenario, None, start))
+        record(i, row)
+        previous = FourierSpeed.from_dict(json.loads(row["speed"])) if row.get("ok") else previous
+
+
+def run_parallel(task: str, scenarios: list[Scenario], indices: list[int], speed: FourierSpeed | None,
+                 executor: Executor | None, record: Callable[[int, dict], None]) -> None:
+    """`task` at every one of `scenarios` (the points `indices`) side by side, in `executor` or in a
+    process pool of its own (shut down at the end); each row goes to `record` as it arrives. An
+    exception (Ctrl-C included) cancels the points not started."""
+    own = executor is None
+    pool = _default_executor(len(scenarios)) if own else executor
+    futures = {}
+    try:
+        futures = {pool.submit(run_point, task, sc, speed): i for sc, i in zip(scenarios, indices)}
+        for fut in as_completed(futures):
+            record(futures[fut], fut.result())
+    except BaseException:
+        for f in futures:
+            f.cancel()
+        raise
+    finally:
+        if own:
+            pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _table(rows: dict[int, dict], keys: list[str]) -> pd.DataFrame:

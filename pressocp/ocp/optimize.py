@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -69,6 +70,37 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
         Ctrl-C; ``err.best`` holds the interrupted stage's least-infeasible iterate when there is one.
     """
     t_start = time.perf_counter()
+    strat, tr, model, initial = checked_request(problem, model, transcription, strategy, initial)
+    t_chain = time.perf_counter()
+    stages, init_sim, timing, (t_verify, c_verify) = run_chain(problem, model, tr, strat, initial, progress)
+    answer = stages[-1]
+    # judged by the stage whose answer stands; an earlier stage that stopped short (its answer a start
+    # that a later stage improved on) is recorded, not inherited
+    found = standing_stage(stages) or stages[0]
+    earlier = [s for s in stages if not s.success and not s.superseded and s is not found]
+    objective = get_objective(problem.objective)
+    # the last stage's own verification (same model, same tolerance) when the strategy ran one
+    reuse = answer.simulation is not None and answer.model == model.spec.describe()
+    sim = answer.simulation if reuse else verify_speed(model, answer.speed, strat.verify_rtol)
+    t1, t2 = window_times(sim, problem)
+    wall = time.perf_counter() - t_start
+    timing.update(verification=time.perf_counter() - t_verify, other=t_chain - t_start,
+                  verification_compile=compile_seconds() - c_verify)
+    return OcpResult(
+        problem=problem, model=model.spec, transcription=repr(tr), strategy=repr(strat), speed=answer.speed,
+        initial_speed=initial, objective_value=found.objective, verified_objective=objective.value(sim),
+        peaks=peaks_of(sim), initial_peaks=peaks_of(init_sim), rigid_peak_torque=_rigid_peak(stages[0], problem),
+        t1=t1, t2=t2, success=found.success, status=outcome_status(answer, found, earlier),
+        periodic=is_periodic(sim), max_ram_speed_violation=max(ram_speed_violation(sim, problem), 0.0),
+        min_omega=answer.speed.min_speed(), iterations=sum(s.iterations for s in stages),
+        wall_time=wall, stages=stages, verify_rtol=strat.verify_rtol, simulation=sim,
+        initial_simulation=init_sim, timing=timing)
+
+
+def checked_request(problem: SpeedProblem, model: PressModel | None, transcription: Transcription | None,
+                    strategy: Strategy | str, initial: FourierSpeed | None) -> tuple:
+    """`optimize_speed`'s arguments checked before any solve, with their defaults filled in:
+    (strategy, transcription, model with the problem's harmonics, initial speed)."""
     chk.instance("problem", problem, SpeedProblem)
     strat = Strategy.of(strategy)
     tr = Collocation() if transcription is None else transcription
@@ -95,17 +127,24 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     elif initial.n_harmonics > problem.n_harmonics:
         raise ValueError(f"initial has {initial.n_harmonics} harmonics, more than the problem's "
                          f"{problem.n_harmonics}")
+    return strat, tr, model, initial
 
-    t_chain = time.perf_counter()
-    # candidate chains run in worker processes, started now so that they import while the rigid stage
-    # runs here; the initial speed's response is simulated there meanwhile, in a worker of its own
-    # (spawned on demand: only when that response still runs as the candidates start, as on a
-    # flexible rod, where it takes longer than the rigid stage, and no candidate waits for it)
-    # The clearance stages' compiled functions are compiled ahead into the compile cache, in the
-    # worker that then simulates the initial speed, while the rigid stage runs: the candidates find
-    # them there (75 spm seed, empty cache: both chains compiled the same 7.5 s side by side after their
-    # no-reversal stage). A record in the cache (`prepared_record`) skips that when it was done before;
-    # with the cache off there is nowhere to compile ahead into.
+
+def run_chain(problem: SpeedProblem, model: PressModel, tr: Transcription, strat: Strategy, initial: FourierSpeed,
+              progress: bool) -> tuple[list[StageResult], Any, dict, tuple[float, float]]:
+    """The strategy's stages, and the initial speed's response (`initial_response`) on `model`:
+    (stages, response, timing of the compile-ahead when it ran, (clock, compile seconds) when the
+    stages ended: the verification's time starts there).
+
+    Candidate chains run in worker processes, started now so that they import while the rigid stage
+    runs here; the initial speed's response is simulated there meanwhile, in a worker of its own
+    (spawned on demand: only when that response still runs as the candidates start, as on a flexible
+    rod, where it takes longer than the rigid stage, and no candidate waits for it). The clearance
+    stages' compiled functions are compiled ahead into the compile cache, in the worker that then
+    simulates the initial speed, while the rigid stage runs: the candidates find them there (75 spm
+    seed, empty cache: both chains compiled the same 7.5 s side by side after their no-reversal
+    stage). A record in the cache (`prepared_record`) skips that when it was done before; with the
+    cache off there is nowhere to compile ahead into."""
     workers = min(parallel_workers(strat.workers), len(strat.margins))
     parallel = workers > 1 and bool(model.clearance)
     spec = strat.clearance_spec(model.spec)
@@ -119,7 +158,7 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
             initial_response, model.spec, problem, initial, strat.verify_rtol,
             (tr, spec, record) if ahead else None)
         stages = strat.run(problem, model, tr, initial, progress, pool)
-        t_verify, c_verify = time.perf_counter(), compile_seconds()
+        ended = time.perf_counter(), compile_seconds()
         init_sim = initial_response(model, problem, initial, strat.verify_rtol) if init_job is None \
             else init_job.result()
         if ahead:
@@ -127,28 +166,7 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     finally:
         if pool is not None:
             pool.shutdown(wait=False, cancel_futures=True)
-    answer = stages[-1]
-    # judged by the stage whose answer stands; an earlier stage that stopped short (its answer a start
-    # that a later stage improved on) is recorded, not inherited
-    found = standing_stage(stages) or stages[0]
-    earlier = [s for s in stages if not s.success and not s.superseded and s is not found]
-    objective = get_objective(problem.objective)
-    # the last stage's own verification (same model, same tolerance) when the strategy ran one
-    reuse = answer.simulation is not None and answer.model == model.spec.describe()
-    sim = answer.simulation if reuse else verify_speed(model, answer.speed, strat.verify_rtol)
-    t1, t2 = window_times(sim, problem)
-    wall = time.perf_counter() - t_start
-    timing.update(verification=time.perf_counter() - t_verify, other=t_chain - t_start,
-                  verification_compile=compile_seconds() - c_verify)
-    return OcpResult(
-        problem=problem, model=model.spec, transcription=repr(tr), strategy=repr(strat), speed=answer.speed,
-        initial_speed=initial, objective_value=found.objective, verified_objective=objective.value(sim),
-        peaks=peaks_of(sim), initial_peaks=peaks_of(init_sim), rigid_peak_torque=_rigid_peak(stages[0], problem),
-        t1=t1, t2=t2, success=found.success, status=outcome_status(answer, found, earlier),
-        periodic=is_periodic(sim), max_ram_speed_violation=max(ram_speed_violation(sim, problem), 0.0),
-        min_omega=answer.speed.min_speed(), iterations=sum(s.iterations for s in stages),
-        wall_time=wall, stages=stages, verify_rtol=strat.verify_rtol, simulation=sim,
-        initial_simulation=init_sim, timing=timing)
+    return stages, init_sim, timing, ended
 
 
 def outcome_status(answer: StageResult, found: StageResult, earlier: list[StageResult]) -> str:

@@ -121,18 +121,7 @@ class Rigid(Transcription):
         drop = 0.0 if model is None else model.ram_drop
         h_start = P.window_heights[0] + drop
         duration = P.window_duration + drop / abs(P.ram_speed)
-        if start is None:
-            d = design_speed(P)
-            initial, t1_0 = d.speed, d.t1 - drop / abs(P.ram_speed)
-        else:
-            if not np.isclose(start.speed.period, T):
-                raise ValueError(f"start.speed.period must equal the problem's period {T:g} s, "
-                                 f"got {start.speed.period:g} s")
-            padded = start.speed.padded(n)
-            initial = FourierSpeed(T, padded.a, padded.b, 0.0)
-            th1 = float(crank_angle_at_height(P.press, min(h_start, P.press.stroke), "down"))
-            tg = np.linspace(0, T, 20001)
-            t1_0 = float(np.interp(th1, initial.theta(tg), tg))
+        initial, t1_0 = start_speed(P, start, h_start, drop)
         t1_0 = float(np.clip(t1_0, 0.0, T - duration))
 
         point = start.point if start is not None and start.point is not None \
@@ -190,3 +179,21 @@ class Rigid(Transcription):
     def grid(self) -> tuple:
         """What a warm start's `NlpPoint` must match: the samples of the loads and of the window."""
         return ("rigid", self.samples, self.window_samples)
+
+
+def start_speed(problem: SpeedProblem, start: WarmStart | None, h_start: float, drop: float) -> tuple[FourierSpeed,
+                                                                                                       float]:
+    """The rigid stage's start: the speed (`start`'s with the problem's harmonics and theta0 = 0, or
+    the kinematic design) and the time at which the ram passes `h_start` (m) going down (s), with the
+    window widened upward by the ram's `drop` (m)."""
+    T = problem.period
+    if start is None:
+        d = design_speed(problem)
+        return d.speed, d.t1 - drop / abs(problem.ram_speed)
+    if not np.isclose(start.speed.period, T):
+        raise ValueError(f"start.speed.period must equal the problem's period {T:g} s, got {start.speed.period:g} s")
+    padded = start.speed.padded(problem.n_harmonics)
+    initial = FourierSpeed(T, padded.a, padded.b, 0.0)
+    th1 = float(crank_angle_at_height(problem.press, min(h_start, problem.press.stroke), "down"))
+    tg = np.linspace(0, T, 20001)
+    return initial, float(np.interp(th1, initial.theta(tg), tg))

@@ -182,15 +182,7 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
         The re-solve at the answer did not converge.
     """
     chk.instance("result", result, OcpResult)
-    names = tuple(check_parameter(n) for n in parameters)
-    if not names:
-        raise ValueError("parameters must name at least one press parameter")
-    if len(set(names)) != len(names):
-        raise ValueError(f"parameters name one twice: {names!r}")
-    for n in names:
-        if n in KINEMATIC:
-            raise ValueError(f"parameter {n!r} moves the working window and the kinematics (the window's heights "
-                             "are fractions of the stroke): sweep it instead (po.sweep)")
+    names = checked_names(parameters)
     stage = answer_stage(result)
     problem, press = result.problem, result.problem.press
     t0 = time.perf_counter()
@@ -213,7 +205,7 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
         raise ValueError(f"the answer comes from {type(transcription).__name__} (stage {stage.name!r}); optimum "
                          "sensitivities need a Rigid or Collocation answer: optimise with the default transcription")
     model = build_model(press, spec.rod, spec.clearance, spec.n_elements, problem.n_harmonics, names,
-                        n_modes=spec.n_modes)
+                        n_modes=spec.n_modes, mechanism=spec.mechanism)
     again = transcription.solve(problem, model, WarmStart(result.speed), "sensitivity", progress)
     if not again.success or again.point is None:
         raise SensitivityError(f"the re-solve at the answer did not converge ({again.status}); "
@@ -228,19 +220,7 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
     J = again.objective
     to_J = J / f_opt if objective.kind == "peak" else J / (2.0 * f_opt)  # dJ = to_J df
     n2 = 2 * problem.n_harmonics
-    weak = int(k.weak.sum())
-    rows = []
-    for j, n in enumerate(names):
-        p = float(again.point.p[j])
-        d, dc = to_J * float(k.df_dp[j]), to_J * float(k.df_dp_direct[j])
-        rows.append({
-            "parameter": n, "parameter_value": p, "objective": J, "derivative": d, "derivative_check": dc,
-            "trustworthy": derivatives_agree(d, dc, J / abs(p)),
-            "normalised": to_J * float(k.df_dp[j]) * p / J,
-            "step_up": k.step_up[j] / abs(p), "step_down": k.step_down[j] / abs(p),
-            "change_up": k.change_up[j], "change_down": k.change_down[j], "weakly_active": weak,
-            "kkt_residual": k.residual, "kkt_regularisation": k.regularisation,
-            "coefficients_one_sided": bool(weak or min(k.step_up[j], -k.step_down[j]) / abs(p) < ONE_SIDED)})
+    rows = optimum_rows(names, np.asarray(again.point.p, float).ravel()[: len(names)], k, J, to_J)
     doubtful = [r["parameter"] for r in rows if not r["trustworthy"]]
     if doubtful:
         warnings.warn(f"dJ*/dp of {', '.join(doubtful)}: the envelope theorem and the optimum's own derivative "
@@ -255,6 +235,40 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
         weakly_active=per_group(k.weak, again.point.groups),
         resolve_time=resolve_time, kkt_time=kkt_time, kkt=k, speed=again.speed, problem=problem,
         transcription=transcription, model=spec, point=again.point, to_objective=to_J)
+
+
+
+def checked_names(parameters: Sequence[str]) -> tuple[str, ...]:
+    """The parameters' dotted names, checked: known, none twice, none kinematic (`KINEMATIC`)."""
+    names = tuple(check_parameter(n) for n in parameters)
+    if not names:
+        raise ValueError("parameters must name at least one press parameter")
+    if len(set(names)) != len(names):
+        raise ValueError(f"parameters name one twice: {names!r}")
+    for n in names:
+        if n in KINEMATIC:
+            raise ValueError(f"parameter {n!r} moves the working window and the kinematics (the window's heights "
+                             "are fractions of the stroke): sweep it instead (po.sweep)")
+    return names
+
+
+def optimum_rows(names: tuple[str, ...], values: np.ndarray, k: KktSensitivity, J: float, to_J: float) -> list[dict]:
+    """The rows of `OptimumSensitivities.table`, one per parameter (`names` at `values`), from the KKT
+    sensitivity `k` of the NLP whose objective f gives the optimum's value `J` with dJ = `to_J` df."""
+    weak = int(k.weak.sum())
+    rows = []
+    for j, n in enumerate(names):
+        p = float(values[j])
+        d, dc = to_J * float(k.df_dp[j]), to_J * float(k.df_dp_direct[j])
+        rows.append({
+            "parameter": n, "parameter_value": p, "objective": J, "derivative": d, "derivative_check": dc,
+            "trustworthy": derivatives_agree(d, dc, J / abs(p)),
+            "normalised": to_J * float(k.df_dp[j]) * p / J,
+            "step_up": k.step_up[j] / abs(p), "step_down": k.step_down[j] / abs(p),
+            "change_up": k.change_up[j], "change_down": k.change_down[j], "weakly_active": weak,
+            "kkt_residual": k.residual, "kkt_regularisation": k.regularisation,
+            "coefficients_one_sided": bool(weak or min(k.step_up[j], -k.step_down[j]) / abs(p) < ONE_SIDED)})
+    return rows
 
 
 __all__ = ["AGREE_RTOL", "KINEMATIC", "NEGLIGIBLE", "ONE_SIDED", "OptimumSensitivities", "SensitivityError",
