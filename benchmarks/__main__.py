@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import argparse
 import hashlib
-import importlib.util
 import json
 import os
 import signal
@@ -43,18 +42,7 @@ from pathlib import Path
 
 from pressocp.report import stamp
 
-
-def _load_status():
-    """benchmarks/status.py, by path (this file runs as ``python -m benchmarks`` and is loaded by path in
-    the tests)."""
-    spec = importlib.util.spec_from_file_location("benchmarks_status", Path(__file__).resolve().parent / "status.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # its dataclasses look their module up
-    spec.loader.exec_module(module)
-    return module
-
-
-goal_status = _load_status()
+from benchmarks import status as goal_status
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"

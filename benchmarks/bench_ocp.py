@@ -46,7 +46,6 @@ from __future__ import annotations
 import argparse
 import json
 import statistics
-import sys
 import time
 from pathlib import Path
 
@@ -202,8 +201,7 @@ def main() -> None:
         save(slender_figure([x for x in rows if x.get("case") == "slender"][-1]), OUT / "ocp_slender_flexible.png")
         return
     if a.case == "slsqp":
-        sys.path.insert(0, str(Path(__file__).parent))
-        from slsqp_baseline import slsqp_baseline
+        from slsqp_baseline import slsqp_baseline  # a sibling script: this folder is the script's path
 
         rows = [json.loads(s) for s in (OUT / "ocp.jsonl").read_text().splitlines()]
         ref = [r for r in rows if r.get("case") == a.ref][-1]

@@ -52,7 +52,6 @@ import argparse
 import json
 import multiprocessing as mp
 import statistics
-import sys
 import textwrap
 import time
 from pathlib import Path
@@ -67,8 +66,7 @@ from pressocp.plots import save
 from pressocp.report import stamp
 from pressocp.simulate import Integrator, SimulationError, periodic_state
 
-sys.path.insert(0, str(Path(__file__).parent))
-from bench_simulation import flexible_start  # noqa: E402
+from bench_simulation import flexible_start  # noqa: E402  (a sibling script: this folder is the script's path)
 
 OUT = Path(__file__).parent / "results"
 T = 0.8

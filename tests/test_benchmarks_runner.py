@@ -1,20 +1,16 @@
 """`python -m benchmarks`: runs each benchmark as its own process, records every run, rewrites its own
 table in benchmarks/README.md (and nothing else there), and reports failures without stopping."""
 
-import importlib.util
 import json
 import os
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
+import benchmarks.__main__ as runner
+
 ROOT = Path(__file__).resolve().parents[1]
-_spec = importlib.util.spec_from_file_location("benchmarks_runner", ROOT / "benchmarks" / "__main__.py")
-runner = importlib.util.module_from_spec(_spec)
-sys.modules[_spec.name] = runner  # dataclasses look their module up
-_spec.loader.exec_module(runner)
 
 
 def test_every_benchmark_script_exists():

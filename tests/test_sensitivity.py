@@ -1,7 +1,6 @@
 """Sensitivities of peaks to press parameters: AD (forward sensitivities of the periodic response)
 against central finite differences of separately run periodic simulations."""
 
-import importlib.util
 import json
 from pathlib import Path
 
@@ -13,11 +12,7 @@ from pressocp.sensitivity import peak_times, sensitivities
 
 # |torque| of the periodic response at given times, settled cycle by cycle (written apart from the
 # package's periodic search and sensitivities, in the benchmark that measures them)
-_spec = importlib.util.spec_from_file_location(
-    "bench_sensitivity", Path(__file__).resolve().parents[1] / "benchmarks" / "bench_sensitivity.py")
-bench_sensitivity = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(bench_sensitivity)
-torque_at = bench_sensitivity.torque_at
+from benchmarks.bench_sensitivity import torque_at  # noqa: E402
 
 OPTIMUM = Path(__file__).parent / "references" / "press75_optimum_speed.json"
 PARAMETERS = ("slider_mass", "wrist_pin.clearance", "crank_pin.stiffness")
