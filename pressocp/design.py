@@ -18,9 +18,11 @@ import numpy as np
 from . import checks as chk
 from .params import PressParams
 from .interrupt import interruptible
+from .mechanism import SLIDER_CRANK, Mechanism
+from .mechanism.ideal import ideal_kinematics
 from .model import build_model
 from .problem import SpeedProblem
-from .rigid import crank_angle_at_height, kinematics_function, rigid_kinematics
+from .rigid import crank_angle_at_height
 from .speed import DEFAULT_HARMONICS, FourierSpeed, series
 
 @dataclass(frozen=True)
@@ -84,7 +86,8 @@ class DesignSettings:
         chk.nonnegative("smoothing_weight", self.smoothing_weight)
 
 
-def _window_trajectory(params: PressParams, period: float, ram_speed: float, window, n: int = 2000):
+def _window_trajectory(params: PressParams, period: float, ram_speed: float, window, n: int = 2000,
+                       mechanism: Mechanism = SLIDER_CRANK):
     """A smooth crank-angle trajectory with the exact window motion: the design's initial guess.
 
     Inside the window theta follows the inverse kinematics of h = h1 + v (t - t1); outside, a
@@ -95,8 +98,9 @@ def _window_trajectory(params: PressParams, period: float, ram_speed: float, win
     w0, w1 = window
     tau = (w0 - w1) * H / abs(ram_speed)
     s = np.linspace(0.0, tau, n)
-    th_w = crank_angle_at_height(params, w0 * H + ram_speed * s, "down")
-    dth = lambda h: ram_speed / rigid_kinematics(params, crank_angle_at_height(params, h, "down"), 1.0)["ram_velocity"]
+    th_w = mechanism.input_angle_at_height(params, w0 * H + ram_speed * s, "down")
+    dth = lambda h: ram_speed / ideal_kinematics(  # noqa: E731
+        params, mechanism, mechanism.input_angle_at_height(params, h, "down"), 1.0)["ram_velocity"]
     om0, om1 = dth(w0 * H), dth(w1 * H)
     # Hermite from (tau, th_w[-1], om1) to (period, th_w[0] + 2 pi, om0)
     d = period - tau
@@ -146,7 +150,8 @@ def design_speed(problem: SpeedProblem, settings: DesignSettings | None = None) 
     tau = (w0 - w1) * H / abs(v)
 
     # initial guess: fit of an exact-window trajectory
-    t1_0, t_g, th_g = _window_trajectory(params, T, v, (w0, w1))
+    mechanism = problem.mechanism
+    t1_0, t_g, th_g = _window_trajectory(params, T, v, (w0, w1), mechanism=mechanism)
     guess = _fit_theta(t_g, th_g, T, n)
 
     # NLP
@@ -154,7 +159,7 @@ def design_speed(problem: SpeedProblem, settings: DesignSettings | None = None) 
     t1 = ca.SX.sym("t1")
     ts = ca.SX.sym("t")
     th, om, al = series(ts, c[:n], c[n:], T)
-    kin = kinematics_function(params)(theta=th, omega=om, alpha=al)
+    kin = mechanism.kinematics_function(params)(theta=th, omega=om, alpha=al)
     h, hd = kin["ram_height"], kin["ram_velocity"]
     f = ca.Function("f", [ts, c], [h, hd, om, th])
     s = np.linspace(0.0, 1.0, m)
@@ -169,7 +174,7 @@ def design_speed(problem: SpeedProblem, settings: DesignSettings | None = None) 
     nlp = {"x": ca.vertcat(c, t1), "f": ca.sumsqr(err) / m + mu * smooth,
            "g": ca.vertcat(err, wp.T, h1 / H - w0, th1)}
     lbg = np.concatenate([-tol * np.ones(m), wmin * np.ones(4 * m), [0.0, 0.0]])
-    ubg = np.concatenate([tol * np.ones(m), np.inf * np.ones(4 * m), [0.0, np.pi]])
+    ubg = np.concatenate([tol * np.ones(m), np.inf * np.ones(4 * m), [0.0, mechanism.bottom_dead_centre(params)]])
     solver = ca.nlpsol("design", "ipopt", nlp, {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False,
                                                   "ipopt.max_iter": 500, "ipopt.tol": 1e-10})
     with interruptible():
@@ -180,7 +185,7 @@ def design_speed(problem: SpeedProblem, settings: DesignSettings | None = None) 
     x = np.asarray(sol["x"]).ravel()
     speed = FourierSpeed.from_coefficients(T, x[: 2 * n])
     t1v = float(x[-1])
-    max_err, rms_err = window_error(params, speed, t1v, t1v + tau, v)
+    max_err, rms_err = window_error(params, speed, t1v, t1v + tau, v, mechanism=mechanism)
     return SpeedDesign(
         speed=speed, t1=t1v, t2=t1v + tau, ram_speed=v, window=(w0, w1), max_error=max_err,
         rms_error=rms_err, min_omega=speed.min_speed(), converged=bool(stats["success"]),
@@ -189,11 +194,11 @@ def design_speed(problem: SpeedProblem, settings: DesignSettings | None = None) 
 
 
 def window_error(params: PressParams, speed: FourierSpeed, t1: float, t2: float, ram_speed: float,
-                 n: int = 4001) -> tuple[float, float]:
+                 n: int = 4001, mechanism: Mechanism = SLIDER_CRANK) -> tuple[float, float]:
     """Max and RMS relative rigid ram speed error on a dense grid over [t1, t2]."""
     t = np.linspace(t1, t2, n)
     th, om, al = speed.evaluate(t)
-    vr = rigid_kinematics(params, th, om, al)["ram_velocity"]
+    vr = ideal_kinematics(params, mechanism, th, om, al)["ram_velocity"]
     e = np.abs(vr / ram_speed - 1)
     return float(e.max()), float(np.sqrt(np.mean(e**2)))
 

@@ -13,7 +13,7 @@ from .ocp.verify import is_periodic, verify_speed
 from .params import PressParams
 from .problem import SpeedProblem
 from .result import SimResult
-from .rigid import rigid_response
+from .mechanism.ideal import ideal_response
 from .speed import FourierSpeed
 
 #: The impact scenario of the source paper's Figs. 6 and 9: at 60 strokes/min the rigid design of
@@ -58,10 +58,10 @@ def impact_study(problem: SpeedProblem | None = None, model: ModelSpec | None = 
     from rest (``stats["periodic"]`` says why)."""
     problem = SpeedProblem(PressParams(), period=IMPACT_PERIOD, ram_speed=IMPACT_RAM_SPEED) \
         if problem is None else problem
-    m = (ModelSpec() if model is None else model).build(problem.press, problem.n_harmonics)
+    m = (ModelSpec(mechanism=problem.mechanism) if model is None else model).build(problem.press, problem.n_harmonics)
     d = design_speed(problem)
     const = FourierSpeed.constant(problem.period)
     rc = verify_speed(m, const, rtol)
     rd = verify_speed(m, d.speed, rtol)
-    return ImpactStudy(d, rc, rigid_response(problem.press, const, rc.t), rd,
-                       rigid_response(problem.press, d.speed, rd.t))
+    return ImpactStudy(d, rc, ideal_response(problem.press, problem.mechanism, const, rc.t), rd,
+                       ideal_response(problem.press, problem.mechanism, d.speed, rd.t))

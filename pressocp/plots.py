@@ -14,7 +14,7 @@ import numpy as np
 
 from .io import atomic_path
 from .result import SimResult
-from .rigid import rigid_response
+from .mechanism.ideal import ideal_response
 
 #: Axis labels (with units) of the `SimResult` series, and the factor from SI to the plotted unit.
 SERIES_LABELS = {
@@ -235,7 +235,7 @@ def plot_speed_design(result, title: str = "",
     if si is None or so is None:
         raise ValueError("result must hold the initial and optimal simulations (from optimize_speed)")
     cap = result.problem.max_pin_force
-    rr = rigid_response(result.problem.press, result.rigid.speed, so.t)
+    rr = ideal_response(result.problem.press, result.problem.mechanism, result.rigid.speed, so.t)
     rows = [("omega", "crank speed ω, rad/s"), ("torque", "motor torque, N·m"),
             ("slider_normal_force", "slider normal force, N")]
     if cap is not None:

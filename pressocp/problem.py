@@ -7,15 +7,16 @@ kinematic design) and `pressocp.ocp.optimize_speed` (the optimal speed) both tak
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, field, replace
 from typing import Any
 
 import numpy as np
 
 from . import checks as chk
 from .objectives import OBJECTIVES
+from .mechanism import SLIDER_CRANK, Mechanism, mechanism_from_dict, mechanism_to_dict
+from .mechanism.ideal import ideal_kinematics
 from .params import PressParams
-from .rigid import crank_angle_at_height, rigid_kinematics
 from .speed import DEFAULT_HARMONICS
 
 #: The working window may take at most this share of the period.
@@ -39,7 +40,8 @@ def check_window(window: Any) -> tuple[float, float]:
     return w0, w1
 
 
-def ram_speed_range(press: PressParams, period: float, window: tuple[float, float]) -> tuple[float, float]:
+def ram_speed_range(press: PressParams, period: float, window: tuple[float, float],
+                    mechanism: Mechanism = SLIDER_CRANK) -> tuple[float, float]:
     """Reachable ram speeds (m/s, negative) for a window and a period.
 
     The window must take at most `MAX_WINDOW_SHARE` of the period (slow limit) and the crank may
@@ -52,7 +54,7 @@ def ram_speed_range(press: PressParams, period: float, window: tuple[float, floa
     """
     w0, w1 = window
     dh = (w0 - w1) * press.stroke
-    th0, th1 = crank_angle_at_height(press, np.array([w0, w1]) * press.stroke, "down")
+    th0, th1 = mechanism.input_angle_at_height(press, np.array([w0, w1]) * press.stroke, "down")
     fastest = MAX_WINDOW_SPEED_RATIO * (2 * np.pi / period) * dh / (th1 - th0)
     slowest = dh / (MAX_WINDOW_SHARE * period)
     return -fastest, -slowest
@@ -64,7 +66,7 @@ LIMIT_MARGIN = 0.01
 
 
 def window_crank_speeds(press: PressParams, ram_speed: float, tol: float, window: tuple[float, float],
-                        n: int = 201) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                        n: int = 201, mechanism: Mechanism = SLIDER_CRANK) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Crank speeds the window needs on the ideal press: at each crank angle theta of the window, the
     ram speed |dh/dt| = omega |dh/dtheta| within ``|ram_speed| -+ tol`` needs omega in
     [(|v| - tol) / |dh/dtheta|, (|v| + tol) / |dh/dtheta|].
@@ -74,9 +76,9 @@ def window_crank_speeds(press: PressParams, ram_speed: float, tol: float, window
     theta, lowest, highest : ndarray
         Crank angles across the window (rad) and the least and greatest crank speed there (rad/s).
     """
-    th0, th1 = crank_angle_at_height(press, np.array(window) * press.stroke, "down")
+    th0, th1 = mechanism.input_angle_at_height(press, np.array(window) * press.stroke, "down")
     theta = np.linspace(th0, th1, n)
-    slope = np.abs(rigid_kinematics(press, theta, 1.0)["ram_velocity"])  # |dh/dtheta|, m/rad
+    slope = np.abs(ideal_kinematics(press, mechanism, theta, 1.0)["ram_velocity"])  # |dh/dtheta|, m/rad
     v = abs(ram_speed)
     return theta, (v - tol) / slope, (v + tol) / slope
 
@@ -90,8 +92,10 @@ def check_speed_limits(problem: "SpeedProblem") -> None:
     computed when none of the three limits is given."""
     if problem.omega_max is None and problem.omega_min is None and problem.alpha_max is None:
         return
-    theta, lowest, highest = window_crank_speeds(problem.press, problem.ram_speed, problem.tol, problem.window)
-    where = lambda k: f"h = {float(rigid_kinematics(problem.press, theta[k])['ram_height']):.4g} m"  # noqa: E731
+    press, mechanism = problem.press, problem.mechanism
+    theta, lowest, highest = window_crank_speeds(press, problem.ram_speed, problem.tol, problem.window,
+                                                 mechanism=mechanism)
+    where = lambda k: f"h = {float(ideal_kinematics(press, mechanism, theta[k])['ram_height']):.4g} m"  # noqa: E731
     v = f"{problem.ram_speed:g} m/s"
     if problem.omega_max is not None and problem.omega_max < (1 - LIMIT_MARGIN) * lowest.max():
         need = lowest.max()
@@ -110,12 +114,13 @@ def check_speed_limits(problem: "SpeedProblem") -> None:
                          f"{lowest[-1]:.4g} rad/s or more, which needs at least {rise:.4g} rad/s^2")
 
 
-def check_ram_speed(press: PressParams, period: float, ram_speed: float, window: tuple[float, float]) -> float:
+def check_ram_speed(press: PressParams, period: float, ram_speed: float, window: tuple[float, float],
+                    mechanism: Mechanism = SLIDER_CRANK) -> float:
     """Validate a window ram speed: negative and within `ram_speed_range` (ValueError otherwise)."""
     v = chk.finite("ram_speed", ram_speed)
     if v >= 0:
         raise ValueError(f"ram_speed must be negative (downstroke, dh/dt < 0), got {v!r} m/s")
-    fastest, slowest = ram_speed_range(press, period, window)
+    fastest, slowest = ram_speed_range(press, period, window, mechanism)
     if not fastest <= v <= slowest:
         raise ValueError(
             f"ram_speed must be in [{fastest:.4g}, {slowest:.4g}] m/s for period={period:g} s (stroke_rate_spm="
@@ -162,6 +167,9 @@ class SpeedProblem:
     max_pin_force : float or None
         Cap on the crank-pin and wrist-pin force magnitudes, N, held at every sample together with
         any objective (bearing rating). None: no cap.
+    mechanism : Mechanism
+        Keyword-only: the linkage (`pressocp.mechanism`) whose input crank the speed drives, the
+        slider-crank by default; its slider-crank part is `press`.
     """
 
     press: PressParams
@@ -176,9 +184,13 @@ class SpeedProblem:
     alpha_max: float | None = None
     min_tension: float | None = None
     max_pin_force: float | None = None
+    mechanism: Mechanism = field(default=SLIDER_CRANK, kw_only=True, repr=False)
 
     def __post_init__(self) -> None:
         chk.instance("press", self.press, PressParams)
+        if not hasattr(self.mechanism, "linkage"):
+            raise ValueError(f"mechanism must be a Mechanism (pressocp.mechanism), got {type(self.mechanism).__name__}")
+        self.mechanism.check_press(self.press)
         chk.convert_reals(self)
         T = chk.positive("period", self.period, "s")
         v = chk.finite("ram_speed", self.ram_speed)
@@ -187,7 +199,7 @@ class SpeedProblem:
         object.__setattr__(self, "window", (w0, w1))
         chk.choice("objective", self.objective, tuple(OBJECTIVES))
         chk.integer("n_harmonics", self.n_harmonics, 1, 50)
-        check_ram_speed(self.press, T, v, (w0, w1))
+        check_ram_speed(self.press, T, v, (w0, w1), self.mechanism)
         if self.ram_speed_tol is not None:
             chk.in_open_interval("ram_speed_tol", self.ram_speed_tol, 0.0, abs(v), "m/s")
         wbar = 2 * np.pi / T
@@ -247,8 +259,10 @@ class SpeedProblem:
     # Saving ------------------------------------------------------------------------------------
     def to_dict(self) -> dict:
         """Plain-data form (JSON-safe): ``{"press": ..., field: value, ...}``."""
-        d = {k: v for k, v in asdict(self).items() if k != "press"}
+        d = {k: v for k, v in asdict(self).items() if k not in ("press", "mechanism")}
         d["window"] = list(self.window)
+        if self.mechanism != SLIDER_CRANK:
+            d["mechanism"] = mechanism_to_dict(self.mechanism)
         return {"press": self.press.to_dict(), **d}
 
     @classmethod
@@ -258,6 +272,8 @@ class SpeedProblem:
         press = PressParams.from_dict(d.pop("press", {}))
         if "window" in d:
             d["window"] = tuple(d["window"])
+        if "mechanism" in d:
+            d["mechanism"] = mechanism_from_dict(d["mechanism"])
         return cls(press, **d)
 
 
@@ -265,6 +281,6 @@ def in_window(problem: SpeedProblem, theta: np.ndarray, ram_height: np.ndarray) 
     """Mask of the samples at which a ram is in the working window: on the downstroke (crank angle
     in [0, pi) modulo 2 pi) and between h2 H and h1 H."""
     h1, h2 = problem.window_heights
-    down = np.mod(np.asarray(theta), 2 * np.pi) < np.pi
+    down = np.mod(np.asarray(theta), 2 * np.pi) < problem.mechanism.bottom_dead_centre(problem.press)
     h = np.asarray(ram_height)
     return down & (h >= h2) & (h <= h1)

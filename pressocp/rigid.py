@@ -38,7 +38,7 @@ def kinematics_function(params: PressParams) -> ca.Function:
     )
 
 
-def _evaluate(f: ca.Function, *args: Any) -> dict[str, np.ndarray]:
+def evaluate_elementwise(f: ca.Function, *args: Any) -> dict[str, np.ndarray]:
     """Evaluate a scalar-input CasADi function elementwise over broadcast numpy arrays."""
     arrays = np.broadcast_arrays(*[np.asarray(a, dtype=float) for a in args])
     shape = arrays[0].shape
@@ -73,7 +73,7 @@ def rigid_kinematics(params: PressParams, theta: Any, omega: Any = 0.0, alpha: A
     """
     for name, v in (("theta", theta), ("omega", omega), ("alpha", alpha)):
         chk.finite_array(name, v, ndim=None)
-    return _evaluate(kinematics_function(params), theta, omega, alpha)
+    return evaluate_elementwise(kinematics_function(params), theta, omega, alpha)
 
 
 def crank_angle_at_height(params: PressParams, height: Any, stroke: str = "down") -> np.ndarray:
@@ -171,7 +171,7 @@ def rigid_inverse_dynamics(params: PressParams, theta: Any, omega: Any, alpha: A
     """
     for name, v in (("theta", theta), ("omega", omega), ("alpha", alpha)):
         chk.finite_array(name, v, ndim=None)
-    return _evaluate(inverse_dynamics_function(params), theta, omega, alpha)
+    return evaluate_elementwise(inverse_dynamics_function(params), theta, omega, alpha)
 
 
 def rigid_response(params: PressParams, speed: FourierSpeed, t: Any = None) -> SimResult:
@@ -197,7 +197,12 @@ def rigid_response(params: PressParams, speed: FourierSpeed, t: Any = None) -> S
         t = np.linspace(0.0, speed.period, 2001)
     t = chk.finite_array("t", t)
     theta, omega, alpha = speed.evaluate(t)
-    out = rigid_inverse_dynamics(params, theta, omega, alpha)
+    return ideal_result(t, theta, omega, rigid_inverse_dynamics(params, theta, omega, alpha))
+
+
+def ideal_result(t: np.ndarray, theta: np.ndarray, omega: np.ndarray, out: dict[str, np.ndarray]) -> SimResult:
+    """A `SimResult` of an ideal press: times (s), crank angle and speed, and the inverse dynamics'
+    samples `out` (`INVERSE_DYNAMICS_OUTPUTS`); the eccentricities and the rod deflection are zero."""
     zeros = np.zeros_like(t)
     return SimResult(
         t=t, theta=theta, omega=omega, torque=out["torque"], ram_height=out["ram_height"],

@@ -125,14 +125,69 @@ def test_a_six_bar_whose_press_crank_differs_from_the_press_fails_before_buildin
         SixBar(coupler_mass=-1.0)
 
 
-def test_optimising_a_six_bar_says_it_is_not_supported_before_any_solve():
-    from pressocp import SpeedProblem, optimize_speed
+def six_bar_problem(mech: SixBar, **kwargs):
+    from pressocp import SpeedProblem
+
+    return SpeedProblem(press_for(mech.drive), period=0.8, ram_speed=-0.1, mechanism=mech, **kwargs)
+
+
+def test_a_model_of_another_mechanism_than_the_problem_fails_before_any_solve():
+    from pressocp import optimize_speed
+
+    problem = six_bar_problem(SixBar())
+    with pytest.raises(ValueError, match="model.mechanism must be the problem's"):
+        optimize_speed(problem, build_model(problem.press))
+
+
+def test_the_six_bar_kinematic_design_holds_the_ram_speed_in_its_window():
+    """The design's ram speed over the window, from the numpy kinematics of the input speed, within
+    the design's band (half the tolerance) of the asked speed."""
+    from pressocp import design_speed
 
     mech = SixBar()
-    press = press_for(mech.drive)
-    problem = SpeedProblem(press)
-    with pytest.raises(NotImplementedError, match="six-bar press is simulated, not yet optimised"):
-        optimize_speed(problem, build_model(press, mechanism=mech))
+    problem = six_bar_problem(mech)
+    d = design_speed(problem)
+    assert d.converged
+    t = np.linspace(d.t1, d.t2, 2001)
+    theta, omega, _ = d.speed.evaluate(t)
+    v = sixbar_kinematics(mech.drive, theta)["dh_dtheta"] * omega
+    assert np.max(np.abs(v - problem.ram_speed)) <= 0.5 * problem.tol * (1 + 1e-3)
+    h = sixbar_kinematics(mech.drive, theta[[0, -1]])["ram_height"]
+    h1, h2 = problem.window_heights
+    assert h[0] == pytest.approx(h1, abs=1e-9)  # the window starts at h1 on the downstroke
+    assert h[1] == pytest.approx(h2, abs=0.5 * problem.tol * problem.window_duration)
+
+
+def test_the_six_bar_rigid_optimum_is_verified_on_its_own_model():
+    """optimize_speed on the ideal six-bar: converged and verified, its peak torque that of the six-bar's
+    Lagrangian model (`PressModel.ideal_series`, a derivation apart from the closed forms the NLP uses),
+    the ram speed in the window by the numpy kinematics, and the peak lower than the design's."""
+    from pressocp import Rigid, Strategy, design_speed, optimize_speed
+
+    mech = SixBar(input_inertia=0.3, coupler_mass=4.0)
+    problem = six_bar_problem(mech)
+    model = build_model(problem.press, clearance=(), mechanism=mech)
+    r = optimize_speed(problem, model, strategy=Strategy(rigid=Rigid(samples=400)), progress=False)
+    assert r.success and r.verified
+    t = np.linspace(0.0, problem.period, 8001)
+    peak = np.max(np.abs(model.ideal_series(r.speed, t)["torque"]))
+    assert r.peak_torque == pytest.approx(peak, rel=1e-4)
+    assert peak < 0.8 * np.max(np.abs(model.ideal_series(design_speed(problem).speed, t)["torque"]))
+    tw = np.linspace(r.t1, r.t2, 2001)
+    theta, omega, _ = r.speed.evaluate(tw)
+    v = sixbar_kinematics(mech.drive, theta)["dh_dtheta"] * omega
+    assert np.max(np.abs(v - problem.ram_speed)) <= problem.tol * (1 + 1e-3)
+
+
+@pytest.mark.slow  # about 4 minutes on 2 cores
+def test_the_six_bar_clearance_optimum_is_verified():
+    """The default chain on the six-bar with both clearances (collocation on the clearance model):
+    converged, verified by periodic re-simulation, the ram speed within tolerance."""
+    from pressocp import optimize_speed
+
+    r = optimize_speed(six_bar_problem(SixBar(input_inertia=0.3, coupler_mass=4.0)), progress=False)
+    assert r.success and r.verified and r.periodic
+    assert r.max_ram_speed_violation == 0.0
 
 
 def test_sensitivities_of_a_six_bar_differentiate_the_six_bar():

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 import casadi as ca
+import numpy as np
 from ..params import PressParams
 
 
@@ -85,8 +86,31 @@ class Mechanism(Protocol):
     joints: tuple[str, ...]
     rods: tuple[str, ...]
 
+    def check_press(self, params: PressParams) -> None:
+        """ValueError when the press does not fit this mechanism (before anything is built)."""
+        ...
+
     def to_dict(self) -> dict:
         """Its settings as plain data."""
+        ...
+
+    def kinematics_function(self, params: PressParams) -> ca.Function:
+        """The ideal press's (theta, omega, alpha) of the driven crank -> ``ram_height``,
+        ``ram_velocity``, ``ram_acceleration``, ``rod_angle``, ``rod_angular_velocity``,
+        ``rod_angular_acceleration`` (the outputs of `pressocp.rigid.kinematics_function`)."""
+        ...
+
+    def inverse_dynamics(self, values: PressParams, theta: ca.SX, omega: ca.SX, alpha: ca.SX) -> dict:
+        """The ideal press's `pressocp.rigid.INVERSE_DYNAMICS_OUTPUTS` as SX expressions of the driven
+        crank's motion (`theta` a symbol; `values` may hold symbols)."""
+        ...
+
+    def bottom_dead_centre(self, params: PressParams) -> float:
+        """The driven crank's angle at bottom dead centre, rad: the downstroke is [0, it)."""
+        ...
+
+    def input_angle_at_height(self, params: PressParams, height: Any, stroke: str = "down") -> np.ndarray:
+        """The driven crank's angle (rad) with the ram at `height` (m) on the "down" or "up" stroke."""
         ...
 
     @classmethod

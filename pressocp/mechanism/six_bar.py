@@ -15,10 +15,12 @@ from dataclasses import asdict, dataclass, field
 from typing import ClassVar
 
 import casadi as ca
+import numpy as np
 
 from .. import checks as chk
+from .. import rigid
 from ..params import PressParams
-from ..sixbar import SixBarPress
+from ..sixbar import SixBarPress, sixbar_kinematics
 from .base import Linkage
 from .slider_crank import SLIDER_CRANK
 
@@ -76,6 +78,13 @@ class SixBar:
         if self.coupler_inertia is not None:
             chk.nonnegative("coupler_inertia", self.coupler_inertia, "kg m^2")
 
+    def check_press(self, params: PressParams) -> None:
+        """ValueError unless the press's crank radius and rod length are the drive's (the same part)."""
+        for name in ("crank_radius", "rod_length"):
+            if getattr(params, name) != getattr(self.drive, name):
+                raise ValueError(f"{name} = {getattr(params, name):g} m of the press differs from the six-bar "
+                                 f"drive's {getattr(self.drive, name):g} m: they are the same part")
+
     def to_dict(self) -> dict:
         """The drive's geometry and the four-bar's inertias as plain data."""
         return {"drive": asdict(self.drive), "input_inertia": self.input_inertia, "coupler_mass": self.coupler_mass,
@@ -86,14 +95,69 @@ class SixBar:
         return cls(SixBarPress(**data.get("drive", {})), data.get("input_inertia", 0.0), data.get("coupler_mass", 0.0),
                    data.get("coupler_inertia"))
 
+    # The ideal press: the slider-crank's closed forms at the press crank's motion ---------------
+    def crank_motion(self, theta: ca.SX, omega: ca.SX, alpha: ca.SX) -> tuple[ca.SX, ca.SX, ca.SX, ca.SX]:
+        """The press crank's angle, rate and acceleration (rad, rad/s, rad/s^2) at the input crank's
+        motion (`theta` a symbol), and the velocity ratio dpsi/dtheta."""
+        psi = fourbar(self.drive, theta)[0]
+        d1 = ca.jacobian(psi, theta)
+        return psi, d1 * omega, ca.jacobian(d1, theta) * omega**2 + d1 * alpha, d1
+
+    def fourbar_energies(self, values: PressParams, theta: ca.SX, omega: ca.SX) -> tuple[ca.SX, ca.SX, ca.SX]:
+        """The input crank's and coupler's kinetic and potential energy (J) and their generalised
+        mass about the input axis M(theta) (kg m^2: T = M omega^2 / 2)."""
+        _, beta, G = fourbar(self.drive, theta)
+        dG, dbeta = ca.jacobian(G, theta), ca.jacobian(beta, theta)
+        J_c = self.coupler_mass * self.drive.coupler**2 / 12 if self.coupler_inertia is None else self.coupler_inertia
+        mass = self.input_inertia + self.coupler_mass * ca.sumsqr(dG) + J_c * dbeta**2
+        return 0.5 * mass * omega**2, self.coupler_mass * values.gravity * G[1], mass
+
+    def kinematics_function(self, params: PressParams) -> ca.Function:
+        """(theta, omega, alpha) of the input crank -> ram and rod kinematics (the outputs of
+        `pressocp.rigid.kinematics_function`)."""
+        th, om, al = ca.SX.sym("theta"), ca.SX.sym("omega"), ca.SX.sym("alpha")
+        psi, psi_d, psi_dd, _ = self.crank_motion(th, om, al)
+        f = rigid.kinematics_function(params)
+        out = f(psi, psi_d, psi_dd)
+        return ca.Function("six_bar_kinematics", [th, om, al], list(out), ["theta", "omega", "alpha"], f.name_out())
+
+    def inverse_dynamics(self, values: PressParams, theta, omega, alpha) -> dict:
+        """`pressocp.rigid.INVERSE_DYNAMICS_OUTPUTS` of the ideal six-bar (SX) at the input crank's motion:
+        the slider-crank's at the press crank's motion, the torque brought to the input axis
+        (tau psi') plus the four-bar links' own, M alpha + M' omega^2 / 2 + dV/dtheta, and their
+        energies added."""
+        psi, psi_d, psi_dd, ratio = self.crank_motion(theta, omega, alpha)
+        crank = ca.SX.sym("psi", 3)  # the closed forms differentiate with respect to a symbol
+        at_crank = rigid.inverse_dynamics(values, crank[0], crank[1], crank[2])
+        out = dict(zip(at_crank, ca.substitute(list(at_crank.values()), [crank], [ca.vertcat(psi, psi_d, psi_dd)])))
+        T4, V4, mass = self.fourbar_energies(values, theta, omega)
+        links = mass * alpha + 0.5 * ca.jacobian(mass, theta) * omega**2 + ca.jacobian(V4, theta)
+        out["torque"] = out["torque"] * ratio + links
+        out["kinetic_energy"] = out["kinetic_energy"] + T4
+        out["potential_energy"] = out["potential_energy"] + V4
+        return out
+
+    def bottom_dead_centre(self, params: PressParams) -> float:
+        """The input angle at bottom dead centre, rad (the downstroke is [0, it))."""
+        return float(self.input_angle_at_height(params, 0.0))
+
+    def input_angle_at_height(self, params: PressParams, height, stroke: str = "down") -> np.ndarray:
+        """Input angle (rad, in [0, 2 pi)) with the ram at `height` (m) on the down- or upstroke: the
+        press crank's angle from the slider-crank's closed form, the input angle from the four-bar by
+        Newton's method on the numpy kinematics (`pressocp.sixbar`), to round-off."""
+        psi = np.asarray(rigid.crank_angle_at_height(params, height, stroke), float)
+        grid = np.linspace(0.0, 2 * np.pi, 2049)
+        theta = np.interp(psi, sixbar_kinematics(self.drive, grid)["psi"], grid)
+        for _ in range(6):
+            k = sixbar_kinematics(self.drive, theta)
+            theta = theta - (k["psi"] - psi) / k["dpsi_dtheta"]
+        return theta
+
     def linkage(self, params: PressParams, values: PressParams, rod: str, n_elements: int,
                 n_modes: int | None) -> Linkage:
         """The slider-crank's linkage with psi(theta) in place of its crank angle, plus the input
         crank's and the coupler's energies (`Mechanism.linkage`)."""
-        for name in ("crank_radius", "rod_length"):
-            if getattr(params, name) != getattr(self.drive, name):
-                raise ValueError(f"{name} = {getattr(params, name):g} m of the press differs from the six-bar "
-                                 f"drive's {getattr(self.drive, name):g} m: they are the same part")
+        self.check_press(params)
         sc = SLIDER_CRANK.linkage(params, values, rod, n_elements, n_modes)
         Q, Qd = ca.SX.sym("Q", sc.Q.numel()), ca.SX.sym("Qd", sc.Q.numel())
         psi, beta, G = fourbar(self.drive, Q[0])

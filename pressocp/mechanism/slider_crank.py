@@ -17,6 +17,7 @@ import numpy as np
 
 from .. import beam
 from .. import mechanics as mech
+from .. import rigid
 from ..params import PressParams
 from .base import Linkage
 
@@ -111,9 +112,29 @@ class SliderCrank:
     joints: ClassVar[tuple[str, ...]] = ("crank_pin", "wrist_pin")
     rods: ClassVar[tuple[str, ...]] = ("rigid", "flexible")
 
+    def check_press(self, params: PressParams) -> None:
+        """Any press is a slider-crank: nothing to check."""
+
     def to_dict(self) -> dict:
         """No settings of its own: the press is `PressParams`."""
         return {}
+
+    # The ideal press (closed forms, `pressocp.rigid`) ---------------------------------------------
+    def kinematics_function(self, params: PressParams) -> ca.Function:
+        """(theta, omega, alpha) -> ram and rod kinematics (`pressocp.rigid.kinematics_function`)."""
+        return rigid.kinematics_function(params)
+
+    def inverse_dynamics(self, values: PressParams, theta, omega, alpha) -> dict:
+        """`pressocp.rigid.INVERSE_DYNAMICS_OUTPUTS` of the ideal press (SX) at the crank motion."""
+        return rigid.inverse_dynamics(values, theta, omega, alpha)
+
+    def bottom_dead_centre(self, params: PressParams) -> float:
+        """The crank angle at bottom dead centre, pi (the downstroke is [0, pi))."""
+        return np.pi
+
+    def input_angle_at_height(self, params: PressParams, height, stroke: str = "down") -> np.ndarray:
+        """Crank angle (rad) with the ram at `height` (m) (`pressocp.rigid.crank_angle_at_height`)."""
+        return rigid.crank_angle_at_height(params, height, stroke)
 
     @classmethod
     def from_dict(cls, data: dict) -> "SliderCrank":

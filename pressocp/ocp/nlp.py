@@ -17,7 +17,6 @@ from ..compile_cache import compile_seconds, function_options
 from ..interrupt import compiling, interruptible
 from ..objectives import Objective
 from ..problem import SpeedProblem
-from ..rigid import kinematics_function
 from ..simulate import first_line
 from ..speed import FourierSpeed, series
 
@@ -171,7 +170,7 @@ def ram_function(problem: SpeedProblem, jit: bool = False) -> ca.Function:
     n, T = problem.n_harmonics, problem.period
     t, c = ca.SX.sym("t"), ca.SX.sym("c", 2 * n)
     th, om, al = series(t, c[:n], c[n:], T)
-    kin = kinematics_function(problem.press)(theta=th, omega=om, alpha=al)
+    kin = problem.mechanism.kinematics_function(problem.press)(theta=th, omega=om, alpha=al)
     with compiling():
         return ca.Function("ram", [t, c], [kin["ram_height"], kin["ram_velocity"], th], function_options(jit))
 
@@ -188,7 +187,7 @@ def add_kinematic_window(cons: Constraints, problem: SpeedProblem, c, t1, durati
     if h_start is not None:
         h1, _, th1 = f(t1, c)
         cons.add((h1 - h_start) / problem.press.stroke, 0.0, 0.0, "window_start")
-        cons.add(th1, 0.0, np.pi, "window_start")
+        cons.add(th1, 0.0, problem.mechanism.bottom_dead_centre(problem.press), "window_start")
 
 
 # Objective, bounds and caps ----------------------------------------------------------------------

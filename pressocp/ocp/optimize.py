@@ -108,13 +108,13 @@ def checked_request(problem: SpeedProblem, model: PressModel | None, transcripti
         raise ValueError(f"transcription must be Rigid, MultipleShooting or Collocation (a Transcription), "
                          f"got {type(tr).__name__}")
     if model is None:
-        model = build_model(problem.press, n_harmonics=problem.n_harmonics)
+        model = build_model(problem.press, n_harmonics=problem.n_harmonics, mechanism=problem.mechanism)
     chk.instance("model", model, PressModel)
     if model.params != problem.press:
         raise ValueError("model.params must be the problem's press (build the model from problem.press)")
-    if model.mechanism.name != "slider_crank":
-        raise NotImplementedError(f"the optimiser's rigid stage and ram window use the slider-crank's kinematics; a "
-                                  f"{model.mechanism.name.replace('_', '-')} press is simulated, not yet optimised")
+    if model.mechanism != problem.mechanism:
+        raise ValueError(f"model.mechanism must be the problem's ({problem.mechanism!r}), got {model.mechanism!r}: "
+                         "build the model with mechanism=problem.mechanism")
     if not model.is_rigid and not tr.has_states:
         raise ValueError(f"{type(tr).__name__} solves the rigid press only; the model has states: pass "
                          "MultipleShooting or Collocation (or a model built with clearance=())")

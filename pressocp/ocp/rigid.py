@@ -19,7 +19,7 @@ from ..design import design_speed
 from ..model import ModelSpec, PressModel
 from ..objectives import get as get_objective
 from ..problem import SpeedProblem
-from ..rigid import crank_angle_at_height, inverse_dynamics, rigid_response
+from ..mechanism.ideal import ideal_response
 from ..speed import FourierSpeed
 from .nlp import (IPOPT_RIGID, Constraints, NlpData, NlpRun, add_kinematic_window, add_objective, add_pin_cap,
                   add_speed_bounds, lifted_crank, scaled_crank_start, solve_nlp)
@@ -36,7 +36,7 @@ def loads_function(problem: SpeedProblem, symbols: tuple[str, ...] = (), jit: bo
     `jit`, it and its derivatives are compiled (`pressocp.compile_cache`)."""
     th, om, al = ca.SX.sym("theta"), ca.SX.sym("omega"), ca.SX.sym("alpha")
     press, q = problem.press.with_symbols(tuple(symbols)) if symbols else (problem.press, [])
-    dyn = inverse_dynamics(press, th, om, al)
+    dyn = problem.mechanism.inverse_dynamics(press, th, om, al)
     with compiling():
         return ca.Function("loads", [th, om, al, ca.vertcat(*q) if q else ca.SX(0, 1)],
                            [dyn[k] for k in LOAD_OUTPUTS], function_options(jit))
@@ -135,7 +135,7 @@ class Rigid(Transcription):
         jit = use_jit(self.jit, "the rigid stage")
         y = dict(zip(LOAD_OUTPUTS, loads_function(P, symbols, jit).map(N)(W[0, :], W[1, :], W[2, :], q)))
         y.update(theta=W[0, :], omega=W[1, :])
-        scale = objective.value(rigid_response(P.press, initial, ts)) if point is None else point.scale
+        scale = objective.value(ideal_response(P.press, P.mechanism, initial, ts)) if point is None else point.scale
         f = add_objective(cons, objective, y, s, scale)
         add_kinematic_window(cons, P, c, t1, duration, self.window_samples, self.backoff, h_start, jit)
         add_speed_bounds(cons, P, W[1, :], W[2, :])
@@ -153,9 +153,9 @@ class Rigid(Transcription):
                         NlpRun(f"rigid_{name}", {**IPOPT_RIGID, **oracle_options(jit), **self.ipopt}, objective,
                                scale, f"{name} (rigid press, {N} samples)", progress))
         speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
-        sampled = rigid_response(P.press, speed, ts)
+        sampled = ideal_response(P.press, P.mechanism, speed, ts)
         return StageResult(
-            name=name, transcription=repr(self), model=ModelSpec("rigid", ()).describe(), success=out.success,
+            name=name, transcription=repr(self), model=ModelSpec("rigid", (), mechanism=P.mechanism).describe(), success=out.success,
             status=out.status, iterations=out.iterations, wall_time=out.wall_time, objective=objective.value(sampled),
             speed=speed, last_speed=FourierSpeed.from_coefficients(T, out.last_w[: 2 * n]),
             t1=float(out.w[2 * n + 1]), history=out.history, barrier=out.barrier, iteration_log=out.iteration_log,
@@ -194,6 +194,6 @@ def start_speed(problem: SpeedProblem, start: WarmStart | None, h_start: float, 
         raise ValueError(f"start.speed.period must equal the problem's period {T:g} s, got {start.speed.period:g} s")
     padded = start.speed.padded(problem.n_harmonics)
     initial = FourierSpeed(T, padded.a, padded.b, 0.0)
-    th1 = float(crank_angle_at_height(problem.press, min(h_start, problem.press.stroke), "down"))
+    th1 = float(problem.mechanism.input_angle_at_height(problem.press, min(h_start, problem.press.stroke), "down"))
     tg = np.linspace(0, T, 20001)
     return initial, float(np.interp(th1, initial.theta(tg), tg))

@@ -200,7 +200,7 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
             problem = problem.replace(min_tension=stage.details["min_tension_N"])
         spec = result.model
     elif transcription.gives_parametric_point:
-        spec = result.model if stage.model == result.model.describe() else ModelSpec("rigid", result.model.clearance)
+        spec = result.model if stage.model == result.model.describe() else ModelSpec("rigid", result.model.clearance, mechanism=result.model.mechanism)
     else:
         raise ValueError(f"the answer comes from {type(transcription).__name__} (stage {stage.name!r}); optimum "
                          "sensitivities need a Rigid or Collocation answer: optimise with the default transcription")

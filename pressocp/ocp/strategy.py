@@ -43,7 +43,7 @@ from ..objectives import get as get_objective
 from ..params import PressParams
 from ..problem import SpeedProblem
 from ..result import SimResult
-from ..rigid import rigid_inverse_dynamics
+from ..mechanism.ideal import ideal_inverse_dynamics
 from ..simulate import SimulationError
 from ..speed import FourierSpeed
 from .candidates import run_candidates
@@ -194,7 +194,7 @@ class Strategy:
     def clearance_spec(spec: ModelSpec) -> ModelSpec:
         """The model level of the clearance stages for a target model level: its clearances on a rigid
         rod (a flexible rod follows them, `on_flexible_rod`)."""
-        return spec if spec.rod == "rigid" else ModelSpec("rigid", spec.clearance, 4)
+        return spec if spec.rod == "rigid" else ModelSpec("rigid", spec.clearance, 4, mechanism=spec.mechanism)
 
     def rigid_rod_stages(self, problem: SpeedProblem, base: PressModel, rigid: StageResult,
                          transcription: Transcription, initial: FourierSpeed, progress: bool,
@@ -292,7 +292,7 @@ class Strategy:
             if transcription.needs_soft_start and self.soft_factor is not None \
                     and neighbour is None and start.check.ratio > IMPACT_RATIO:
                 chain.append(("soft", build_model(soft_params(base.params, self.soft_factor), "rigid", base.clearance,
-                                                  n_harmonics=base.n_harmonics)))
+                                                  n_harmonics=base.n_harmonics, mechanism=base.mechanism)))
             chain.append(("target", base))
         speed = start.speed if neighbour is None else neighbour
         for k, (name, m) in enumerate(chain):
@@ -443,7 +443,7 @@ class Strategy:
         sim, ratio, dense = self.screened(model, stage.speed, problem)
         viol = max(ram_speed_violation(sim, problem), 0.0)
         periodic = is_periodic(sim)
-        ne = rigid_inverse_dynamics(problem.press, *stage.speed.evaluate(dense.t))
+        ne = ideal_inverse_dynamics(problem.press, problem.mechanism, *stage.speed.evaluate(dense.t))
         add_time(stage, "checks", time.perf_counter() - t0)
         return Check(model=model.spec.describe(), objective=get_objective(problem.objective).value(sim), ratio=ratio,
                      periodic=periodic, ram_speed_violation=viol, peak_torque=sim.peak("torque"),

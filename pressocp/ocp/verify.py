@@ -9,7 +9,7 @@ from ..model import PressModel
 from ..objectives import get as get_objective
 from ..problem import SpeedProblem, in_window
 from ..result import SimResult
-from ..rigid import rigid_response
+from ..mechanism.ideal import ideal_response
 from ..simulate import Integrator, SimulationError, simulate
 from ..speed import FourierSpeed
 
@@ -23,7 +23,7 @@ VERIFY_SAMPLES = 20001
 def rigid_reference(problem: SpeedProblem, speed: FourierSpeed) -> SimResult:
     """The ideal press's response to `speed` on the verification grid (`VERIFY_SAMPLES` per cycle):
     the reference a re-simulation on a model with clearance is compared with."""
-    return rigid_response(problem.press, speed, np.linspace(0.0, problem.period, VERIFY_SAMPLES))
+    return ideal_response(problem.press, problem.mechanism, speed, np.linspace(0.0, problem.period, VERIFY_SAMPLES))
 
 
 def ram_speed_deviation(sim: SimResult, problem: SpeedProblem) -> float | None:
