@@ -42,7 +42,7 @@ from .speed import FourierSpeed
 #: Transcriptions a scenario can name ("auto": the default chain's, collocation).
 TRANSCRIPTIONS = ("auto", "collocation", "shooting-idas", "shooting-cvodes")
 #: Keys of the [problem] table other than the cycle (`stroke_rate_spm` or `period_s`).
-PROBLEM_KEYS = tuple(f.name for f in fields(SpeedProblem) if f.name not in ("press", "period"))
+PROBLEM_KEYS = tuple(f.name for f in fields(SpeedProblem) if f.name not in ("press", "period", "mechanism"))
 #: Keys of the [solver] table.
 SOLVER_KEYS = ("transcription", "elements", "jit", "verify_rtol", "polish_rounds")
 
