@@ -316,11 +316,12 @@ def build_model(
     st = Locked(lk, params, spec.clearance, crank)
     lag = mech.lagrangian(lk.kinetic, lk.potential, lk.Q, lk.Qd)
     F_gen, contacts = with_contacts(lk, P, spec.clearance, lag.Q + lk.forces)
-    F_gen = F_gen + ca.jacobian(lk.ram_height, lk.Q).T @ mech.process_force(P, lk.ram_height, lk.rate(lk.ram_height))
+    f_proc = mech.process_force(P, lk.ram_height, lk.rate(lk.ram_height))
+    F_gen = F_gen + ca.jacobian(lk.ram_height, lk.Q).T @ f_proc
 
     Mff, rhs, qdd_free, lam = st.solve(lag.M, F_gen)
     out_exprs = outputs_of(lk, st, lam, contacts, qdd_free, crank)
-    quad = quadratures(lk, st, P, lam, contacts, crank)
+    quad = quadratures(lk, st, f_proc, lam, contacts, crank)
     motion = ca.vertcat(*series(t, p[:nh], p[nh : 2 * nh], p[2 * nh], p[2 * nh + 1]))
 
     def timed(exprs):  # the crank motion of the Fourier speed in p at time t
@@ -453,15 +454,15 @@ def outputs_of(lk: Linkage, st: Locked, lam: ca.SX, contacts: dict, qdd_free: ca
     return [values[n] for n in OUTPUT_NAMES]
 
 
-def quadratures(lk: Linkage, st: Locked, P: PressParams, lam: ca.SX, contacts: dict, crank: ca.SX) -> ca.SX:
+def quadratures(lk: Linkage, st: Locked, f_proc: ca.SX, lam: ca.SX, contacts: dict, crank: ca.SX) -> ca.SX:
     """The integrands of `QUADRATURE_NAMES`: motor power, the power the contacts absorb and its
-    elastic part, the process force's power and the power dissipated by the linkage's forces, W."""
+    elastic part, the power of the process force `f_proc` (N, along the ram height) and the power
+    dissipated by the linkage's forces, W."""
     idx0 = st.locked.index(0)
     contact_power = sum((st.at_state([-ca.dot(cf.vector_on_bearing, lk.rate(lk.eccentricity(j)))])[0]
                          for j, cf in contacts.items()), ca.SX(0))
     elastic_power = sum((st.at_state([cf.elastic_force * cf.penetration_rate])[0] for cf in contacts.values()),
                         ca.SX(0))
-    h = lk.ram_height
-    process_power = st.at_state([mech.process_force(P, h, lk.rate(h)) * lk.rate(h)])[0]
+    process_power = st.at_state([f_proc * lk.rate(lk.ram_height)])[0]
     return ca.vertcat(lam[idx0] * crank[1], contact_power, elastic_power, process_power,
                       st.at_state([lk.dissipated])[0])

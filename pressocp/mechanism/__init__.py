@@ -1,5 +1,5 @@
 """Mechanisms: what a linkage gives the model builder (`Linkage`, `Mechanism`) and the linkages
-(`SliderCrank`).
+(`SliderCrank`, `SixBar`).
 
 A linkage states its generalised coordinates, its kinetic and potential energies, the joints where
 a clearance may sit and the ram's height, all symbolic; `pressocp.model.build_model` derives the

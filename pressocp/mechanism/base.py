@@ -7,6 +7,7 @@ from typing import Any, Protocol
 
 import casadi as ca
 import numpy as np
+
 from ..params import PressParams
 
 

@@ -1,6 +1,6 @@
 """The ideal press (ideal joints, rigid rod) of any mechanism, evaluated at numbers: kinematics,
-inverse dynamics and the response to a crank speed. For the slider-crank these are the closed
-forms of `pressocp.rigid`, the same functions."""
+inverse dynamics and the response to a crank speed, from the mechanism's own (for the slider-crank
+the closed forms of `pressocp.rigid`)."""
 
 from __future__ import annotations
 
@@ -16,14 +16,11 @@ from ..params import PressParams
 from ..result import SimResult
 from ..speed import FourierSpeed
 from .base import Mechanism
-from .slider_crank import SLIDER_CRANK
 
 
 @lru_cache(maxsize=32)
-def inverse_dynamics_function(params: PressParams, mechanism: Mechanism = SLIDER_CRANK) -> ca.Function:
+def inverse_dynamics_function(params: PressParams, mechanism: Mechanism) -> ca.Function:
     """(theta, omega, alpha) -> `pressocp.rigid.INVERSE_DYNAMICS_OUTPUTS` of the ideal press (one sample)."""
-    if mechanism == SLIDER_CRANK:
-        return rigid.inverse_dynamics_function(params)
     theta, omega, alpha = ca.SX.sym("theta"), ca.SX.sym("omega"), ca.SX.sym("alpha")
     out = mechanism.inverse_dynamics(params, theta, omega, alpha)
     return ca.Function("ideal_inverse_dynamics", [theta, omega, alpha],
@@ -34,8 +31,8 @@ def inverse_dynamics_function(params: PressParams, mechanism: Mechanism = SLIDER
 def ideal_kinematics(params: PressParams, mechanism: Mechanism, theta: Any, omega: Any = 0.0,
                      alpha: Any = 0.0) -> dict[str, np.ndarray]:
     """Ram and rod kinematics of the ideal press at the driven crank's motion (arrays broadcast)."""
-    if mechanism == SLIDER_CRANK:
-        return rigid.rigid_kinematics(params, theta, omega, alpha)
+    for name, v in (("theta", theta), ("omega", omega), ("alpha", alpha)):
+        chk.finite_array(name, v, ndim=None)
     return rigid.evaluate_elementwise(mechanism.kinematics_function(params), theta, omega, alpha)
 
 
@@ -50,8 +47,6 @@ def ideal_inverse_dynamics(params: PressParams, mechanism: Mechanism, theta: Any
 def ideal_response(params: PressParams, mechanism: Mechanism, speed: FourierSpeed, t: Any = None) -> SimResult:
     """The ideal press's response to `speed` at times `t` (s; default 2001 over a period), as a
     `SimResult` whose eccentricities and rod deflection are zero (`pressocp.rigid.rigid_response`)."""
-    if mechanism == SLIDER_CRANK:
-        return rigid.rigid_response(params, speed, t)
     chk.instance("speed", speed, FourierSpeed)
     t = chk.finite_array("t", np.linspace(0.0, speed.period, 2001) if t is None else t)
     theta, omega, alpha = speed.evaluate(t)

@@ -160,21 +160,15 @@ class SixBar:
         self.check_press(params)
         sc = SLIDER_CRANK.linkage(params, values, rod, n_elements, n_modes)
         Q, Qd = ca.SX.sym("Q", sc.Q.numel()), ca.SX.sym("Qd", sc.Q.numel())
-        psi, beta, G = fourbar(self.drive, Q[0])
-        Q_sc = ca.vertcat(psi, Q[1:])
+        Q_sc = ca.vertcat(fourbar(self.drive, Q[0])[0], Q[1:])
         J = ca.jacobian(Q_sc, Q)
 
         def sub(expr):  # from the slider-crank's coordinates to these
             return ca.substitute(expr, ca.vertcat(sc.Q, sc.Qd), ca.vertcat(Q_sc, J @ Qd))
 
-        def rate(expr):
-            return ca.jtimes(expr, Q, Qd)
-
-        J_c = self.coupler_mass * self.drive.coupler**2 / 12 if self.coupler_inertia is None else self.coupler_inertia
-        kinetic = (sub(sc.kinetic) + 0.5 * self.input_inertia * Qd[0] ** 2
-                   + 0.5 * self.coupler_mass * ca.sumsqr(rate(G)) + 0.5 * J_c * rate(beta) ** 2)
-        potential = sub(sc.potential) + self.coupler_mass * values.gravity * G[1]
-        return Linkage(Q=Q, Qd=Qd, names=["theta", *sc.names[1:]], kinetic=kinetic, potential=potential,
+        T4, V4, _ = self.fourbar_energies(values, Q[0], Qd[0])
+        return Linkage(Q=Q, Qd=Qd, names=["theta", *sc.names[1:]], kinetic=sub(sc.kinetic) + T4,
+                       potential=sub(sc.potential) + V4,
                        forces=J.T @ sub(sc.forces), dissipated=sub(sc.dissipated), joints=sc.joints,
                        elastic=sc.elastic, ram_height=sub(sc.ram_height), reactions=sc.reactions,
                        outputs={k: sub(v) for k, v in sc.outputs.items()}, details=sc.details)
