@@ -22,12 +22,13 @@ ground direction is fixed (input axis above output axis, ``ground_angle = pi``)
 because rotating the four-bar is equivalent to changing the arm phase.  The
 ground link is fixed at 0.05 m (kinematics depend only on length ratios).  The
 chosen candidate is rounded to 0.1 mm / 0.01 deg and re-verified with the
-package implementation.  The design hard-coded in ``SixBarPress`` is the
-slowest rounded candidate with ``dev <= CHOSEN_CAP`` (2 %).  Full run ≈ 2-3 min.
+package's CasADi six-bar.  The design hard-coded in ``SixBarPress`` is the
+slowest rounded candidate with ``dev <= CHOSEN_CAP`` (2 %).  About 10 ms per candidate through
+the CasADi six-bar (2026-11-26), so a full run takes about half an hour; ``--quick`` a few minutes.
 
 Run::
 
-    PYTHONPATH=/work/main /tmp/venv/bin/python benchmarks/design_sixbar.py [--quick]
+    python -m benchmarks.design_sixbar [--quick]
 """
 
 from __future__ import annotations
@@ -39,7 +40,10 @@ import time
 import numpy as np
 from scipy.optimize import differential_evolution, minimize
 
-from pressocp.sixbar import SixBarPress, sixbar_kinematics, working_zone_interval, working_zone_speed
+from pressocp import PressParams
+from pressocp.mechanism import SixBar, SixBarPress, constant_speed_zone
+from pressocp.mechanism.six_bar import press_crank_function
+from pressocp.rigid import evaluate_elementwise
 
 GROUND = 0.05  # m, ground link (scale of the four-bar)
 R, L = 0.05, 0.25  # m, press crank radius and rod length (fixed by the reference press)
@@ -86,8 +90,8 @@ V_CRANK = crank_press_zone_speed(1.0)
 
 def metrics(p: SixBarPress, n: int = 2001) -> dict[str, float]:
     """Figures of merit at period 1 s."""
-    v, dev = working_zone_speed(p, 1.0, ZONE, n=n)
-    t0, t1 = working_zone_interval(p, 1.0, ZONE)
+    zone = constant_speed_zone(PressParams(crank_radius=R, rod_length=L), SixBar(p), 1.0, ZONE, n=n)
+    v, dev, t0, t1 = zone.mean_speed, zone.max_deviation, zone.t_start, zone.t_end
     mu_lo, mu_hi = transmission_range(p.ground_length, p.input_crank, p.coupler, p.output_link)
     return {"v": v, "dev": dev, "ratio": v / V_CRANK, "share": t1 - t0,
             "mu_min": math.degrees(mu_lo), "mu_max": math.degrees(mu_hi)}
@@ -133,16 +137,13 @@ def rounded(p: SixBarPress) -> SixBarPress:
 
 def describe(p: SixBarPress, label: str) -> None:
     m = metrics(p, n=20001)
-    th = np.linspace(0.0, 2 * math.pi, 20001)
-    k = sixbar_kinematics(p, th)
-    mu = np.degrees(k["transmission_angle"])
+    ratio = evaluate_elementwise(press_crank_function(p), np.linspace(0.0, 2 * math.pi, 20001))["ratio"]
     print(f"{label}: g={p.ground_length:.4f} a={p.input_crank:.4f} b={p.coupler:.4f} c={p.output_link:.4f} m "
           f"arm_phase={math.degrees(p.arm_phase):.2f} deg assembly={p.assembly:+d}")
     print(f"    zone speed {m['v']:.5f} m/s (period 1 s), dev ±{100 * m['dev']:.2f} %, "
           f"ratio to crank press {m['ratio']:.3f} (crank press {V_CRANK:.5f} m/s), "
           f"zone share {100 * m['share']:.1f} % of cycle, "
-          f"mu {mu.min():.1f}..{mu.max():.1f} deg, dpsi/dtheta {k['dpsi_dtheta'].min():.3f}.."
-          f"{k['dpsi_dtheta'].max():.3f}")
+          f"mu {m['mu_min']:.1f}..{m['mu_max']:.1f} deg, dpsi/dtheta {ratio.min():.3f}..{ratio.max():.3f}")
 
 
 def main() -> None:

@@ -22,9 +22,9 @@ import numpy as np  # noqa: E402
 from pressocp import PressParams, Scenario  # noqa: E402
 from pressocp.design import emulate_sixbar  # noqa: E402
 from pressocp.jobs import design_job, impacts_job  # noqa: E402
+from pressocp.mechanism import SixBar, constant_speed_zone  # noqa: E402
 from pressocp.plots import plot_sixbar_emulation, save  # noqa: E402
 from pressocp.rigid import rigid_kinematics  # noqa: E402
-from pressocp.sixbar import SixBarPress, working_zone_interval  # noqa: E402
 from pressocp.studies import SIMEON_REFERENCE, simeon_crank  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
@@ -39,7 +39,8 @@ def main() -> None:
         shutil.copy(Path(tmp) / "impacts.png", OUT / "impacts.png")
     e = emulate_sixbar(PressParams())
     h_const = rigid_kinematics(PressParams(), 2 * np.pi * e["t"])["ram_height"]
-    save(plot_sixbar_emulation(e, h_const, working_zone_interval(SixBarPress(), 1.0)), OUT / "sixbar.png")
+    zone = constant_speed_zone(PressParams(), SixBar(), 1.0)
+    save(plot_sixbar_emulation(e, h_const, (zone.t_start, zone.t_end)), OUT / "sixbar.png")
     fig, ax = plt.subplots(figsize=(8, 4.4))
     for n in (2, 4, 8):
         r = simeon_crank(n_elements=n)

@@ -6,7 +6,7 @@
 """
 
 from .design import DesignSettings, SpeedDesign, design_speed
-from .mechanism import SixBar, SliderCrank
+from .mechanism import SixBar, SixBarPress, SliderCrank, WorkingZone, constant_speed_zone
 from .model import ModelSpec, PressModel, build_model
 from .objectives import OBJECTIVES, Objective
 from .ocp import (Collocation, MultipleShooting, OcpResult, OptimumSensitivities, Rigid, SensitivityError,
@@ -19,7 +19,6 @@ from .scenario import Scenario, ScenarioError
 from .rigid import crank_angle_at_height, rigid_inverse_dynamics, rigid_kinematics, rigid_response
 from .sensitivity import Sensitivities, sensitivities
 from .simulate import Integrator, SimulationError, simulate
-from .sixbar import SixBarPress
 from .speed import FourierSpeed
 from .sweeps import sweep
 
@@ -28,7 +27,8 @@ __all__ = [
     "MultipleShooting", "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams",
     "ProcessForce", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",
     "SixBar", "SixBarPress", "SliderCrank",
-    "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "Transcription", "WarmStart", "build_model", "crank_angle_at_height",
+    "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "Transcription", "WarmStart", "WorkingZone", "build_model",
+    "constant_speed_zone", "crank_angle_at_height",
     "design_speed", "hertz_internal_stiffness", "optimize_speed", "optimum_sensitivities", "recommend_model",
     "rigid_inverse_dynamics", "rigid_kinematics", "rigid_response", "sensitivities", "Sensitivities", "simulate",
     "sweep",

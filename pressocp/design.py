@@ -18,7 +18,7 @@ import numpy as np
 from . import checks as chk
 from .params import PressParams
 from .interrupt import interruptible
-from .mechanism import SLIDER_CRANK, Mechanism, SixBar
+from .mechanism import SLIDER_CRANK, Mechanism, SixBar, SixBarPress
 from .mechanism.ideal import ideal_kinematics
 from .model import build_model
 from .problem import SpeedProblem
@@ -299,8 +299,6 @@ def emulate_sixbar(params: PressParams, sixbar=None, period: float = 1.0, n_harm
         ``speed`` (FourierSpeed), ``h_fourbar``, ``v_fourbar`` and ``torque_fourbar`` (the four-bar with
         that speed), ``max_position_error`` (m); heights m, velocities m/s, torques N m.
     """
-    from .sixbar import SixBarPress
-
     six = SixBar() if sixbar is None else SixBar(sixbar) if isinstance(sixbar, SixBarPress) else sixbar
     chk.instance("sixbar", six, SixBar)
     if not np.isclose(six.drive.stroke, params.stroke, rtol=1e-9):

@@ -1,6 +1,6 @@
 """The six-bar drag-link press as a model (`pressocp.mechanism.SixBar` through `build_model`).
 
-References: the numpy kinematics of `pressocp.sixbar` (a separate implementation), and for the
+References: the numpy kinematics of `tests/references/sixbar.py` (a separate implementation), and for the
 dynamics the power balance of the ideal press at constant input speed, tau = dE/dtheta, with the
 energy of every body summed from the numpy joint positions (velocities by central differences).
 """
@@ -13,10 +13,15 @@ import numpy as np
 import pytest
 
 from pressocp import FourierSpeed, PressParams
-from pressocp.mechanism import SixBar, mechanism_from_dict, mechanism_to_dict
+from pressocp.mechanism import (
+    SixBar,
+    SixBarPress,
+    mechanism_from_dict,
+    mechanism_to_dict,
+)
 from pressocp.model import ModelSpec, build_model
 from pressocp.simulate import Integrator, simulate
-from pressocp.sixbar import SixBarPress, sixbar_kinematics, sixbar_positions
+from tests.references.sixbar import sixbar_kinematics, sixbar_positions
 
 OTHER = SixBarPress(ground_length=0.03, ground_angle=0.4, input_crank=0.12, coupler=0.11, output_link=0.09,
                     arm_phase=2.0, assembly=-1, crank_radius=0.03, rod_length=0.2)

@@ -8,7 +8,8 @@ linkage is one module here that implements `Mechanism.linkage`.
 """
 
 from .base import Linkage, Mechanism
-from .six_bar import SixBar
+from .ideal import WorkingZone, constant_speed_zone
+from .six_bar import SixBar, SixBarPress
 from .slider_crank import SLIDER_CRANK, SliderCrank
 
 #: The linkages by name (`Mechanism.name`), for reading a model level back from plain data.
@@ -28,5 +29,5 @@ def mechanism_from_dict(data: dict) -> Mechanism:
     return MECHANISMS[name].from_dict({k: v for k, v in data.items() if k != "name"})
 
 
-__all__ = ["Linkage", "MECHANISMS", "Mechanism", "SLIDER_CRANK", "SixBar", "SliderCrank", "mechanism_from_dict",
-           "mechanism_to_dict"]
+__all__ = ["Linkage", "MECHANISMS", "Mechanism", "SLIDER_CRANK", "SixBar", "SixBarPress", "SliderCrank", "WorkingZone",
+           "constant_speed_zone", "mechanism_from_dict", "mechanism_to_dict"]

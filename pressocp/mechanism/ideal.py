@@ -4,6 +4,7 @@ the closed forms of `pressocp.rigid`)."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
 
@@ -51,3 +52,44 @@ def ideal_response(params: PressParams, mechanism: Mechanism, speed: FourierSpee
     t = chk.finite_array("t", np.linspace(0.0, speed.period, 2001) if t is None else t)
     theta, omega, alpha = speed.evaluate(t)
     return rigid.ideal_result(t, theta, omega, ideal_inverse_dynamics(params, mechanism, theta, omega, alpha))
+
+
+@dataclass(frozen=True)
+class WorkingZone:
+    """The ram's passage through a height band on the downstroke at constant input speed.
+
+    Attributes
+    ----------
+    t_start, t_end : float
+        Times (s from top dead centre) at which the ram enters and leaves the band.
+    mean_speed : float
+        The band's height over the time it takes, m/s (positive).
+    max_deviation : float
+        max | |dh/dt| - mean_speed | / mean_speed over the band, - (0.05: within +-5 %).
+    """
+
+    t_start: float
+    t_end: float
+    mean_speed: float
+    max_deviation: float
+
+
+def constant_speed_zone(params: PressParams, mechanism: Mechanism, period: float,
+                        zone: tuple[float, float] = (0.35, 0.1), n: int = 2001) -> WorkingZone:
+    """How the ideal press at constant input speed 2 pi / `period` (s) crosses the band `zone` (ram
+    heights as fractions h/H of the stroke, each in (0, 1), in either order) on the downstroke, with
+    the speed's deviation sampled at `n` (>= 2) instants evenly spaced in time across it."""
+    period = chk.positive("period", period, "s")
+    n = chk.integer("n", n, 2, 10_000_000)
+    if len(zone) != 2:
+        raise ValueError(f"zone must be a pair (h/H start, h/H end) in (0, 1), got {zone!r}")
+    fractions = [chk.in_open_interval(f"zone[{i}]", z, 0.0, 1.0) for i, z in enumerate(zone)]
+    if fractions[0] == fractions[1]:
+        raise ValueError(f"zone bounds must differ (h/H in (0, 1)), got {zone!r}")
+    hi, lo = max(fractions), min(fractions)
+    th0, th1 = mechanism.input_angle_at_height(params, np.array([hi, lo]) * params.stroke, "down")
+    omega = 2 * np.pi / period
+    mean = (hi - lo) * params.stroke * omega / (th1 - th0)
+    v = ideal_kinematics(params, mechanism, np.linspace(th0, th1, n), omega)["ram_velocity"]
+    return WorkingZone(float(th0 / omega), float(th1 / omega), float(mean),
+                       float(np.max(np.abs(-v - mean)) / mean))

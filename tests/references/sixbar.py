@@ -1,4 +1,7 @@
-"""Six-bar drag-link reference press: kinematics of input crank → ram.
+"""Reference: the six-bar drag-link press's kinematics in numpy, written separately from
+`pressocp.mechanism.six_bar` (the package's first implementation, kept as the test reference).
+
+Kinematics of input crank → ram.
 
 Mechanism
 ---------
@@ -42,15 +45,13 @@ time (zone speed ratio 0.458).  The four-bar transmission angle stays within
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from functools import cached_property
 
 import numpy as np
 
-from . import checks as chk
+from pressocp import checks as chk
+from pressocp.mechanism.six_bar import SixBarPress
 
 __all__ = [
-    "SixBarPress",
     "sixbar_positions",
     "sixbar_kinematics",
     "sixbar_stroke",
@@ -66,135 +67,22 @@ def _wrap(x: np.ndarray | float) -> np.ndarray:
     return np.mod(np.asarray(x, dtype=float) + math.pi, _TWO_PI) - math.pi
 
 
-@dataclass(frozen=True)
-class SixBarPress:
-    """Dimensions of a six-bar drag-link press (all lengths in m, angles in rad).
+def theta_offset(press: SixBarPress) -> float:
+    """Input-crank clock angle (rad) at which the ram is at top dead centre."""
+    # psi = phi + arm_phase = 0  ->  output-link clock angle phi = -arm_phase.
+    return float(_input_from_output(press, np.array([-float(press.arm_phase)]))[0])
 
-    Parameters
-    ----------
-    ground_length : float
-        Distance between the input-crank axis and the output axis, m.  Must be
-        the shortest of the four-bar links (drag-link).  Default 0.0500 m.
-    ground_angle : float
-        Clock angle (from ``+y``, clockwise positive) of the vector pointing
-        from the input axis to the output axis, rad.  Default ``pi`` (input
-        axis directly above the output axis).  Note that for the ram motion
-        versus input angle only ``arm_phase`` relative to this direction
-        matters; rotating the four-bar and the arm phase together leaves
-        ``h(theta)`` unchanged.
-    input_crank : float
-        Input-crank length (input axis to coupler joint A), m.  Default 0.1656 m.
-    coupler : float
-        Coupler length (joint A to joint B), m.  Default 0.1805 m.
-    output_link : float
-        Output-link length (output axis to joint B), m.  Default 0.0860 m.
-    arm_phase : float
-        Clock angle of the press-crank arm minus the clock angle of the
-        output link (both about the output axis), rad.  Default
-        ``radians(108.43)``.
-    assembly : int
-        Four-bar assembly branch, ``+1`` or ``-1``: sign of the angle from the
-        output-axis-to-A direction to the output link (``+1`` means the output
-        link is clockwise of line O4-A).  Default ``+1``.
-    crank_radius : float
-        Press (slider-crank) crank radius ``r``, m; the stroke is ``H = 2 r``.
-        Default 0.05 m.
-    rod_length : float
-        Press connecting-rod length ``l``, m, ``l > r``.  Default 0.25 m.
 
-    Raises
-    ------
-    ValueError
-        On non-finite or non-positive lengths, a four-bar that is not a
-        drag-link (the ground must be the shortest link and
-        ``s + l < p + q`` strictly — the change-point case ``s + l = p + q``
-        has a folded, singular position and is rejected), ``assembly`` not in
-        ``{-1, +1}``, or ``rod_length <= crank_radius``.
-    """
-
-    ground_length: float = 0.0500
-    ground_angle: float = math.pi
-    input_crank: float = 0.1656
-    coupler: float = 0.1805
-    output_link: float = 0.0860
-    arm_phase: float = math.radians(108.43)
-    assembly: int = 1
-    crank_radius: float = 0.05
-    rod_length: float = 0.25
-
-    def __post_init__(self) -> None:
-        for name in ("ground_length", "input_crank", "coupler", "output_link", "crank_radius", "rod_length"):
-            chk.positive(name, getattr(self, name), "m")
-        chk.finite("ground_angle", self.ground_angle)
-        chk.finite("arm_phase", self.arm_phase)
-        if isinstance(self.assembly, bool) or self.assembly not in (1, -1):
-            raise ValueError(f"assembly must be one of +1, -1; got {self.assembly!r}")
-        g = float(self.ground_length)
-        others = {"input_crank": float(self.input_crank), "coupler": float(self.coupler),
-                  "output_link": float(self.output_link)}
-        shortest_other = min(others.values())
-        if not g < shortest_other:
-            raise ValueError(
-                f"ground_length must be in (0, {shortest_other:g}) m: a drag-link four-bar needs the ground "
-                f"to be the shortest link, got {g!r}"
-            )
-        # Grashof with the strict inequality: g + longest < sum of the other two moving links
-        # (the change-point case has a folded, singular position).
-        longest_name = max(others, key=others.__getitem__)
-        longest = others[longest_name]
-        rest = sum(others.values()) - longest
-        if not g + longest < rest:
-            g_max = rest - longest
-            if g_max > 0.0:
-                raise ValueError(
-                    f"ground_length must be in (0, {g_max:g}) m for a drag-link four-bar (Grashof: "
-                    f"ground_length + {longest_name} < sum of the other two links), got {g!r}"
-                )
-            raise ValueError(
-                f"{longest_name} must be in (0, {rest - g:g}) m for a drag-link four-bar (Grashof: "
-                f"ground_length + {longest_name} < sum of the other two links), got {longest!r}"
-            )
-        if not float(self.rod_length) > float(self.crank_radius):
-            raise ValueError(
-                f"rod_length must be in ({float(self.crank_radius):g}, inf) m (longer than crank_radius), "
-                f"got {self.rod_length!r}"
-            )
-
-    # ------------------------------------------------------------------ derived
-    @property
-    def stroke(self) -> float:
-        """Ram stroke ``H = 2 r``, m."""
-        return 2.0 * float(self.crank_radius)
-
-    @property
-    def input_axis(self) -> np.ndarray:
-        """Position (x, y) of the input-crank axis relative to the output axis, m."""
-        g, gam = float(self.ground_length), float(self.ground_angle)
-        return -g * np.array([math.sin(gam), math.cos(gam)])
-
-    @property
-    def input_at_top_dead_centre(self) -> float:
-        """Input-crank clock angle (rad) at which the ram is at top dead centre: the input angle
-        ``theta`` of the public functions is measured from it."""
-        return self._theta_offset
-
-    @cached_property
-    def _theta_offset(self) -> float:
-        """Input-crank clock angle (rad) at which the ram is at top dead centre."""
-        # psi = phi + arm_phase = 0  ->  output-link clock angle phi = -arm_phase.
-        return float(_input_from_output(self, np.array([-float(self.arm_phase)]))[0])
-
-    @cached_property
-    def _lag_mid(self) -> float:
-        """Midpoint (rad) of the range of psi(theta) - theta, used for unwrapping."""
-        th = np.linspace(0.0, _TWO_PI, 2049)
-        raw = _fourbar(self, th + self._theta_offset)["phi"] + float(self.arm_phase) - th
-        lag = np.unwrap(_wrap(raw))
-        lag -= _TWO_PI * np.round(lag[0] / _TWO_PI)  # psi(0) = 0 exactly (up to round-off)
-        lo, hi = float(lag.min()), float(lag.max())
-        if hi - lo > 1.8 * math.pi:  # pragma: no cover - needs absurd link ratios
-            raise RuntimeError("output/input phase lag varies by almost 2*pi; cannot unwrap psi uniquely")
-        return 0.5 * (lo + hi)
+def lag_mid(press: SixBarPress) -> float:
+    """Midpoint (rad) of the range of psi(theta) - theta, used for unwrapping."""
+    th = np.linspace(0.0, _TWO_PI, 2049)
+    raw = _fourbar(press, th + theta_offset(press))["phi"] + float(press.arm_phase) - th
+    lag = np.unwrap(_wrap(raw))
+    lag -= _TWO_PI * np.round(lag[0] / _TWO_PI)  # psi(0) = 0 exactly (up to round-off)
+    lo, hi = float(lag.min()), float(lag.max())
+    if hi - lo > 1.8 * math.pi:
+        raise RuntimeError("output/input phase lag varies by almost 2*pi; cannot unwrap psi uniquely")
+    return 0.5 * (lo + hi)
 
 
 # ---------------------------------------------------------------------- four-bar
@@ -300,7 +188,7 @@ def sixbar_positions(press: SixBarPress, theta_in: np.ndarray | float) -> dict[s
         press-crank pin, ``"D"`` ram (rod / slider joint).
     """
     th = np.asarray(theta_in, dtype=float)
-    fb = _fourbar(press, th + press._theta_offset)
+    fb = _fourbar(press, th + theta_offset(press))
     r, l = float(press.crank_radius), float(press.rod_length)
     psi = fb["phi"] + float(press.arm_phase)
     cx, cy = r * np.sin(psi), r * np.cos(psi)
@@ -346,9 +234,9 @@ def sixbar_kinematics(press: SixBarPress, theta_in: np.ndarray | float) -> dict[
         ``"transmission_angle"``  four-bar transmission angle (coupler vs. output link), rad in [0, pi]
     """
     th = np.asarray(theta_in, dtype=float)
-    fb = _fourbar(press, th + press._theta_offset)
-    lag_mid = press._lag_mid
-    psi = th + _wrap(fb["phi"] + float(press.arm_phase) - th - lag_mid) + lag_mid
+    fb = _fourbar(press, th + theta_offset(press))
+    mid = lag_mid(press)
+    psi = th + _wrap(fb["phi"] + float(press.arm_phase) - th - mid) + mid
     h, dh, ddh = _slider(float(press.crank_radius), float(press.rod_length), psi)
     w, dw = fb["dphi"], fb["ddphi"]
     return {
@@ -408,9 +296,9 @@ def _zone_angles(press: SixBarPress, zone: tuple[float, float]) -> tuple[float, 
     y = np.array([hi, lo]) * big_h - r - l
     psi = np.arccos(np.clip((y * y + r * r - l * l) / (2.0 * y * r), -1.0, 1.0))  # in (0, pi): downstroke
     th_abs = _input_from_output(press, psi - float(press.arm_phase))
-    raw = _wrap(th_abs - press._theta_offset)
+    raw = _wrap(th_abs - theta_offset(press))
     # theta = psi - lag, lag unwrapped about its mid value.
-    lag = _wrap(psi - raw - press._lag_mid) + press._lag_mid
+    lag = _wrap(psi - raw - lag_mid(press)) + lag_mid(press)
     theta = psi - lag
     return float(psi[0]), float(psi[1]), float(theta[0]), float(theta[1])
 
