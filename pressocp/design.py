@@ -94,7 +94,7 @@ def _window_trajectory(params: PressParams, period: float, ram_speed: float, win
     cubic Hermite segment joins the window's exit to its entry one revolution later.
     Returns (t1, t, theta) with theta(0) = 0.
     """
-    H = params.stroke
+    H = mechanism.stroke(params)
     w0, w1 = window
     tau = (w0 - w1) * H / abs(ram_speed)
     s = np.linspace(0.0, tau, n)
@@ -146,7 +146,7 @@ def design_speed(problem: SpeedProblem, settings: DesignSettings | None = None) 
     m, mu = S.samples, S.smoothing_weight
     wbar = 2 * np.pi / T
     wmin = problem.omega_lower
-    H = params.stroke
+    H = problem.stroke
     tau = (w0 - w1) * H / abs(v)
 
     # initial guess: fit of an exact-window trajectory

@@ -53,8 +53,9 @@ def ram_speed_range(press: PressParams, period: float, window: tuple[float, floa
         The allowed range is fastest <= ram_speed <= slowest < 0.
     """
     w0, w1 = window
-    dh = (w0 - w1) * press.stroke
-    th0, th1 = mechanism.input_angle_at_height(press, np.array([w0, w1]) * press.stroke, "down")
+    H = mechanism.stroke(press)
+    dh = (w0 - w1) * H
+    th0, th1 = mechanism.input_angle_at_height(press, np.array([w0, w1]) * H, "down")
     fastest = MAX_WINDOW_SPEED_RATIO * (2 * np.pi / period) * dh / (th1 - th0)
     slowest = dh / (MAX_WINDOW_SHARE * period)
     return -fastest, -slowest
@@ -76,7 +77,7 @@ def window_crank_speeds(press: PressParams, ram_speed: float, tol: float, window
     theta, lowest, highest : ndarray
         Crank angles across the window (rad) and the least and greatest crank speed there (rad/s).
     """
-    th0, th1 = mechanism.input_angle_at_height(press, np.array(window) * press.stroke, "down")
+    th0, th1 = mechanism.input_angle_at_height(press, np.array(window) * mechanism.stroke(press), "down")
     theta = np.linspace(th0, th1, n)
     slope = np.abs(ideal_kinematics(press, mechanism, theta, 1.0)["ram_velocity"])  # |dh/dtheta|, m/rad
     v = abs(ram_speed)
@@ -125,7 +126,7 @@ def check_ram_speed(press: PressParams, period: float, ram_speed: float, window:
         raise ValueError(
             f"ram_speed must be in [{fastest:.4g}, {slowest:.4g}] m/s for period={period:g} s (stroke_rate_spm="
             f"{60 / period:.4g}), window="
-            f"({window[0]:g}, {window[1]:g}), crank_radius={press.crank_radius:g} m (a stroke of {press.stroke:g} m) "
+            f"({window[0]:g}, {window[1]:g}), crank_radius={press.crank_radius:g} m (a stroke of {mechanism.stroke(press):g} m) "
             f"and rod_length={press.rod_length:g} m: the crank cannot deliver {v!r} m/s over that window at that period "
             f"(the window may take at most {MAX_WINDOW_SHARE:.0%} of the period and the crank may cross it at most "
             f"{MAX_WINDOW_SPEED_RATIO:g}x faster than its mean speed)"
@@ -243,14 +244,19 @@ class SpeedProblem:
         return 0.05 * 2 * np.pi / self.period if self.omega_min is None else float(self.omega_min)
 
     @property
+    def stroke(self) -> float:
+        """The ram's stroke H on the problem's mechanism, m."""
+        return self.mechanism.stroke(self.press)
+
+    @property
     def window_heights(self) -> tuple[float, float]:
         """(h1 H, h2 H): ram heights at which the window starts and ends, m."""
-        return self.window[0] * self.press.stroke, self.window[1] * self.press.stroke
+        return self.window[0] * self.stroke, self.window[1] * self.stroke
 
     @property
     def window_duration(self) -> float:
         """t2 - t1, s."""
-        return (self.window[0] - self.window[1]) * self.press.stroke / abs(self.ram_speed)
+        return (self.window[0] - self.window[1]) * self.stroke / abs(self.ram_speed)
 
     def replace(self, **changes: Any) -> "SpeedProblem":
         """A copy with some fields changed (validated again)."""

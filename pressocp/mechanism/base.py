@@ -106,6 +106,11 @@ class Mechanism(Protocol):
         crank's motion (`theta` a symbol; `values` may hold symbols)."""
         ...
 
+    def stroke(self, params: PressParams) -> float:
+        """The ram's travel from top to bottom dead centre, m (the heights h of a window are fractions
+        h/H of it)."""
+        ...
+
     def bottom_dead_centre(self, params: PressParams) -> float:
         """The driven crank's angle at bottom dead centre, rad: the downstroke is [0, it)."""
         ...

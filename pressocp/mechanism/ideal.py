@@ -87,9 +87,10 @@ def constant_speed_zone(params: PressParams, mechanism: Mechanism, period: float
     if fractions[0] == fractions[1]:
         raise ValueError(f"zone bounds must differ (h/H in (0, 1)), got {zone!r}")
     hi, lo = max(fractions), min(fractions)
-    th0, th1 = mechanism.input_angle_at_height(params, np.array([hi, lo]) * params.stroke, "down")
+    H = mechanism.stroke(params)
+    th0, th1 = mechanism.input_angle_at_height(params, np.array([hi, lo]) * H, "down")
     omega = 2 * np.pi / period
-    mean = (hi - lo) * params.stroke * omega / (th1 - th0)
+    mean = (hi - lo) * H * omega / (th1 - th0)
     v = ideal_kinematics(params, mechanism, np.linspace(th0, th1, n), omega)["ram_velocity"]
     return WorkingZone(float(th0 / omega), float(th1 / omega), float(mean),
                        float(np.max(np.abs(-v - mean)) / mean))

@@ -279,6 +279,10 @@ class SixBar:
         out["potential_energy"] = out["potential_energy"] + V4
         return out
 
+    def stroke(self, params: PressParams) -> float:
+        """2 r, m: the press crank turns full circle."""
+        return params.stroke
+
     def bottom_dead_centre(self, params: PressParams) -> float:
         """The input angle at bottom dead centre, rad (the downstroke is [0, it))."""
         return float(self.input_angle_at_height(params, 0.0))

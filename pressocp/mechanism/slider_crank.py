@@ -128,6 +128,10 @@ class SliderCrank:
         """`pressocp.rigid.INVERSE_DYNAMICS_OUTPUTS` of the ideal press (SX) at the crank motion."""
         return rigid.inverse_dynamics(values, theta, omega, alpha)
 
+    def stroke(self, params: PressParams) -> float:
+        """2 r, m."""
+        return params.stroke
+
     def bottom_dead_centre(self, params: PressParams) -> float:
         """The crank angle at bottom dead centre, pi (the downstroke is [0, pi))."""
         return np.pi

@@ -186,7 +186,7 @@ def add_kinematic_window(cons: Constraints, problem: SpeedProblem, c, t1, durati
     cons.add((vw - problem.ram_speed) / problem.tol, -backoff, backoff, "ram_speed_kinematic")
     if h_start is not None:
         h1, _, th1 = f(t1, c)
-        cons.add((h1 - h_start) / problem.press.stroke, 0.0, 0.0, "window_start")
+        cons.add((h1 - h_start) / problem.stroke, 0.0, 0.0, "window_start")
         cons.add(th1, 0.0, problem.mechanism.bottom_dead_centre(problem.press), "window_start")
 
 

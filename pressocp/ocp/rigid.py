@@ -194,6 +194,6 @@ def start_speed(problem: SpeedProblem, start: WarmStart | None, h_start: float, 
         raise ValueError(f"start.speed.period must equal the problem's period {T:g} s, got {start.speed.period:g} s")
     padded = start.speed.padded(problem.n_harmonics)
     initial = FourierSpeed(T, padded.a, padded.b, 0.0)
-    th1 = float(problem.mechanism.input_angle_at_height(problem.press, min(h_start, problem.press.stroke), "down"))
+    th1 = float(problem.mechanism.input_angle_at_height(problem.press, min(h_start, problem.stroke), "down"))
     tg = np.linspace(0, T, 20001)
     return initial, float(np.interp(th1, initial.theta(tg), tg))

@@ -94,8 +94,8 @@ def add_window_samples(cons: Constraints, problem: SpeedProblem, y: Mapping, ins
     P = problem
     h1, h2 = P.window_heights
     cons.add((y["ram_velocity"][:, inside.tolist()] - P.ram_speed) / P.tol, -backoff, backoff, "ram_speed_samples")
-    cons.add((y["ram_height"][:, int(inside[0])] - h1) / P.press.stroke, 0.0, np.inf, "window_phase")
-    cons.add((y["ram_height"][:, int(inside[-1])] - h2) / P.press.stroke, -np.inf, 0.0, "window_phase")
+    cons.add((y["ram_height"][:, int(inside[0])] - h1) / P.stroke, 0.0, np.inf, "window_phase")
+    cons.add((y["ram_height"][:, int(inside[-1])] - h2) / P.stroke, -np.inf, 0.0, "window_phase")
 
 
 def keep_contact(cons: Constraints, y: Mapping, model: PressModel, min_eccentricity: float | None) -> None:
