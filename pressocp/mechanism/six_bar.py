@@ -162,7 +162,9 @@ class SixBarPress:
 def fourbar(drive: SixBarPress, theta):
     """The four-bar at input angle `theta` (rad, 0 with the ram at top dead centre): the press-crank
     angle psi (rad, wrapped), the coupler's clock angle (rad) and its centre (x, y) in the press
-    frame (m), as CasADi expressions (the position analysis in the clock frame)."""
+    frame (m), as CasADi expressions (the position analysis in the clock frame). `drive` is any
+    four-bar geometry with `SixBarPress`'s link fields, ``assembly``, ``arm_phase`` and
+    ``input_at_top_dead_centre``; the output axis is the press frame's origin."""
     g, a, b, c = drive.ground_length, drive.input_crank, drive.coupler, drive.output_link
     th = theta + drive.input_at_top_dead_centre
     # in the clock frame (u, v) = (y, x), the output axis at the origin
@@ -210,11 +212,13 @@ class SixBar:
     coupler_mass: float = 0.0
     coupler_inertia: float | None = None
     name: ClassVar[str] = "six_bar"
+    #: The class of `drive` (a subclass with another four-bar names its own).
+    geometry: ClassVar[type] = SixBarPress
     joints: ClassVar[tuple[str, ...]] = SLIDER_CRANK.joints
     rods: ClassVar[tuple[str, ...]] = SLIDER_CRANK.rods
 
     def __post_init__(self) -> None:
-        chk.instance("drive", self.drive, SixBarPress)
+        chk.instance("drive", self.drive, self.geometry)
         chk.nonnegative("input_inertia", self.input_inertia, "kg m^2")
         chk.nonnegative("coupler_mass", self.coupler_mass, "kg")
         if self.coupler_inertia is not None:
@@ -224,7 +228,7 @@ class SixBar:
         """ValueError unless the press's crank radius and rod length are the drive's (the same part)."""
         for name in ("crank_radius", "rod_length"):
             if getattr(params, name) != getattr(self.drive, name):
-                raise ValueError(f"{name} = {getattr(params, name):g} m of the press differs from the six-bar "
+                raise ValueError(f"{name} = {getattr(params, name):g} m of the press differs from the {self.name} "
                                  f"drive's {getattr(self.drive, name):g} m: they are the same part")
 
     def to_dict(self) -> dict:
@@ -234,7 +238,7 @@ class SixBar:
 
     @classmethod
     def from_dict(cls, data: dict) -> "SixBar":
-        return cls(SixBarPress(**data.get("drive", {})), data.get("input_inertia", 0.0), data.get("coupler_mass", 0.0),
+        return cls(cls.geometry(**data.get("drive", {})), data.get("input_inertia", 0.0), data.get("coupler_mass", 0.0),
                    data.get("coupler_inertia"))
 
     # The ideal press: the slider-crank's closed forms at the press crank's motion ---------------
