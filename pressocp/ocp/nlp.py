@@ -178,16 +178,21 @@ def ram_function(problem: SpeedProblem, jit: bool = False) -> ca.Function:
 def add_kinematic_window(cons: Constraints, problem: SpeedProblem, c, t1, duration: float, samples: int,
                          backoff: float, h_start: float | None = None, jit: bool = False) -> None:
     """The ideal press's ram speed within ``backoff`` x tol at `samples` points of [t1, t1 + duration]
-    (``t1`` a number or a symbol); with `h_start` (m) also h(t1) = h_start on the downstroke. `jit`:
-    the ram function compiled (`ram_function`)."""
+    (``t1`` a number or a symbol); with `h_start` (m) also h(t1) = h_start on the downstroke, and the
+    ram at or below the window's end height h_start - |ram_speed| duration at t1 + duration, so
+    that the ram leaves the window inside the sampled span (a ram slower than asked, within its
+    tolerance, would otherwise leave it after the last sample, where nothing holds its speed).
+    `jit`: the ram function compiled (`ram_function`)."""
     f = ram_function(problem, jit)
     tw = t1 + duration * ca.DM(np.linspace(0.0, 1.0, samples)).T
-    _, vw, _ = f.map(samples)(tw, ca.repmat(c, 1, samples))
+    hw, vw, _ = f.map(samples)(tw, ca.repmat(c, 1, samples))
     cons.add((vw - problem.ram_speed) / problem.tol, -backoff, backoff, "ram_speed_kinematic")
     if h_start is not None:
         h1, _, th1 = f(t1, c)
         cons.add((h1 - h_start) / problem.stroke, 0.0, 0.0, "window_start")
         cons.add(th1, 0.0, problem.mechanism.bottom_dead_centre(problem.press), "window_start")
+        h_end = h_start - abs(problem.ram_speed) * duration
+        cons.add((hw[-1] - h_end) / problem.stroke, -np.inf, 0.0, "window_end")
 
 
 # Objective, bounds and caps ----------------------------------------------------------------------
