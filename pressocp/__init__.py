@@ -6,7 +6,8 @@
 """
 
 from .design import DesignSettings, SpeedDesign, design_speed
-from .mechanism import SixBar, SixBarPress, SliderCrank, WorkingZone, constant_speed_zone
+from .mechanism import (KnuckleJoint, KnucklePress, SixBar, SixBarPress, SliderCrank, WorkingZone,
+                        constant_speed_zone)
 from .model import ModelSpec, PressModel, build_model
 from .objectives import OBJECTIVES, Objective
 from .ocp import (Collocation, MultipleShooting, OcpResult, OptimumSensitivities, Rigid, SensitivityError,
@@ -23,7 +24,8 @@ from .speed import FourierSpeed
 from .sweeps import sweep
 
 __all__ = [
-    "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "FourierSpeed", "Integrator", "ModelRecommendation", "ModelSpec",
+    "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "FourierSpeed", "Integrator", "KnuckleJoint", "KnucklePress",
+    "ModelRecommendation", "ModelSpec",
     "MultipleShooting", "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams",
     "ProcessForce", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",
     "SixBar", "SixBarPress", "SliderCrank",

@@ -1,5 +1,5 @@
 """Mechanisms: what a linkage gives the model builder (`Linkage`, `Mechanism`) and the linkages
-(`SliderCrank`, `SixBar`).
+(`SliderCrank`, `SixBar`, `KnuckleJoint`).
 
 A linkage states its generalised coordinates, its kinetic and potential energies, the joints where
 a clearance may sit and the ram's height, all symbolic; `pressocp.model.build_model` derives the
@@ -9,11 +9,12 @@ linkage is one module here that implements `Mechanism.linkage`.
 
 from .base import Linkage, Mechanism
 from .ideal import WorkingZone, constant_speed_zone
+from .knuckle import KnuckleJoint, KnucklePress
 from .six_bar import SixBar, SixBarPress
 from .slider_crank import SLIDER_CRANK, SliderCrank
 
 #: The linkages by name (`Mechanism.name`), for reading a model level back from plain data.
-MECHANISMS = {"slider_crank": SliderCrank, "six_bar": SixBar}
+MECHANISMS = {"slider_crank": SliderCrank, "six_bar": SixBar, "knuckle_joint": KnuckleJoint}
 
 
 def mechanism_to_dict(mechanism: Mechanism) -> dict:
@@ -29,5 +30,5 @@ def mechanism_from_dict(data: dict) -> Mechanism:
     return MECHANISMS[name].from_dict({k: v for k, v in data.items() if k != "name"})
 
 
-__all__ = ["Linkage", "MECHANISMS", "Mechanism", "SLIDER_CRANK", "SixBar", "SixBarPress", "SliderCrank", "WorkingZone",
+__all__ = ["KnuckleJoint", "KnucklePress", "Linkage", "MECHANISMS", "Mechanism", "SLIDER_CRANK", "SixBar", "SixBarPress", "SliderCrank", "WorkingZone",
            "constant_speed_zone", "mechanism_from_dict", "mechanism_to_dict"]
