@@ -16,12 +16,22 @@
     [solver]
     transcription = "auto"
 
+A press other than the slider-crank names its linkage in a [mechanism] table (`MECHANISMS`), whose
+drive geometry gives the press's crank_radius and rod_length unless [press] sets them:
+
+    [mechanism]
+    name = "knuckle_joint"    # or "six_bar"; any field of the mechanism
+    input_inertia = 0.05
+    [mechanism.drive]         # any field of its geometry (KnucklePress, SixBarPress)
+    input_crank = 0.04
+
 Every key is checked before anything is solved: an unknown key names the nearest valid one, a wrong
 type names the expected type, and a value out of range names the key, the value and the range.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import difflib
 import math
 import tomllib
@@ -33,6 +43,7 @@ from typing import Any
 
 from . import checks as chk
 from .compile_cache import check_jit
+from .mechanism import MECHANISMS, SLIDER_CRANK, Mechanism, mechanism_to_dict
 from .model import ModelSpec, PressModel
 from .ocp import Collocation, MultipleShooting, OcpResult, Strategy, optimize_speed
 from .params import Bearing, PressParams, ProcessForce
@@ -180,11 +191,15 @@ class Scenario:
     def from_dict(cls, data: dict, source: str = "scenario") -> "Scenario":
         """Build and check a scenario from nested dicts (the TOML tables)."""
         where = f"{source}: " if source else ""
-        _known(data, ("name", "press", "problem", "model", "solver"), "", where)
+        _known(data, ("name", "press", "mechanism", "problem", "model", "solver"), "", where)
         try:
-            press = _press(data.get("press", {}), where)
-            problem = _problem(data.get("problem", {}), press, where)
-            model = _typed(ModelSpec, data.get("model", {}), "model", where, {"clearance": (list, tuple)})
+            mechanism = _mechanism(data.get("mechanism", {"name": "slider_crank"}), where)
+            press = _press(_drive_lengths(data.get("press", {}), mechanism), where)
+            mechanism.check_press(press)
+            problem = _problem(data.get("problem", {}), press, mechanism, where)
+            model = _typed(ModelSpec, data.get("model", {}), "model", where, {"clearance": (list, tuple)},
+                           exclude=("mechanism",))
+            model = dataclasses.replace(model, mechanism=mechanism)
             solver = _typed(SolverChoice, data.get("solver", {}), "solver", where)
             if solver.transcription not in TRANSCRIPTIONS:
                 raise ScenarioError(f"{where}solver.transcription must be one of {', '.join(TRANSCRIPTIONS)}; got "
@@ -201,10 +216,13 @@ class Scenario:
     # Writing -----------------------------------------------------------------------------------
     def to_dict(self) -> dict:
         """Nested plain data, the inverse of `from_dict` (None values left out)."""
-        problem = {k: v for k, v in self.problem.to_dict().items() if k != "press" and v is not None}
+        problem = {k: v for k, v in self.problem.to_dict().items() if k not in ("press", "mechanism") and v is not None}
         period = problem.pop("period")
+        model = {k: v for k, v in self.model.to_dict().items() if k != "mechanism"}
+        mechanism = self.problem.mechanism
         return {"name": self.name, "press": _drop_none(self.press.to_dict()),
-                "problem": {"period_s": period, **problem}, "model": self.model.to_dict(),
+                **({} if mechanism == SLIDER_CRANK else {"mechanism": _drop_none(mechanism_to_dict(mechanism))}),
+                "problem": {"period_s": period, **problem}, "model": model,
                 "solver": _drop_none({f.name: getattr(self.solver, f.name) for f in fields(SolverChoice)})}
 
     def to_toml(self) -> str:
@@ -223,7 +241,8 @@ class Scenario:
             data["name"] = f"{self.name}; " + ", ".join(f"{k} = {v}" for k, v in overrides.items())
         for key, value in overrides.items():
             parts = key.split(".")
-            if parts[0] not in data or (len(parts) > 1 and not isinstance(data[parts[0]], dict)):
+            if parts[0] not in (*data, "mechanism") or (len(parts) > 1 and not isinstance(data.get(parts[0]), dict)
+                                                         and parts[0] != "mechanism"):
                 parts = ["press", *parts]
             node = data
             for p in parts[:-1]:
@@ -280,9 +299,9 @@ def _check_type(value: Any, annotation: Any, key: str, where: str) -> None:
     raise ScenarioError(f"{where}{key} must be {' or '.join(expected)}, got {value!r} ({type(value).__name__})")
 
 
-def _typed(cls, table: Any, prefix: str, where: str, lists: dict | None = None):
-    """An instance of the dataclass `cls` from a table, every key known and typed."""
-    valid = [f.name for f in fields(cls)]
+def _typed(cls, table: Any, prefix: str, where: str, lists: dict | None = None, exclude: tuple[str, ...] = ()):
+    """An instance of the dataclass `cls` from a table, every key known (the fields but `exclude`) and typed."""
+    valid = [f.name for f in fields(cls) if f.name not in exclude]
     _known(table, valid, f"{prefix}.", where)
     hints = typing.get_type_hints(cls)
     values = {}
@@ -320,7 +339,34 @@ def _press(table: Any, where: str) -> PressParams:
         raise ScenarioError(f"{where}press: {err}") from None
 
 
-def _problem(table: Any, press: PressParams, where: str) -> SpeedProblem:
+def _mechanism(table: Any, where: str) -> Mechanism:
+    """The [mechanism] table: its name (`MECHANISMS`), its fields and its [mechanism.drive]."""
+    if not isinstance(table, dict):
+        raise ScenarioError(f"{where}mechanism must be a table ([mechanism])")
+    name = table.get("name", "slider_crank")
+    if name not in MECHANISMS:
+        raise ScenarioError(f"{where}mechanism.name must be one of {', '.join(MECHANISMS)}; got {name!r}"
+                            f"{_suggest(str(name), MECHANISMS)}")
+    cls = MECHANISMS[name]
+    _known(table, ("name", *(f.name for f in fields(cls))), "mechanism.", where)
+    mechanism = _typed(cls, {k: v for k, v in table.items() if k not in ("name", "drive")}, "mechanism", where)
+    if "drive" in table:
+        if not isinstance(table["drive"], dict):
+            raise ScenarioError(f"{where}mechanism.drive must be a table ([mechanism.drive])")
+        mechanism = dataclasses.replace(mechanism, drive=_typed(cls.geometry, table["drive"], "mechanism.drive", where))
+    return mechanism
+
+
+def _drive_lengths(table: Any, mechanism: Mechanism) -> Any:
+    """The [press] table with the crank radius and rod length of the mechanism's drive where it
+    gives them and the table does not (a six-bar's or a toggle's press crank and rod are its drive's)."""
+    drive = getattr(mechanism, "drive", None)
+    if drive is None or not isinstance(table, dict):
+        return table
+    return {"crank_radius": drive.crank_radius, "rod_length": drive.rod_length, **table}
+
+
+def _problem(table: Any, press: PressParams, mechanism: Mechanism, where: str) -> SpeedProblem:
     valid = ("stroke_rate_spm", "period_s", *PROBLEM_KEYS)
     _known(table, valid, "problem.", where)
     table = dict(table)
@@ -349,7 +395,7 @@ def _problem(table: Any, press: PressParams, where: str) -> SpeedProblem:
     if "window" in table:
         table["window"] = tuple(table["window"])
     try:
-        return SpeedProblem(press, **table)
+        return SpeedProblem(press, **table, mechanism=mechanism)
     except ValueError as err:
         raise ScenarioError(f"{where}problem: {err}") from None
 

@@ -68,3 +68,43 @@ def test_missing_file_and_unknown_bundled_name(tmp_path):
         Scenario.load(tmp_path / "nothere.toml")
     with pytest.raises(ScenarioError, match=r"did you mean 'press75'"):
         Scenario.bundled("press57")
+
+
+KNUCKLE = Scenario.bundled("knuckle40").to_toml()
+
+
+def test_a_scenario_names_its_mechanism():
+    """[mechanism] builds the linkage for the problem and the model alike; the drive gives the press's
+    crank radius and rod length; a slider-crank scenario writes no [mechanism] table."""
+    from pressocp import KnuckleJoint, SixBar
+
+    s = Scenario.load("knuckle40")
+    assert isinstance(s.problem.mechanism, KnuckleJoint) and s.model.mechanism == s.problem.mechanism
+    assert (s.press.crank_radius, s.press.rod_length) == (0.16, 0.25)  # not in its [press] table
+    assert s.build_model().mechanism == s.problem.mechanism
+    assert s.problem.stroke == pytest.approx(0.03511, abs=1e-5)
+    assert "[mechanism]" not in GOOD
+    six = Scenario.load("press75").with_overrides({"mechanism.name": "six_bar", "mechanism.coupler_mass": 4.0})
+    assert six.problem.mechanism == SixBar(coupler_mass=4.0) == six.model.mechanism
+
+
+def knuckle_edit(old, new):
+    assert old in KNUCKLE, old
+    return KNUCKLE.replace(old, new, 1)
+
+
+@pytest.mark.parametrize("text, match", [
+    (knuckle_edit('name = "knuckle_joint"', 'name = "knuckle"'),
+     r"mechanism\.name must be one of slider_crank, six_bar, knuckle_joint; got 'knuckle' \(did you mean 'knuckle_joint'"),
+    (knuckle_edit("input_inertia = 0.05", "input_inertial = 0.05"),
+     r"unknown key mechanism\.input_inertial \(did you mean 'input_inertia'\?\)"),
+    (knuckle_edit("upper_link = 0.16", "upper_lnk = 0.16"), r"unknown key mechanism\.drive\.upper_lnk"),
+    (knuckle_edit("input_crank = 0.04", "input_crank = 0.4"), r"input_crank must be in \(0, .*\) m for the crank"),
+    (knuckle_edit("coupler_mass = 3.0", 'coupler_mass = "light"'), r"mechanism\.coupler_mass must be a number"),
+    (knuckle_edit("crank_radius = 0.16", "crank_radius = 0.05"),
+     r"crank_radius = 0.05 m of the press differs from the knuckle_joint drive's 0.16 m"),
+    (GOOD.replace("[model]", "[model]\nmechanism = \"six_bar\""), r"unknown key model\.mechanism"),
+])
+def test_bad_mechanisms_are_refused_naming_the_key(text, match):
+    with pytest.raises(ScenarioError, match=match):
+        Scenario.from_toml(text, source="my.toml")
