@@ -6,7 +6,7 @@ With the eccentricity e (bearing centre minus journal centre), the smoothed quan
 * delta = pos_eps(|e|_s - c),  pos_eps(x) = max(x, 0) + eps log1p(exp(-|x|/eps))   (stable softplus)
 * delta_dot = (e . e_dot) / |e|_s
 
-and the normal force magnitude (never a pull):
+and the normal force magnitude (never a pull) of the bearing's law (`pressocp.laws`):
 
 * Hunt-Crossley:  F = K delta^n  pos(1 + chi delta_dot)
 * Kelvin-Voigt (Dubowsky impact pair):  F = s pos(K delta^n + c delta_dot s),
@@ -25,15 +25,11 @@ from dataclasses import dataclass
 
 import casadi as ca
 
+from .laws import CONTACT_LAWS, softplus
 from .params import Bearing
 
 #: Floor under delta (m) in delta^n: far below any physical penetration, keeps log/sqrt finite.
 TINY = 1e-30
-
-
-def softplus(x, eps):
-    """Stable smooth positive part: max(x, 0) + eps log1p(exp(-|x|/eps)); C-infinity, never overflows."""
-    return ca.fmax(x, 0) + eps * ca.log1p(ca.exp(-ca.fabs(x) / eps))
 
 
 @dataclass
@@ -79,14 +75,7 @@ def contact_force(bearing: Bearing, e: ca.SX, e_dot: ca.SX) -> ContactForce:
     delta = softplus(rho - c, eps)
     delta_dot = ca.dot(e, e_dot) / rho
     elastic = K * ca.exp(n * ca.log(delta + TINY))
-    f_eps = K * eps**n  # force scale of the smoothing of the no-tension switch
-    if bearing.law == "hunt-crossley":
-        chi = bearing.damping_value
-        force = elastic * softplus(1 + chi * delta_dot, 1e-3)
-    else:
-        cdamp = bearing.damping_value
-        indicator = delta / (delta + eps)
-        force = indicator * softplus(elastic + cdamp * delta_dot * indicator, f_eps)
+    force = CONTACT_LAWS[bearing.law].normal_force(elastic, delta, delta_dot, bearing.damping_value, eps, K, n)
     tangent = ca.vertcat(-normal[1], normal[0])
     film = bearing.tangential_damping * delta / (delta + eps) * ca.dot(e_dot, tangent)
     return ContactForce(

@@ -17,6 +17,7 @@ import math
 from dataclasses import asdict, dataclass, field, fields, replace
 
 from . import checks as chk
+from .laws import CONTACT_LAWS
 
 #: Steel used for the Hertz contact stiffness when a bearing's stiffness is not given.
 STEEL_YOUNGS_MODULUS = 2.1e11  # Pa
@@ -25,10 +26,6 @@ STEEL_POISSON = 0.3
 #: Default smoothing width as a fraction of the radial clearance (see `Bearing.smoothing`).
 SMOOTHING_FRACTION = 1e-3
 
-#: Reference penetration (m) at which the default Kelvin-Voigt damping matches the Hunt-Crossley one.
-KV_REFERENCE_PENETRATION = 1e-6
-
-LAWS = ("hunt-crossley", "kelvin-voigt")
 
 #: Plausible ranges (SI) of press dimensions; a value outside names the likely unit slip.
 LENGTH_RANGE = (1e-3, 5.0)  # m: crank radius, rod length, journal radius
@@ -130,8 +127,8 @@ class Bearing:
         For ``law="kelvin-voigt"`` (Dubowsky impact pair, F = K delta^n + c delta_dot, no tension):
         c in N s/m; ``None`` -> the value that equals the default Hunt-Crossley damping force at
         a penetration of 1 um.
-    law : {"hunt-crossley", "kelvin-voigt"}
-        Contact force law.
+    law : str
+        Contact force law, a name in `pressocp.laws.CONTACT_LAWS`: "hunt-crossley" or "kelvin-voigt".
     smoothing : float or None
         Width (m) of the C1 smoothing of penetration and eccentricity; must be < clearance.
         ``None`` -> ``1e-3 * clearance``.
@@ -182,7 +179,7 @@ class Bearing:
                             "(1 N/mm^1.5 is 3.16e4 N/m^1.5)")
         if self.damping is not None:
             chk.nonnegative("damping", self.damping)
-        chk.choice("law", self.law, LAWS)
+        chk.choice("law", self.law, tuple(CONTACT_LAWS))
         if self.smoothing is not None:
             s = chk.positive("smoothing", self.smoothing, "m")
             if s >= c:
@@ -198,13 +195,11 @@ class Bearing:
 
     @property
     def damping_value(self) -> float:
-        """chi in s/m (Hunt-Crossley) or c in N s/m (Kelvin-Voigt)."""
+        """The law's damping (`pressocp.laws.ContactLaw.damping_unit`: chi in s/m for Hunt-Crossley, c
+        in N s/m for Kelvin-Voigt), given or the law's default."""
         if self.damping is not None:
             return self.damping
-        chi = 3.0
-        if self.law == "hunt-crossley":
-            return chi
-        return chi * self.contact_stiffness * KV_REFERENCE_PENETRATION**self.exponent
+        return CONTACT_LAWS[self.law].default_damping(self.contact_stiffness, self.exponent)
 
     @property
     def smoothing_width(self) -> float:

@@ -87,3 +87,34 @@ def test_tangential_film_damping_only_in_contact():
     assert float(val[2]) == pytest.approx(-1e3 * 0.01, rel=0.05)
     val, _ = f([0.5 * b.clearance, 0.0, 0.0, 0.01])
     assert abs(float(val[2])) < 1e-9
+
+
+def test_a_new_contact_law_is_one_class_and_one_registry_line(monkeypatch):
+    """A linear spring-dashpot law, written here as a user would add a module to `pressocp.laws`:
+    registered, a bearing takes it by name (its default damping, its force in deep contact), a
+    model builds with it and simulates; an unregistered name is refused with the valid ones."""
+    from pressocp import FourierSpeed, PressParams, build_model, simulate
+    from pressocp.laws import CONTACT_LAWS, ContactLaw, softplus
+
+    class Linear(ContactLaw):
+        name = "linear"
+        damping_unit = "N s/m"
+
+        def default_damping(self, stiffness, exponent):
+            return 2e4
+
+        def normal_force(self, elastic, delta, delta_dot, damping, eps, stiffness, exponent):
+            return softplus(elastic + damping * delta_dot * delta / (delta + eps), stiffness * eps**exponent)
+
+    with pytest.raises(ValueError, match="law must be one of 'hunt-crossley', 'kelvin-voigt'"):
+        Bearing(law="linear")
+    monkeypatch.setitem(CONTACT_LAWS, "linear", Linear())
+    b = Bearing(law="linear", exponent=1.0, stiffness=2e8, tangential_damping=0.0)
+    assert b.damping_value == 2e4
+    val, _ = _functions(b)([b.clearance + 5e-6, 0.0, 0.0, 0.0])
+    pen = np.hypot(b.clearance + 5e-6, b.smoothing_width) - b.clearance
+    assert float(val[0]) == pytest.approx(2e8 * pen, rel=1e-9)
+    model = build_model(PressParams(wrist_pin=Bearing(law="linear", exponent=1.0, stiffness=2e8,
+                                                      journal_radius=0.025)), clearance=("wrist_pin",))
+    run = simulate(model, FourierSpeed.constant(0.8), t_end=0.2)
+    assert np.all(np.isfinite(run.wrist_pin_force)) and run.peak("wrist_pin_force") > 0
