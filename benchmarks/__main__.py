@@ -14,9 +14,8 @@ result files it created or changed (by content; a file rewritten unchanged is no
 table between the ``runs`` markers in ``benchmarks/README.md`` is rewritten from it (a ``note``
 added by hand to a record of runs.json is shown with its status). So is the table between the
 ``goals`` markers: the open issues' "must show" goals, each read from its result file with the
-file's date and a verdict (`benchmarks/status.py`). The other tables of that README are
-measurements with their discussion, written by hand from the JSON files; the runs table says which
-files each run refreshed and when.
+file's date and a verdict (`benchmarks/status.py`). That README holds these two tables only; the
+dated measurements with their discussion are `docs/measurements.md`.
 
 Every job has a time budget (`Job.minutes`); one still running after 1.5 x its budget
 (``--budget-factor``) is stopped and recorded as over budget. A job that resumes from its result

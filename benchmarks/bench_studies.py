@@ -3,11 +3,11 @@
 Cases (each resumes from its CSV in results/, so an interrupted run continues):
 
 * ``stroke_rate``  optimal peaks against the stroke rate, 40-75 spm (cold starts, the default call; from
-                   80 spm on it finds no answer, see benchmarks/README.md)
+                   80 spm on it finds no answer, see docs/measurements.md)
 * ``clearance``    optimal peaks against the clearance of both joints, 0.02-0.3 mm
 * ``ram_speed``    optimal peaks against the working ram speed, -0.1 .. -0.2 m/s (-0.05 m/s cannot
                    be held over the window at 75 spm: refused before solving; -0.075 m/s, near the
-                   crank's limit, ran 24 min without an answer, see benchmarks/README.md)
+                   crank's limit, ran 24 min without an answer, see docs/measurements.md)
 * ``slider_mass``  optimal peaks against the slider mass, 100-250 kg
 * ``wear``         the 75 spm optimum (designed at 0.1 mm) evaluated at 0.05-0.4 mm
 * ``tornado``      normalised sensitivities of the peak torque at the kinematic design and at the optimum

@@ -11,7 +11,7 @@ Cases (one per call; each writes benchmarks/results/sweep_<case>.json and .png):
                     against cold starts (the default call at each point), one worker each; time per
                     point and the optima compared. At the scenario's -0.1 m/s the path stops at
                     75 spm: from 80 spm no 15-harmonic speed keeps the rod in tension over the window
-                    and the default call gives no answer (benchmarks/README.md). With
+                    and the default call gives no answer (docs/measurements.md). With
                     ``--ram-speed -0.15`` the window is crossed faster and the path runs
                     60 -> 90 spm; its files are named ``sweep_continuation_ram0.15*``. ``--side-by-side`` runs the path and the cold
                     starts at the same time, one worker (one core) each.

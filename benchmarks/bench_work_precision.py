@@ -21,7 +21,7 @@ the pair then gets one row, method ``reference``, not ok, with how long it ran, 
 it. Rows are kept per (scene, model, reference method, reference rtol).
 
 Why not always CVODES 1e-11: on the 8-element rod its steps collapse to about 2e-8 s (1e7 and more
-per cycle; `benchmarks/README.md` says why), so that pair (smooth scene) is run with
+per cycle; `docs/measurements.md` says why), so that pair (smooth scene) is run with
 ``--reference-rtol 1e-10 --reference-check scipy-radau 1e-10``.
 
 Methods: IDAS and CVODES (rtol 1e-4 ... 1e-8), scipy Radau and BDF (1e-4, 1e-6), CasADi's fixed-step

@@ -41,7 +41,7 @@ GOAL_MODAL_CYCLE_S, GOAL_MODAL_PEAK, GOAL_MODAL_SIMEON, GOAL_MODAL_ELEMENTS = 1.
 #: Issue #31 (restructure): the limits of a public function's parameters and of any function's lines.
 MAX_PARAMETERS, MAX_LINES = 10, 80
 #: The final verification before issue #29: commit bd45b21's `verify_speed(model, seed optimum, 1e-9)`,
-#: median of 3 calls in a fresh process, 2026-11-25 11:33 UTC (benchmarks/README.md, "The final
+#: median of 3 calls in a fresh process, 2026-11-25 11:33 UTC (docs/measurements.md, "The final
 #: verification"); its venv is not rebuilt by the suite, so its time is quoted, not re-measured.
 VERIFY_BEFORE = {"median_s": 1.749, "torque": 145.144166, "source": "bd45b21, 2026-11-25T11:33"}
 

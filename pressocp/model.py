@@ -299,8 +299,7 @@ def build_model(
         energies are those of the element model at w = shapes @ eta. The mode shapes come from
         the press's values, also when the rod's parameters are carried as symbols.
     mechanism : Mechanism
-        The linkage (`pressocp.mechanism`): the slider-crank by default, or e.g. a
-        `pressocp.mechanism.SixBar` whose slider-crank part is `params`.
+        The linkage (`pressocp.mechanism`): the slider-crank, `SixBar` or `KnuckleJoint`.
 
     Returns
     -------

@@ -15,7 +15,7 @@ Two questions, both answered on the ideal press (closed form, milliseconds):
 The factor 10 is deliberately conservative. "clearance" locates impacts but does not size them: the
 size of an impact peak also depends on the rod's bending. A design that keeps the rod in tension (an
 optimum) needs no more than the clearance level. How each level compares with the flexible rod across
-scenes is measured in benchmarks/README.md ("Model levels across scenes").
+scenes is measured in docs/measurements.md ("Model levels across scenes").
 """
 
 from __future__ import annotations

@@ -21,7 +21,7 @@ so the torque's explicit dependence on the contact force and its dependence thro
 position cancel to 1e-5 (clearance) or 1e-7 (stiffness) of their size, and the integrator's error
 in the sensitivities decides the result. The estimate is the error of the looser run, so it is an
 upper one: a ``resolved`` row (estimate at most 1 %) can be trusted; one that is not is below what
-this tolerance verifies, and a smaller rtol may resolve it (benchmarks/README.md measures where).
+this tolerance verifies, and a smaller rtol may resolve it (docs/measurements.md measures where).
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ RESOLVED = 0.01
 #: augmented system's Newton matrix (each direction solved with the states' own factorisation) the
 #: seed optimum's 11 directions over one cycle at rtol 1e-10 took 8.6 s instead of 31.5 s, the
 #: derivatives the same to 1e-8; CasADi's ``sensitivity_method`` and ``fsens_err_con`` changed
-#: nothing, GMRES was slower (benchmarks/README.md, "AD sensitivities on the seed optimum").
+#: nothing, GMRES was slower (docs/measurements.md, "AD sensitivities on the seed optimum").
 SENSITIVITY_OPTIONS = {"second_order_correction": False}
 
 

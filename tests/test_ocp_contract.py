@@ -6,7 +6,7 @@ each verified by an independent periodic IDAS re-simulation of its answer on the
   widened by the clearance model's ram drop) and `Collocation`.
 * The same with a soft contact (K/1e4) and 2 harmonics, where multiple shooting is affordable (an
   interval Jacobian takes 0.2 s instead of 8 s): `Collocation` and `MultipleShooting("idas")`.
-  (`MultipleShooting("cvodes")` stopped at IPOPT's 200-iteration cap there: benchmarks/README.md.)
+  (`MultipleShooting("cvodes")` stopped at IPOPT's 200-iteration cap there: docs/measurements.md.)
 """
 
 import numpy as np

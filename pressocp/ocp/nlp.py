@@ -27,7 +27,7 @@ IPOPT_BASE = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False, "i
 #: default case stalled at 300 iterations). Its free mode (``adaptive_mu_globalization =
 #: never-monotone-mode``) took press60's rigid stage from 142 to 72 iterations, but stopped at other
 #: points of the flat min-max optimum, which re-simulated up to 0.8 % higher on the clearance model
-#: (60 spm, 0.2 mm): not taken (benchmarks/README.md, "Speed of the default calls"). Its KKT-error
+#: (60 spm, 0.2 mm): not taken (docs/measurements.md, "Speed of the default calls"). Its KKT-error
 #: globalization (``adaptive_mu_globalization = kkt-error``) halved press60's iterations (214 -> 88)
 #: but stopped at its 300-iteration limit on press75 at 60 spm with a 0.05 mm wrist-pin clearance,
 #: where the filter took 101: not taken (docs/decisions/2026-11-26-rigid-globalization.md).
