@@ -34,7 +34,7 @@ import numpy as np
 
 from pressocp import Collocation, PressParams, SpeedProblem, Strategy, WarmStart, design_speed
 from pressocp.model import build_model
-from pressocp.ocp.verify import ram_speed_violation, verify_speed
+from pressocp.verify import ram_speed_violation, verify_speed
 from pressocp.plots import save
 from pressocp.rigid import rigid_response
 from pressocp.simulate import Integrator, periodic_state

@@ -35,9 +35,9 @@ import numpy as np
 
 from pressocp import (FourierSpeed, PressParams, Scenario, SpeedProblem, build_model, design_speed,
                       recommend_model)
-from pressocp.ocp.verify import cycle_from, rigid_reference, settled_state
+from pressocp.verify import cycle_from, rigid_reference, settled_state
 from pressocp.plots import save
-from pressocp.ocp.result import versions
+from pressocp.io import versions
 from pressocp.report import stamp
 
 OUT = Path(__file__).parent / "results"

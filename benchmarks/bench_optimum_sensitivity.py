@@ -26,8 +26,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import pressocp as po  # noqa: E402
-from pressocp.ocp.result import versions  # noqa: E402
-from pressocp.ocp.sensitivity import answer_stage  # noqa: E402
+from pressocp.io import versions  # noqa: E402
+from pressocp.ocp.optimum_sensitivity import answer_stage  # noqa: E402
 from pressocp.plots import save  # noqa: E402
 from pressocp.report import stamp  # noqa: E402
 

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import pressocp as po
 from pressocp.ocp.kkt import resolve_tracking
-from pressocp.ocp.result import versions
+from pressocp.io import versions
 from pressocp.report import stamp
 
 OUT = Path(__file__).parent / "results"

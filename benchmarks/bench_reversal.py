@@ -4,7 +4,7 @@ about 1.7 kN and impacts on the clearance model. This sweep solves the rigid pro
 rod tension at both pins bounded below by ``min_tension`` (negative: a shallow reversal of at most
 that much compression is allowed), warm-started from the rigid optimum, and re-simulates each
 optimum on the clearance model (both pins, rigid rod): the 4th cycle from rest, then the periodic
-response unless that cycle impacts (`pressocp.ocp.verify.screen`, as `optimize_speed` does). The
+response unless that cycle impacts (`pressocp.verify.screen`, as `optimize_speed` does). The
 rigid solves are `Rigid(samples=...)` for the clearance model, as the chain's: the window is
 widened by the model's ram drop so that the ram speed holds on that model's own window, where the
 re-simulation checks it.
@@ -27,7 +27,7 @@ import numpy as np
 from pressocp import PressParams, Rigid, SpeedProblem, WarmStart, rigid_inverse_dynamics, rigid_response
 from pressocp.design import design_speed
 from pressocp.model import build_model
-from pressocp.ocp.verify import IMPACT_RATIO, is_periodic, ram_speed_violation, screen
+from pressocp.verify import IMPACT_RATIO, is_periodic, ram_speed_violation, screen
 from pressocp.plots import save
 
 OUT = Path(__file__).parent / "results"

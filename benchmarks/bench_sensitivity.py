@@ -29,7 +29,7 @@ import numpy as np  # noqa: E402
 
 import pressocp as po  # noqa: E402
 from pressocp.model import OUTPUT_NAMES  # noqa: E402
-from pressocp.ocp.result import versions  # noqa: E402
+from pressocp.io import versions  # noqa: E402
 from pressocp.plots import save  # noqa: E402
 from pressocp.report import stamp  # noqa: E402
 from pressocp.sensitivity import RESOLVED  # noqa: E402

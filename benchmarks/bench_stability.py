@@ -88,7 +88,7 @@ import numpy as np  # noqa: E402
 from pressocp import PressParams  # noqa: E402
 from pressocp.beam import GAUSS_S, GAUSS_WS, hermite, pinned_pinned_matrices  # noqa: E402
 from pressocp.model import PressModel, build_model  # noqa: E402
-from pressocp.ocp.result import versions  # noqa: E402
+from pressocp.io import versions  # noqa: E402
 from pressocp.ocp.strategy import soft_params  # noqa: E402
 from pressocp.plots import save  # noqa: E402
 from pressocp.report import stamp  # noqa: E402

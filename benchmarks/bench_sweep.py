@@ -46,7 +46,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 import pressocp as po  # noqa: E402
-from pressocp.ocp.result import versions  # noqa: E402
+from pressocp.io import versions  # noqa: E402
 from pressocp.plots import save  # noqa: E402
 from pressocp.report import stamp  # noqa: E402
 

@@ -56,9 +56,9 @@ import numpy as np  # noqa: E402
 
 import pressocp as po  # noqa: E402
 from pressocp.objectives import get as get_objective  # noqa: E402
-from pressocp.ocp.result import versions  # noqa: E402
+from pressocp.io import versions  # noqa: E402
 from pressocp.ocp.stage import WarmStart  # noqa: E402
-from pressocp.ocp.verify import is_periodic, ram_speed_violation, verify_speed  # noqa: E402
+from pressocp.verify import is_periodic, ram_speed_violation, verify_speed  # noqa: E402
 from pressocp.plots import save  # noqa: E402
 from pressocp.report import stamp  # noqa: E402
 from goals import GOAL_WALL_S  # noqa: E402

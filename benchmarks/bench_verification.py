@@ -33,7 +33,7 @@ CHILD = """
 import json, sys, time
 import pressocp as po
 from pressocp.model import build_model
-from pressocp.ocp.verify import verify_speed
+from pressocp.verify import verify_speed
 from pressocp.speed import FourierSpeed
 problem = po.Scenario.load("press75").problem
 speed = FourierSpeed.from_dict(json.loads(open(sys.argv[1]).read()))

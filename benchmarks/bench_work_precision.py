@@ -61,7 +61,7 @@ import numpy as np
 from matplotlib.ticker import NullFormatter
 
 from pressocp import FourierSpeed, PressParams, SpeedProblem, build_model, design_speed, simulate
-from pressocp.ocp.result import versions
+from pressocp.io import versions
 from pressocp.plots import save
 from pressocp.report import stamp
 from pressocp.simulate import Integrator, SimulationError, periodic_state

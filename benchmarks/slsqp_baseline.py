@@ -20,7 +20,7 @@ from scipy.optimize import minimize
 
 from pressocp.model import PressModel
 from pressocp.ocp.nlp import ram_function
-from pressocp.ocp.verify import settled_state
+from pressocp.verify import settled_state
 from pressocp.problem import SpeedProblem
 from pressocp.simulate import Integrator, SimulationError, simulate
 from pressocp.speed import FourierSpeed

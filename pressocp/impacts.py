@@ -8,8 +8,8 @@ from dataclasses import dataclass
 
 from .design import SpeedDesign, design_speed
 from .model import ModelSpec
-from .ocp.result import PEAK_SERIES
-from .ocp.verify import is_periodic, verify_speed
+from .series import PEAK_SERIES
+from .verify import is_periodic, verify_speed
 from .params import PressParams
 from .problem import SpeedProblem
 from .result import SimResult
@@ -35,7 +35,7 @@ class ImpactStudy:
 
     def not_periodic(self) -> dict[str, str]:
         """The responses (``constant``, ``designed``) that are not periodic steady states, each with
-        the reason (`pressocp.ocp.verify.is_periodic`); empty when both are."""
+        the reason (`pressocp.verify.is_periodic`); empty when both are."""
         found = {"constant": is_periodic(self.constant), "designed": is_periodic(self.designed)}
         return {k: v for k, v in found.items() if v is not True}
 

@@ -23,6 +23,7 @@ import time
 import uuid
 from collections.abc import Iterator
 from contextlib import contextmanager
+from importlib import metadata
 from pathlib import Path
 from typing import Any
 
@@ -337,3 +338,14 @@ def _plain(value: Any) -> Any:
 def write_json(path: str | Path, data: Any) -> Path:
     """`atomic_write` of `data` as indented JSON (numpy arrays and scalars as plain values)."""
     return atomic_write(path, json.dumps(data, indent=2, default=_plain) + "\n")
+
+
+def versions() -> dict[str, str]:
+    """Versions of pressocp, CasADi, numpy and Python."""
+    out = {"python": platform.python_version()}
+    for pkg in ("pressocp", "casadi", "numpy"):
+        try:
+            out[pkg] = metadata.version(pkg)
+        except metadata.PackageNotFoundError:
+            out[pkg] = "unknown"
+    return out

@@ -13,15 +13,15 @@ import numpy as np
 
 from . import impacts
 from .design import design_speed
-from .io import SUMMARY_NAME, RunMismatch, atomic_write, check_run_file, write_json
+from .io import SUMMARY_NAME, RunMismatch, atomic_write, check_run_file, versions, write_json
 from .objectives import get as get_objective
 from .params import PressParams
-from .ocp.result import PEAK_SERIES, versions
-from .ocp.verify import is_periodic, rigid_reference, window_times
+from .verify import is_periodic, rigid_reference, window_times
 from .plots import plot_impact_study, plot_responses, rigid_torque_level, save
 from .problem import SpeedProblem
 from .report import describe_problem, format_table, load_table, peak_summary, stamp, write_cycle_table
 from .result import SimResult
+from .series import PEAK_SERIES
 from .scenario import Scenario
 from .speed import FourierSpeed
 from .summaries import (optimum_summary, problem_summary, simulate_speed, simulation_summary,

@@ -16,6 +16,8 @@ from typing import Any
 
 import numpy as np
 
+from .series import PIN_FORCES
+
 KINDS = ("peak", "rms")
 
 
@@ -80,7 +82,7 @@ register(Objective("peak_torque", ("torque",), lambda y: [y["torque"]], "N m",
                    description="peak |motor torque|"))
 register(Objective("peak_slider_normal_force", ("slider_normal_force",), lambda y: [y["slider_normal_force"]], "N",
                    description="peak |slider normal force|"))
-register(Objective("peak_pin_force", ("crank_pin_force", "wrist_pin_force"),
+register(Objective("peak_pin_force", PIN_FORCES,
                    lambda y: [y["crank_pin_force"], y["wrist_pin_force"]], "N",
                    description="peak pin force (the larger of the two joints)"))
 register(Objective("rms_torque", ("torque",), lambda y: [y["torque"]], "N m", kind="rms",

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from .io import atomic_write
+from .series import RESPONSE_PEAKS
 
 #: Time series every response carries, with units.
 SERIES_UNITS = {
@@ -89,7 +90,7 @@ class SimResult:
 
     def peaks(self) -> dict[str, float]:
         """Peak magnitude of every load series (torque and forces)."""
-        names = ("torque", "slider_normal_force", "crank_pin_force", "wrist_pin_force", "ram_acceleration")
+        names = RESPONSE_PEAKS
         return {n: self.peak(n) for n in names}
 
     def as_dict(self) -> dict[str, np.ndarray]:

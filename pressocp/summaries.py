@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 
 from .objectives import get as get_objective
-from .ocp.result import OcpResult
-from .ocp.verify import is_periodic, ram_speed_error, rigid_reference, verify_speed
+from .ocp.ocp_result import OcpResult
+from .verify import is_periodic, ram_speed_error, rigid_reference, verify_speed
 from .problem import SpeedProblem
 from .report import format_table, peak_summary
 from .result import SimResult

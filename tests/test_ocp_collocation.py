@@ -16,7 +16,7 @@ from pressocp.ocp import transcription_from
 from pressocp.ocp.nlp import crank_motion
 from pressocp.ocp.states import states_at
 from pressocp.ocp.strategy import soft_params
-from pressocp.ocp.verify import ram_speed_violation, verify_speed
+from pressocp.verify import ram_speed_violation, verify_speed
 from pressocp.simulate import Integrator, periodic_state
 
 SMOOTH = SpeedProblem(PressParams(), period=1.0, ram_speed=-0.15, n_harmonics=4)

@@ -196,7 +196,7 @@ def test_derivatives_that_disagree_are_flagged():
     """The agreement test on numbers measured on the 75 spm seed (wrist-pin clearance: 3551 by the
     envelope theorem against -390 by the optimum's own derivative), on a 1 % difference, and on two
     values that are both negligible next to J*/p."""
-    from pressocp.ocp.sensitivity import derivatives_agree
+    from pressocp.ocp.optimum_sensitivity import derivatives_agree
 
     assert not derivatives_agree(3551.0, -390.0, 145.0 / 1e-4)
     assert derivatives_agree(100.0, 101.0, 1.0)

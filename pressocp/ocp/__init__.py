@@ -4,9 +4,9 @@ result (`OcpResult`)."""
 
 from .collocation import Collocation, CollocationGrid
 from .optimize import optimize_speed
-from .result import OcpResult
-from .rigid import Rigid
-from .sensitivity import OptimumSensitivities, SensitivityError, optimum_sensitivities
+from .ocp_result import OcpResult
+from .rigid_stage import Rigid
+from .optimum_sensitivity import OptimumSensitivities, SensitivityError, optimum_sensitivities
 from .shooting import MultipleShooting, ShootingError, ShootingGrid
 from .stage import Check, StageResult, Transcription, WarmStart, transcription_from
 from .strategy import Strategy

@@ -23,7 +23,7 @@ from ..objectives import get as get_objective
 from ..problem import SpeedProblem
 from ..workers import parallel_workers, process_pool
 from .stage import StageResult, Transcription
-from .verify import is_periodic, ram_speed_violation
+from ..verify import is_periodic, ram_speed_violation
 
 if TYPE_CHECKING:
     from .strategy import Strategy

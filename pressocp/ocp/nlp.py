@@ -17,6 +17,7 @@ from ..compile_cache import compile_seconds, function_options
 from ..interrupt import compiling, interruptible
 from ..objectives import Objective
 from ..problem import SpeedProblem
+from ..series import PIN_FORCES
 from ..simulate import first_line
 from ..speed import FourierSpeed, series
 
@@ -229,8 +230,6 @@ def add_dense_speed_bounds(cons: Constraints, problem: SpeedProblem, c, samples:
     add_speed_bounds(cons, problem, motion[1, :], motion[2, :])
 
 
-#: The pin forces a cap bounds.
-PIN_FORCES = ("crank_pin_force", "wrist_pin_force")
 #: Share of `SpeedProblem.max_pin_force` held at the samples: on the 75 spm scene the re-simulated peak
 #: between the Radau points was 0.06 % above the value held at them.
 PIN_CAP_BACKOFF = 0.995

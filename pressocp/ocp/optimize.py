@@ -18,10 +18,10 @@ from ..problem import SpeedProblem
 from ..speed import FourierSpeed
 from ..workers import parallel_workers, process_pool
 from .collocation import Collocation
-from .result import OcpResult, peaks_of
+from .ocp_result import OcpResult, peaks_of
 from .stage import StageResult, Transcription, standing_stage
 from .strategy import Strategy
-from .verify import is_periodic, ram_speed_violation, rigid_reference, screen, verify_speed, window_times
+from ..verify import is_periodic, ram_speed_violation, rigid_reference, screen, verify_speed, window_times
 
 
 #: Tolerance of the initial speed's response. It usually impacts, and its 4th cycle from rest is then

@@ -21,7 +21,7 @@ from ..speed import FourierSpeed
 from .nlp import (IPOPT_WARM, Constraints, NlpData, NlpRun, add_dense_speed_bounds, add_objective, add_pin_cap,
                   needed_outputs, parameter_symbols, solve_nlp)
 from .stage import NlpPoint, StageResult, Transcription, WarmStart, settings_repr
-from .verify import settled_state
+from ..verify import settled_state
 
 #: Outputs every state transcription samples besides the objective's: the ram's own motion.
 RAM_OUTPUTS = ("ram_height", "ram_velocity")

@@ -47,10 +47,10 @@ from ..mechanism.ideal import ideal_inverse_dynamics
 from ..simulate import SimulationError
 from ..speed import FourierSpeed
 from .candidates import run_candidates
-from .rigid import Rigid
+from .rigid_stage import Rigid
 from .shooting import MultipleShooting
 from .stage import Check, StageResult, Transcription, WarmStart, settings_repr, standing_stage
-from .verify import IMPACT_RATIO, is_periodic, ram_speed_violation, rigid_reference, screen, verify_speed
+from ..verify import IMPACT_RATIO, is_periodic, ram_speed_violation, rigid_reference, screen, verify_speed
 
 MODES = ("auto", "all", "continue")
 #: Checks of a stage's answer run at this tolerance (the final verification at `Strategy.verify_rtol`).

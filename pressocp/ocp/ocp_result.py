@@ -4,37 +4,23 @@ as JSON."""
 from __future__ import annotations
 
 import json
-import platform
 from dataclasses import dataclass, field
-from importlib import metadata
 from pathlib import Path
 
 import numpy as np
 
-from ..io import check_run_file, write_json
+from ..io import check_run_file, versions, write_json
+from ..series import PEAK_SERIES
 from ..model import ModelSpec
 from ..problem import SpeedProblem
 from ..result import SimResult
 from ..speed import FourierSpeed
 from .nlp import EVALUATIONS
 from .stage import StageResult
-from .verify import verify_speed
+from ..verify import verify_speed
 
 #: Version of the JSON layout written by `OcpResult.to_json`.
 FORMAT = 1
-#: Loads reported before and after (peak magnitudes of these `SimResult` series).
-PEAK_SERIES = ("torque", "slider_normal_force", "crank_pin_force", "wrist_pin_force")
-
-
-def versions() -> dict[str, str]:
-    """Versions of pressocp, CasADi, numpy and Python."""
-    out = {"python": platform.python_version()}
-    for pkg in ("pressocp", "casadi", "numpy"):
-        try:
-            out[pkg] = metadata.version(pkg)
-        except metadata.PackageNotFoundError:
-            out[pkg] = "unknown"
-    return out
 
 
 def peaks_of(sim: SimResult) -> dict[str, float]:

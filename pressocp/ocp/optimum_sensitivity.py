@@ -30,7 +30,7 @@ from ..problem import SpeedProblem
 from ..speed import FourierSpeed
 from .kkt import KktSensitivity, kkt_sensitivity
 from .nlp import ParametricPoint
-from .result import OcpResult
+from .ocp_result import OcpResult
 from .stage import StageResult, Transcription, WarmStart, standing_stage, transcription_from
 
 #: Parameters that move the working window (its heights are fractions of the stroke) or the ideal

@@ -5,13 +5,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model import PressModel
-from ..objectives import get as get_objective
-from ..problem import SpeedProblem, in_window
-from ..result import SimResult
-from ..mechanism.ideal import ideal_response
-from ..simulate import Integrator, SimulationError, simulate
-from ..speed import FourierSpeed
+from .model import PressModel
+from .objectives import get as get_objective
+from .problem import SpeedProblem, in_window
+from .result import SimResult
+from .mechanism.ideal import ideal_response
+from .simulate import Integrator, SimulationError, simulate
+from .speed import FourierSpeed
 
 #: A response whose objective exceeds the rigid model's by this factor impacts (journals in free
 #: flight): it is not searched for a periodic steady state (there is often none).
