@@ -28,7 +28,7 @@ from pressocp.report import stamp
 OUT = Path(__file__).parent / "results"
 PARAMETER = "slider_mass"
 STEPS = (1e-4, 1e-3, 1e-2, 2e-2)
-#: On top of `TRACKING`: collocation's exact Hessian and MUMPS setting (the rigid transcription's too).
+#: On top of `IPOPT_TRACKING`: collocation's exact Hessian and MUMPS setting (the rigid transcription's too).
 OPTIONS = {"ipopt.hessian_approximation": "exact", "ipopt.mumps_scaling": 0}
 
 

@@ -18,6 +18,7 @@ import numpy as np
 from . import checks as chk
 from .params import PressParams
 from .interrupt import interruptible
+from .ipopt_options import IPOPT_DESIGN
 from .mechanism import SLIDER_CRANK, Mechanism, SixBar, SixBarPress
 from .mechanism.ideal import ideal_kinematics
 from .model import build_model
@@ -175,8 +176,7 @@ def design_speed(problem: SpeedProblem, settings: DesignSettings | None = None) 
            "g": ca.vertcat(err, wp.T, h1 / H - w0, th1)}
     lbg = np.concatenate([-tol * np.ones(m), wmin * np.ones(4 * m), [0.0, 0.0]])
     ubg = np.concatenate([tol * np.ones(m), np.inf * np.ones(4 * m), [0.0, mechanism.bottom_dead_centre(params)]])
-    solver = ca.nlpsol("design", "ipopt", nlp, {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False,
-                                                  "ipopt.max_iter": 500, "ipopt.tol": 1e-10})
+    solver = ca.nlpsol("design", "ipopt", nlp, IPOPT_DESIGN)
     with interruptible():
         sol = solver(x0=np.concatenate([guess.coefficients, [t1_0]]), lbg=lbg, ubg=ubg,
                      lbx=np.concatenate([-np.inf * np.ones(2 * n), [0.0]]),

@@ -28,6 +28,7 @@ import numpy as np
 from .. import checks as chk
 from ..compile_cache import check_jit, compile_seconds, function_options, oracle_options, use_jit
 from ..interrupt import compiling
+from ..ipopt_options import IPOPT_COLLOCATION
 from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
 from ..speed import FourierSpeed
@@ -47,18 +48,12 @@ MIN_ELEMENTS = 100
 #: Elements per second of period of the finest grid a refinement reaches (0.5 ms elements: on the
 #: 75 spm case the optimum re-simulates within 0.02 % at 1600 elements).
 MAX_ELEMENTS_PER_SECOND = 2000
-#: IPOPT options of the collocation NLP on top of `IPOPT_WARM`: the exact Hessian, zero initial
-#: constraint multipliers instead of IPOPT's least-squares estimate (an extra linear solve that
-#: changed nothing), no MUMPS scaling (its automatic choice made every linear solve dearer) and an
-#: initial barrier parameter of 1e-5: at 1e-4 IPOPT spent about 50 iterations on the first barrier
-#: problem alone (75 spm seed: target 88 and polish 82 iterations at 1e-4, 60 and 38 at 1e-5, the
-#: verified optimum 145.16 and 145.14 N m; the adaptive strategy took 161).
-IPOPT_OPTIONS = {"ipopt.hessian_approximation": "exact", "ipopt.constr_mult_init_max": 0.0, "ipopt.mumps_scaling": 0,
-                 "ipopt.mu_init": 1e-5}
+
+
 def nlp_options(jit: bool) -> dict:
-    """nlpsol options of the collocation NLP: `IPOPT_OPTIONS`, and with `jit` few directions per
+    """nlpsol options of the collocation NLP: `IPOPT_COLLOCATION`, and with `jit` few directions per
     derivative sweep (`pressocp.compile_cache.oracle_options`)."""
-    return {**IPOPT_OPTIONS, **oracle_options(jit)}
+    return {**IPOPT_COLLOCATION, **oracle_options(jit)}
 
 
 def radau_matrices(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -228,7 +223,7 @@ class Collocation(StateSettings):
         Radau points (on 2 ms elements the re-simulated ram strayed up to 4.5 % of the tolerance past
         the held value).
     periodic, omega_samples, ipopt
-        Keyword-only, as in `StateSettings` (``ipopt`` on top of `IPOPT_OPTIONS` too).
+        Keyword-only, as in `StateSettings` (``ipopt`` on top of `IPOPT_COLLOCATION` too).
     """
 
     elements: int | None = None

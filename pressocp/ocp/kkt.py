@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from ..ipopt_options import IPOPT_TRACKING
 from .nlp import ParametricPoint
 
 #: A constraint at its bound with both slack and multiplier below this (scaled units) is weakly active.
@@ -207,16 +208,6 @@ def kkt_sensitivity(point: ParametricPoint) -> KktSensitivity:
         change_down=[c[3] for c in changes], residual=residual, regularisation=regularisation)
 
 
-#: IPOPT options of a tracking re-solve (`resolve_tracking`): IPOPT starts at the given primal-dual point
-#: with a barrier parameter near the one it ended at and no push into the interior, so that its
-#: iterates follow the same local optimum instead of restarting the barrier (which can leave it for
-#: another local optimum).
-TRACKING = {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-9, "ipopt.warm_start_bound_push": 1e-9,
-            "ipopt.warm_start_bound_frac": 1e-9, "ipopt.warm_start_slack_bound_push": 1e-9,
-            "ipopt.warm_start_slack_bound_frac": 1e-9, "ipopt.warm_start_mult_bound_push": 1e-9,
-            "ipopt.mu_strategy": "monotone", "ipopt.tol": 1e-8, "ipopt.max_iter": 200, "ipopt.print_level": 0,
-            "ipopt.sb": "yes", "print_time": False, "ipopt.linear_solver": "mumps"}
-
 
 @dataclass
 class TrackedOptimum:
@@ -241,12 +232,12 @@ class TrackedOptimum:
 
 
 def resolve_tracking(point: ParametricPoint, p: np.ndarray, options: dict | None = None) -> TrackedOptimum:
-    """The NLP of `point` at parameters `p`, started at point's solution and multipliers (`TRACKING`):
+    """The NLP of `point` at parameters `p`, started at point's solution and multipliers (`IPOPT_TRACKING`):
     the local optimum that `kkt_sensitivity` differentiates, followed to `p`, so that differences of
-    tracked optima check its derivative. `options` are added to `TRACKING` (e.g. the NLP's own
+    tracked optima check its derivative. `options` are added to `IPOPT_TRACKING` (e.g. the NLP's own
     Hessian choice)."""
     t0 = time.perf_counter()
-    solver = ca.nlpsol("tracking", "ipopt", point.solver.oracle(), {**TRACKING, **(options or {})})
+    solver = ca.nlpsol("tracking", "ipopt", point.solver.oracle(), {**IPOPT_TRACKING, **(options or {})})
     sol = solver(x0=point.x, p=np.asarray(p, float), lam_x0=point.lam_x, lam_g0=point.lam_g, lbx=point.lbx,
                  ubx=point.ubx, lbg=point.lbg, ubg=point.ubg)
     st = solver.stats()
@@ -255,4 +246,4 @@ def resolve_tracking(point: ParametricPoint, p: np.ndarray, options: dict | None
                           wall_time=time.perf_counter() - t0)
 
 
-__all__ = ["KktSensitivity", "TRACKING", "TrackedOptimum", "WEAK_TOL", "kkt_sensitivity", "resolve_tracking"]
+__all__ = ["KktSensitivity", "TrackedOptimum", "WEAK_TOL", "kkt_sensitivity", "resolve_tracking"]

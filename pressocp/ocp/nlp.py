@@ -15,33 +15,12 @@ import numpy as np
 
 from ..compile_cache import compile_seconds, function_options
 from ..interrupt import compiling, interruptible
+from ..ipopt_options import IPOPT_WARM_START
 from ..objectives import Objective
 from ..problem import SpeedProblem
 from ..series import PIN_FORCES
 from ..simulate import first_line
 from ..speed import FourierSpeed, series
-
-#: Options of every IPOPT call (quiet, MUMPS).
-IPOPT_BASE = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False, "ipopt.max_iter": 300,
-              "ipopt.tol": 1e-8, "ipopt.linear_solver": "mumps"}
-#: Rigid transcription: exact Hessian, adaptive barrier (with the monotone one the 15-harmonic
-#: default case stalled at 300 iterations). Its free mode (``adaptive_mu_globalization =
-#: never-monotone-mode``) took press60's rigid stage from 142 to 72 iterations, but stopped at other
-#: points of the flat min-max optimum, which re-simulated up to 0.8 % higher on the clearance model
-#: (60 spm, 0.2 mm): not taken (docs/measurements.md, "Speed of the default calls"). Its KKT-error
-#: globalization (``adaptive_mu_globalization = kkt-error``) halved press60's iterations (214 -> 88)
-#: but stopped at its 300-iteration limit on press75 at 60 spm with a 0.05 mm wrist-pin clearance,
-#: where the filter took 101: not taken (docs/decisions/2026-11-26-rigid-globalization.md).
-IPOPT_RIGID = {**IPOPT_BASE, "ipopt.mu_strategy": "adaptive"}
-#: Transcriptions with states, warm-started at a good point: a limited-memory Hessian (an exact one
-#: would need adjoint sensitivities through the integrators, which fail on contact in IDAS; collocation
-#: asks for the exact one), a small initial barrier parameter and
-#: bound push keep IPOPT from pushing every inequality into the interior first. The monotone barrier
-#: strategy is asked for: with a limited-memory Hessian IPOPT defaults to the adaptive one, which
-#: ignores mu_init (mu rose to 0.25 on the 75 spm case and the second step left the smooth region).
-IPOPT_WARM = {**IPOPT_BASE, "ipopt.hessian_approximation": "limited-memory", "ipopt.mu_strategy": "monotone", "ipopt.tol": 1e-6, "ipopt.acceptable_tol": 1e-4,
-              "ipopt.acceptable_iter": 5, "ipopt.max_iter": 200, "ipopt.mu_init": 1e-4, "ipopt.bound_push": 1e-6,
-              "ipopt.bound_frac": 1e-6}
 
 
 def violation(g: np.ndarray, lbg: np.ndarray, ubg: np.ndarray) -> np.ndarray:
@@ -387,14 +366,6 @@ class NlpOutcome:
     timing: dict = field(default_factory=dict)
     lam_x: np.ndarray | None = None
     lam_g: np.ndarray | None = None
-
-
-#: IPOPT options of a primal-dual warm start (`solve_nlp` with multipliers): IPOPT starts at the given
-#: point and multipliers, with a small barrier parameter, and pushes the bounds only slightly, so a
-#: re-solve from an optimum with slightly changed bounds stays at that optimum.
-IPOPT_WARM_START = {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-7, "ipopt.warm_start_bound_push": 1e-9,
-                    "ipopt.warm_start_bound_frac": 1e-9, "ipopt.warm_start_slack_bound_push": 1e-9,
-                    "ipopt.warm_start_slack_bound_frac": 1e-9, "ipopt.warm_start_mult_bound_push": 1e-9}
 
 
 #: CasADi's per-function wall-time counters of an nlpsol, by the name a timing record gives them.

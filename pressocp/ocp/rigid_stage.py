@@ -21,7 +21,8 @@ from ..objectives import get as get_objective
 from ..problem import SpeedProblem
 from ..mechanism.ideal import ideal_response
 from ..speed import FourierSpeed
-from .nlp import (IPOPT_RIGID, Constraints, NlpData, NlpRun, add_kinematic_window, add_objective, add_pin_cap,
+from ..ipopt_options import IPOPT_RIGID
+from .nlp import (Constraints, NlpData, NlpRun, add_kinematic_window, add_objective, add_pin_cap,
                   add_speed_bounds, lifted_crank, scaled_crank_start, solve_nlp)
 from .stage import NlpPoint, StageResult, Transcription, WarmStart, settings_repr
 

@@ -18,10 +18,11 @@ from ..objectives import get as get_objective
 from ..problem import SpeedProblem
 from ..simulate import Integrator, SimulationError, integrate, periodic_orbit
 from ..speed import FourierSpeed
-from .nlp import (IPOPT_WARM, Constraints, NlpData, NlpRun, add_dense_speed_bounds, add_objective, add_pin_cap,
+from ..verify import settled_state
+from ..ipopt_options import IPOPT_WARM
+from .nlp import (Constraints, NlpData, NlpRun, add_dense_speed_bounds, add_objective, add_pin_cap,
                   needed_outputs, parameter_symbols, solve_nlp)
 from .stage import NlpPoint, StageResult, Transcription, WarmStart, settings_repr
-from ..verify import settled_state
 
 #: Outputs every state transcription samples besides the objective's: the ram's own motion.
 RAM_OUTPUTS = ("ram_height", "ram_velocity")

@@ -1,0 +1,53 @@
+"""Every IPOPT option set of the package, in one place (the stages' transcriptions add their own
+``ipopt`` overrides on top, and `pressocp.compile_cache.oracle_options` the derivative settings)."""
+
+#: Options of every IPOPT call (quiet, MUMPS).
+IPOPT_BASE = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False, "ipopt.max_iter": 300,
+              "ipopt.tol": 1e-8, "ipopt.linear_solver": "mumps"}
+#: Rigid transcription: exact Hessian, adaptive barrier (with the monotone one the 15-harmonic
+#: default case stalled at 300 iterations). Its free mode (``adaptive_mu_globalization =
+#: never-monotone-mode``) took press60's rigid stage from 142 to 72 iterations, but stopped at other
+#: points of the flat min-max optimum, which re-simulated up to 0.8 % higher on the clearance model
+#: (60 spm, 0.2 mm): not taken (docs/measurements.md, "Speed of the default calls"). Its KKT-error
+#: globalization (``adaptive_mu_globalization = kkt-error``) halved press60's iterations (214 -> 88)
+#: but stopped at its 300-iteration limit on press75 at 60 spm with a 0.05 mm wrist-pin clearance,
+#: where the filter took 101: not taken (docs/decisions/2026-11-26-rigid-globalization.md).
+IPOPT_RIGID = {**IPOPT_BASE, "ipopt.mu_strategy": "adaptive"}
+#: Transcriptions with states, warm-started at a good point: a limited-memory Hessian (an exact one
+#: would need adjoint sensitivities through the integrators, which fail on contact in IDAS; collocation
+#: asks for the exact one), a small initial barrier parameter and
+#: bound push keep IPOPT from pushing every inequality into the interior first. The monotone barrier
+#: strategy is asked for: with a limited-memory Hessian IPOPT defaults to the adaptive one, which
+#: ignores mu_init (mu rose to 0.25 on the 75 spm case and the second step left the smooth region).
+IPOPT_WARM = {**IPOPT_BASE, "ipopt.hessian_approximation": "limited-memory", "ipopt.mu_strategy": "monotone", "ipopt.tol": 1e-6, "ipopt.acceptable_tol": 1e-4,
+              "ipopt.acceptable_iter": 5, "ipopt.max_iter": 200, "ipopt.mu_init": 1e-4, "ipopt.bound_push": 1e-6,
+              "ipopt.bound_frac": 1e-6}
+
+#: IPOPT options of a primal-dual warm start (`solve_nlp` with multipliers): IPOPT starts at the given
+#: point and multipliers, with a small barrier parameter, and pushes the bounds only slightly, so a
+#: re-solve from an optimum with slightly changed bounds stays at that optimum.
+IPOPT_WARM_START = {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-7, "ipopt.warm_start_bound_push": 1e-9,
+                    "ipopt.warm_start_bound_frac": 1e-9, "ipopt.warm_start_slack_bound_push": 1e-9,
+                    "ipopt.warm_start_slack_bound_frac": 1e-9, "ipopt.warm_start_mult_bound_push": 1e-9}
+
+#: IPOPT options of the collocation NLP on top of `IPOPT_WARM`: the exact Hessian, zero initial
+#: constraint multipliers instead of IPOPT's least-squares estimate (an extra linear solve that
+#: changed nothing), no MUMPS scaling (its automatic choice made every linear solve dearer) and an
+#: initial barrier parameter of 1e-5: at 1e-4 IPOPT spent about 50 iterations on the first barrier
+#: problem alone (75 spm seed: target 88 and polish 82 iterations at 1e-4, 60 and 38 at 1e-5, the
+#: verified optimum 145.16 and 145.14 N m; the adaptive strategy took 161).
+IPOPT_COLLOCATION = {"ipopt.hessian_approximation": "exact", "ipopt.constr_mult_init_max": 0.0, "ipopt.mumps_scaling": 0,
+                 "ipopt.mu_init": 1e-5}
+
+#: IPOPT options of a tracking re-solve (`resolve_tracking`): IPOPT starts at the given primal-dual point
+#: with a barrier parameter near the one it ended at and no push into the interior, so that its
+#: iterates follow the same local optimum instead of restarting the barrier (which can leave it for
+#: another local optimum).
+IPOPT_TRACKING = {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-9, "ipopt.warm_start_bound_push": 1e-9,
+            "ipopt.warm_start_bound_frac": 1e-9, "ipopt.warm_start_slack_bound_push": 1e-9,
+            "ipopt.warm_start_slack_bound_frac": 1e-9, "ipopt.warm_start_mult_bound_push": 1e-9,
+            "ipopt.mu_strategy": "monotone", "ipopt.tol": 1e-8, "ipopt.max_iter": 200, "ipopt.print_level": 0,
+            "ipopt.sb": "yes", "print_time": False, "ipopt.linear_solver": "mumps"}
+
+#: The kinematic speed design (`pressocp.design.design_speed`): a small, smooth NLP solved tightly.
+IPOPT_DESIGN = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False, "ipopt.max_iter": 500, "ipopt.tol": 1e-10}
