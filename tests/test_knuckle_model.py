@@ -19,6 +19,7 @@ from scipy.optimize import brentq
 from pressocp import (FourierSpeed, KnuckleJoint, KnucklePress, ModelSpec, PressParams, Rigid, SpeedProblem, Strategy,
                       build_model, design_speed, optimize_speed, simulate)
 from pressocp.mechanism import MECHANISMS, constant_speed_zone, mechanism_from_dict, mechanism_to_dict
+from tests.references.power_balance import assert_torque_is_power_balance
 
 OTHER = KnucklePress(input_crank=0.03, coupler=0.38, upper_link=0.12, lower_link=0.2, drive_angle=1.2)
 
@@ -57,19 +58,13 @@ def top_dead_centre(drive: KnucklePress) -> float:
     return brentq(slope, start - 0.01, start + 0.01, xtol=1e-15)
 
 
-def samples(model, speed, t):
-    n = len(t)
-    out = model.outputs.map(n)(t[None, :], np.zeros((0, n)), np.tile(model.parameters(speed)[:, None], (1, n)))
-    return {k: np.asarray(v).ravel() for k, v in zip(model.outputs.name_out(), out)}
-
-
 @pytest.mark.parametrize("drive", [KnucklePress(), OTHER], ids=["default", "other"])
 def test_knuckle_ram_motion_equals_the_toggle_geometry(drive):
     model = build_model(press_for(drive), clearance=(), mechanism=KnuckleJoint(drive))
     period = 1.5
     speed = FourierSpeed.constant(period, n_harmonics=model.n_harmonics)
     t = np.linspace(0.0, period, 121)
-    y = samples(model, speed, t)
+    y = model.ideal_series(speed, t)
     tdc = top_dead_centre(drive)
     ref = positions(drive, tdc + 2 * math.pi * t / period)["height"]
     assert np.allclose(y["ram_height"], ref, rtol=0, atol=1e-10)
@@ -88,7 +83,6 @@ def test_knuckle_motor_torque_is_the_power_balance_of_its_bodies(drive):
     model = build_model(p, clearance=(), mechanism=mech)
     period = 1.5
     w = 2 * math.pi / period
-    speed = FourierSpeed.constant(period, n_harmonics=model.n_harmonics)
     tdc = top_dead_centre(drive)
 
     def energy(theta):
@@ -114,11 +108,7 @@ def test_knuckle_motor_torque_is_the_power_balance_of_its_bodies(drive):
         T = T + 0.5 * p.slider_mass * np.sum(rate(lambda q: q["slide"]) ** 2, axis=-1)
         return T + V + p.slider_mass * p.gravity * q_0["slide"][:, 1]
 
-    t = np.linspace(0.0, period, 41)
-    H = 1e-3
-    reference = (energy(w * t + H) - energy(w * t - H)) / (2 * H)
-    torque = samples(model, speed, t)["torque"]
-    assert np.max(np.abs(torque - reference)) <= 1e-5 * np.max(np.abs(reference))
+    assert_torque_is_power_balance(model, period, energy)
 
 
 def test_a_knuckle_joint_reads_back_and_is_registered():
