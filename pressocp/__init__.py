@@ -6,6 +6,7 @@
 """
 
 from .design import DesignSettings, SpeedDesign, design_speed
+from .drive import Drive, MotorCycle, motor_cycle
 from .mechanism import (KnuckleJoint, KnucklePress, SixBar, SixBarPress, SliderCrank, WorkingZone,
                         constant_speed_zone)
 from .model import ModelSpec, PressModel, build_model
@@ -24,14 +25,14 @@ from .speed import FourierSpeed
 from .sweeps import sweep
 
 __all__ = [
-    "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "FourierSpeed", "Integrator", "KnuckleJoint", "KnucklePress",
-    "ModelRecommendation", "ModelSpec",
+    "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "Drive", "FourierSpeed", "Integrator", "KnuckleJoint", "KnucklePress",
+    "ModelRecommendation", "ModelSpec", "MotorCycle",
     "MultipleShooting", "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams",
     "ProcessForce", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",
     "SixBar", "SixBarPress", "SliderCrank",
     "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "Transcription", "WarmStart", "WorkingZone", "build_model",
     "constant_speed_zone", "crank_angle_at_height",
-    "design_speed", "hertz_internal_stiffness", "optimize_speed", "optimum_sensitivities", "recommend_model",
+    "design_speed", "hertz_internal_stiffness", "motor_cycle", "optimize_speed", "optimum_sensitivities", "recommend_model",
     "rigid_inverse_dynamics", "rigid_kinematics", "rigid_response", "sensitivities", "Sensitivities", "simulate",
     "sweep",
 ]

@@ -109,6 +109,8 @@ TEMPLATE_NOTES = {
     "verify_rtol": "tolerance of the verifying re-simulation",
     "polish_rounds": "most re-solves of the last stage from its answer, each restarting the barrier (0: the first pass only)",
 }
+#: Notes of keys whose meaning depends on their table.
+TEMPLATE_TABLE_NOTES = {("model", "clearance"): "joints with clearance (crank_pin, wrist_pin; [] for ideal joints)"}
 #: Optional keys the template shows commented out, after the line of the key named first.
 TEMPLATE_OPTIONAL = {
     "objective": ["# ram_speed_tol = 0.001               # m/s (default 1 % of |ram_speed|)",
@@ -130,6 +132,17 @@ TEMPLATE_OPTIONAL = {
                 "# upper_link = 0.16                     # m, pivot to knee (the press's crank_radius)",
                 "# lower_link = 0.25                     # m, knee to slide (the press's rod_length)",
                 "# drive_angle = 1.5707963267948966      # rad, clock angle from the straight knee to the input axis"],
+    "polish_rounds": ["",
+                      "# The servo drive: every result then reports the motor's figures (motor.png, summary.json).",
+                      "# [drive]",
+                      "# gear_ratio = 10.0                     # motor speed / crank speed",
+                      "# peak_torque = 40.0                    # N m at the motor, up to the corner speed",
+                      "# continuous_torque = 15.0              # N m, rated RMS torque",
+                      "# max_speed = 314.0                     # rad/s at the motor (3000 rpm)",
+                      "# power_limit = 5000.0                  # W: above the corner speed, peak torque = power / speed",
+                      "# gear_efficiency = 0.95",
+                      "# motor_inertia = 0.004                 # kg m^2, rotor",
+                      "# gear_inertia = 0.0                    # kg m^2 at the motor shaft"],
     "journal_radius": ["# stiffness = 6.2e11                   # N/m^1.5 (default: Hertz, steel on steel)",
                        "# damping = 3.0                       # s/m, Hunt-Crossley hysteresis (default 3.0: e = 0.9 at 0.05 m/s)"],
 }
@@ -140,13 +153,15 @@ def template(path: str) -> str:
     out."""
     from .scenario import Scenario
 
-    lines = []
+    lines, table = [], ""
     for line in Scenario.bundled(DEFAULT_SCENARIO).to_toml().splitlines():
         key = line.split("=")[0].strip()
-        if "=" in line and key in TEMPLATE_NOTES:
-            line = f"{line:<40s} # {TEMPLATE_NOTES[key]}"
+        table = line.strip("[]") if line.startswith("[") else table
+        note = TEMPLATE_TABLE_NOTES.get((table, key), TEMPLATE_NOTES.get(key))
+        if "=" in line and note:
+            line = f"{line:<40s} # {note}"
         lines.append(line)
-        if "=" in line and key in TEMPLATE_OPTIONAL and "[press.wrist_pin]" not in lines:
+        if "=" in line and key in TEMPLATE_OPTIONAL and table != "press.wrist_pin":  # a bearing's, once
             lines += TEMPLATE_OPTIONAL[key]
     return TEMPLATE_HEAD.format(path=path) + "\n" + "\n".join(lines) + "\n"
 

@@ -17,15 +17,15 @@ from .io import SUMMARY_NAME, RunMismatch, atomic_write, check_run_file, version
 from .objectives import get as get_objective
 from .params import PressParams
 from .verify import is_periodic, rigid_reference, window_times
-from .plots import plot_impact_study, plot_responses, rigid_torque_level, save
+from .plots import plot_impact_study, plot_responses, plot_torque_speed, rigid_torque_level, save
 from .problem import SpeedProblem
 from .report import describe_problem, format_table, load_table, peak_summary, stamp, write_cycle_table
 from .result import SimResult
 from .series import PEAK_SERIES
 from .scenario import Scenario
 from .speed import FourierSpeed
-from .summaries import (optimum_summary, problem_summary, simulate_speed, simulation_summary,
-                        time_table_text)
+from .summaries import (drive_summary, drive_text, motor_cycle_of, optimum_summary, problem_summary, simulate_speed,
+                        simulation_summary, time_table_text)
 
 #: Figures of a response pair: file name -> series stacked in it.
 FIGURES = {
@@ -34,8 +34,8 @@ FIGURES = {
     "journals.png": ("crank_pin_eccentricity", "wrist_pin_eccentricity"),
 }
 #: Every file a job may write into its folder (checked to be placeable before a job runs).
-OUTPUT_NAMES = ("results.csv", "speed.json", "result.json", *FIGURES, "design.png", "impacts.png", "report.txt",
-                SUMMARY_NAME)
+OUTPUT_NAMES = ("results.csv", "speed.json", "result.json", *FIGURES, "motor.png", "design.png", "impacts.png",
+                "report.txt", SUMMARY_NAME)
 
 
 @dataclass
@@ -138,6 +138,21 @@ def _figures(out: Path, responses: list[tuple[str, SimResult]], problem: SpeedPr
     return files
 
 
+def _motors(problem: SpeedProblem, responses: dict) -> dict:
+    """The drive's cycle of each (speed, response) by label; empty without a drive."""
+    if problem.drive is None:
+        return {}
+    return {label: motor_cycle_of(problem, speed, sim) for label, (speed, sim) in responses.items()}
+
+
+def _motor_figure(out: Path, problem: SpeedProblem, motors: dict, summary: dict, title: str) -> list[Path]:
+    """motor.png and the summary's ``drive`` key, when the problem has a drive."""
+    if not motors:
+        return []
+    summary.update(drive_summary(problem, motors))
+    return [save(plot_torque_speed(problem.drive, motors, title), out / "motor.png")]
+
+
 def _finish(job: str, out: Path, summary: dict, text: str, details: str, files: list[Path], ok: bool) -> JobReport:
     """Write report.txt and summary.json (last, so a complete summary means a complete run)."""
     files.append(atomic_write(out / "report.txt", text + "\n\n" + details + "\n"))
@@ -158,11 +173,13 @@ def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobRep
     unit = get_objective(problem.objective).unit
     summary = {**optimum_summary(scenario, result, ideal), "versions": versions(), "run": stamp()}
     error = summary["max_ram_speed_error"]
-    files = [write_cycle_table(out / "results.csv", {"initial": init, "optimum": sim}),
+    motors = _motors(problem, {"initial": (result.initial_speed, init), "optimum": (result.speed, sim)})
+    files = [write_cycle_table(out / "results.csv", {"initial": init, "optimum": sim}, motors),
              write_json(out / "speed.json", result.speed.to_dict()), result.to_json(out / "result.json")]
     label = "optimum" if result.success else "best iterate (not converged)"
     files += _figures(out, [("initial: rigid design", init), (label, sim)], problem, (result.t1, result.t2),
                       f"{scenario.name}: {where}", bool(scenario.model.clearance), result.rigid_peak_torque)
+    files += _motor_figure(out, problem, motors, summary, f"{scenario.name}: {where}")
     verdict = ("converged and verified" if result.success and result.verified else
                f"NOT {'verified' if result.success else 'converged'}: {result.status}"
                + ("" if result.periodic is True else f"; {result.periodic}"))
@@ -177,6 +194,7 @@ def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobRep
         f"  peak torque {summary['peak_torque_N_m']:.1f} N·m, "
         f"{100 * (summary['peak_torque_N_m'] / summary['initial_peak_torque_N_m'] - 1):+.1f} % against the design; "
         f"floor (rigid press optimum) {result.rigid_peak_torque:.1f} N·m; {result.wall_time:.0f} s",
+        *(["", drive_text(problem, motors)] if motors else []),
     ])
     stages = format_table([["stage", "model", "status", "iterations", "time, s", f"objective, {unit}"],
                            *([s.name, s.model, s.status + (f" ({s.superseded})" if s.superseded else ""),
@@ -202,12 +220,16 @@ def simulate_job(scenario: Scenario, out: Path, speed: FourierSpeed | None = Non
     summary = {**simulation_summary(scenario, sim, ideal, source), "wall_time_s": time.perf_counter() - t0,
                "versions": versions(), "run": stamp()}
     periodic, error, where = summary["periodic"], summary["max_ram_speed_error"], summary["model"]
-    files = [write_cycle_table(out / "results.csv", {"speed": sim}), write_json(out / "speed.json", speed.to_dict())]
+    motors = _motors(problem, {"speed": (speed, sim)})
+    files = [write_cycle_table(out / "results.csv", {"speed": sim}, motors),
+             write_json(out / "speed.json", speed.to_dict())]
     files += _figures(out, [("ideal joints", ideal), (where, sim)], problem, _window(sim, problem),
                       f"{scenario.name}: {source}", bool(scenario.model.clearance))
+    files += _motor_figure(out, problem, motors, summary, f"{scenario.name}: {source} on the {where}")
     text = "\n".join([f"{scenario.name}: {source} on the {where}", f"  {describe_problem(problem)}", "",
                       format_table(load_table([("ideal joints", ideal), ("model", sim)])), "",
-                      f"  periodic: {periodic}; ram speed within {100 * error:.2f} % over the window"])
+                      f"  periodic: {periodic}; ram speed within {100 * error:.2f} % over the window",
+                      *(["", drive_text(problem, motors)] if motors else [])])
     return _finish("simulate", out, summary, text, f"speed: {speed!r}", files, periodic is True)
 
 

@@ -12,6 +12,7 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 
+from .drive import Drive, MotorCycle
 from .io import atomic_path
 from .result import SimResult
 from .mechanism.ideal import ideal_response
@@ -407,5 +408,35 @@ def plot_wear(table, design_clearance: float | None = None, title: str = "") -> 
         ax.legend(fontsize=7)
     if title:
         fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def plot_torque_speed(drive: Drive, cycles: Mapping[str, MotorCycle], title: str = "") -> "plt.Figure":
+    """The cycles' operating points (motor torque against motor speed, in rpm) over the motor's
+    envelope: its peak-torque curve in both directions, its continuous rating, its top speed, and
+    each cycle's RMS torque as a dashed line."""
+    rpm = 60 / (2 * np.pi)
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    speeds = np.linspace(0.0, drive.max_speed, 400)
+    peak = drive.peak_torque_at(speeds)
+    ax.fill_between(speeds * rpm, -peak, peak, color="0.93", label="peak-torque envelope")
+    ax.plot(speeds * rpm, peak, color="0.4", lw=1.5)
+    ax.plot(speeds * rpm, -peak, color="0.4", lw=1.5)
+    for sign in (1, -1):
+        ax.axhline(sign * drive.continuous_torque, color="0.4", ls=":", lw=1.2,
+                   label="continuous rating" if sign == 1 else None)
+    ax.axvline(drive.max_speed * rpm, color="0.4", ls="--", lw=1.2, label="top speed")
+    for k, (label, c) in enumerate(cycles.items()):
+        color = f"C{k}"
+        ax.plot(c.speed * rpm, c.torque, color=color, lw=1.4,
+                label=f"{label}: peak {c.peak_torque:.3g} N·m, RMS {c.rms_torque:.3g} N·m")
+        ax.axhline(c.rms_torque, color=color, ls="--", lw=0.9)
+    ax.set_xlabel("motor speed [rpm]")
+    ax.set_ylabel("motor torque [N·m] (positive: driving)")
+    ax.set_xlim(0.0, 1.05 * max(drive.max_speed, *(c.max_speed for c in cycles.values())) * rpm)
+    ax.set_title(title or f"operating points over the motor's envelope (gear ratio {drive.gear_ratio:g})", fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="best")
     fig.tight_layout()
     return fig

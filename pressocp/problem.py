@@ -14,6 +14,7 @@ import numpy as np
 
 from . import checks as chk
 from .objectives import OBJECTIVES
+from .drive import Drive
 from .mechanism import SLIDER_CRANK, Mechanism, mechanism_from_dict, mechanism_to_dict
 from .mechanism.ideal import ideal_kinematics
 from .params import PressParams
@@ -171,6 +172,9 @@ class SpeedProblem:
     mechanism : Mechanism
         Keyword-only: the linkage (`pressocp.mechanism`) whose input crank the speed drives, the
         slider-crank by default; its slider-crank part is `press`.
+    drive : Drive or None
+        Keyword-only: the servo motor and gear (`pressocp.drive.Drive`) whose figures every result
+        reports (motor torque and speed, against its ratings); None: no drive.
     """
 
     press: PressParams
@@ -186,12 +190,15 @@ class SpeedProblem:
     min_tension: float | None = None
     max_pin_force: float | None = None
     mechanism: Mechanism = field(default=SLIDER_CRANK, kw_only=True, repr=False)
+    drive: Drive | None = field(default=None, kw_only=True, repr=False)
 
     def __post_init__(self) -> None:
         chk.instance("press", self.press, PressParams)
         if not hasattr(self.mechanism, "linkage"):
             raise ValueError(f"mechanism must be a Mechanism (pressocp.mechanism), got {type(self.mechanism).__name__}")
         self.mechanism.check_press(self.press)
+        if self.drive is not None:
+            chk.instance("drive", self.drive, Drive)
         chk.convert_reals(self)
         T = chk.positive("period", self.period, "s")
         v = chk.finite("ram_speed", self.ram_speed)
@@ -265,10 +272,12 @@ class SpeedProblem:
     # Saving ------------------------------------------------------------------------------------
     def to_dict(self) -> dict:
         """Plain-data form (JSON-safe): ``{"press": ..., field: value, ...}``."""
-        d = {k: v for k, v in asdict(self).items() if k not in ("press", "mechanism")}
+        d = {k: v for k, v in asdict(self).items() if k not in ("press", "mechanism", "drive")}
         d["window"] = list(self.window)
         if self.mechanism != SLIDER_CRANK:
             d["mechanism"] = mechanism_to_dict(self.mechanism)
+        if self.drive is not None:
+            d["drive"] = self.drive.to_dict()
         return {"press": self.press.to_dict(), **d}
 
     @classmethod
@@ -280,6 +289,8 @@ class SpeedProblem:
             d["window"] = tuple(d["window"])
         if "mechanism" in d:
             d["mechanism"] = mechanism_from_dict(d["mechanism"])
+        if d.get("drive") is not None:
+            d["drive"] = Drive(**d["drive"])
         return cls(press, **d)
 
 

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .drive import MotorCycle
 from .io import atomic_write
 from .problem import SpeedProblem
 from .result import SERIES_UNITS, SimResult
@@ -30,9 +31,10 @@ def peak_summary(sim: SimResult, prefix: str = "") -> dict[str, float]:
     return {prefix + key: sim.peak(name) for name, (key, _, _) in LOADS.items()}
 
 
-def cycle_table(responses: Mapping[str, SimResult]) -> pd.DataFrame:
+def cycle_table(responses: Mapping[str, SimResult], motors: Mapping[str, MotorCycle] | None = None) -> pd.DataFrame:
     """One period of several responses side by side: ``t [s]`` from the first response's start, then
-    ``{label} {series} [unit]`` per response (interpolated onto the first one's grid when needed)."""
+    ``{label} {series} [unit]`` per response (interpolated onto the first one's grid when needed),
+    and with `motors` (by the same labels) each one's ``motor_speed [rad/s]`` and ``motor_torque [N m]``."""
     items = list(responses.items())
     t_ref = items[0][1].t - items[0][1].t[0]
     columns = {"t [s]": t_ref}
@@ -44,12 +46,17 @@ def cycle_table(responses: Mapping[str, SimResult]) -> pd.DataFrame:
                 continue
             values = getattr(sim, name)
             columns[f"{label} {name} [{unit}]"] = values if same else np.interp(t_ref, t, values)
+    for label, motor in (motors or {}).items():
+        t = motor.t - motor.t[0]
+        for name, unit in (("speed", "rad/s"), ("torque", "N m")):
+            columns[f"{label} motor_{name} [{unit}]"] = np.interp(t_ref, t, getattr(motor, name))
     return pd.DataFrame(columns)
 
 
-def write_cycle_table(path: str | Path, responses: Mapping[str, SimResult]) -> Path:
+def write_cycle_table(path: str | Path, responses: Mapping[str, SimResult],
+                      motors: Mapping[str, MotorCycle] | None = None) -> Path:
     """`cycle_table` as CSV, written atomically."""
-    return atomic_write(path, cycle_table(responses).to_csv(index=False, float_format="%.10g"))
+    return atomic_write(path, cycle_table(responses, motors).to_csv(index=False, float_format="%.10g"))
 
 
 def load_table(columns: Sequence[tuple[str, SimResult]]) -> list[list[str]]:

@@ -16,6 +16,9 @@
     [solver]
     transcription = "auto"
 
+A [drive] table (`pressocp.drive.Drive`: gear_ratio, peak_torque, continuous_torque, max_speed,
+...) adds the servo motor's figures to every result.
+
 A press other than the slider-crank names its linkage in a [mechanism] table (`MECHANISMS`), whose
 drive geometry gives the press's crank_radius and rod_length unless [press] sets them:
 
@@ -43,6 +46,7 @@ from typing import Any
 
 from . import checks as chk
 from .compile_cache import check_jit
+from .drive import Drive
 from .mechanism import MECHANISMS, SLIDER_CRANK, Mechanism, mechanism_to_dict
 from .model import ModelSpec, PressModel
 from .ocp import Collocation, MultipleShooting, OcpResult, Strategy, optimize_speed
@@ -53,7 +57,7 @@ from .speed import FourierSpeed
 #: Transcriptions a scenario can name ("auto": the default chain's, collocation).
 TRANSCRIPTIONS = ("auto", "collocation", "shooting-idas", "shooting-cvodes")
 #: Keys of the [problem] table other than the cycle (`stroke_rate_spm` or `period_s`).
-PROBLEM_KEYS = tuple(f.name for f in fields(SpeedProblem) if f.name not in ("press", "period", "mechanism"))
+PROBLEM_KEYS = tuple(f.name for f in fields(SpeedProblem) if f.name not in ("press", "period", "mechanism", "drive"))
 #: Keys of the [solver] table.
 SOLVER_KEYS = ("transcription", "elements", "jit", "verify_rtol", "polish_rounds")
 
@@ -191,12 +195,14 @@ class Scenario:
     def from_dict(cls, data: dict, source: str = "scenario") -> "Scenario":
         """Build and check a scenario from nested dicts (the TOML tables)."""
         where = f"{source}: " if source else ""
-        _known(data, ("name", "press", "mechanism", "problem", "model", "solver"), "", where)
+        _known(data, ("name", "press", "mechanism", "drive", "problem", "model", "solver"), "", where)
         try:
             mechanism = _mechanism(data.get("mechanism", {"name": "slider_crank"}), where)
             press = _press(_drive_lengths(data.get("press", {}), mechanism), where)
             mechanism.check_press(press)
             problem = _problem(data.get("problem", {}), press, mechanism, where)
+            if "drive" in data:
+                problem = problem.replace(drive=_typed(Drive, data["drive"], "drive", where))
             model = _typed(ModelSpec, data.get("model", {}), "model", where, {"clearance": (list, tuple)},
                            exclude=("mechanism",))
             model = dataclasses.replace(model, mechanism=mechanism)
@@ -216,12 +222,14 @@ class Scenario:
     # Writing -----------------------------------------------------------------------------------
     def to_dict(self) -> dict:
         """Nested plain data, the inverse of `from_dict` (None values left out)."""
-        problem = {k: v for k, v in self.problem.to_dict().items() if k not in ("press", "mechanism") and v is not None}
+        problem = {k: v for k, v in self.problem.to_dict().items()
+                   if k not in ("press", "mechanism", "drive") and v is not None}
         period = problem.pop("period")
         model = {k: v for k, v in self.model.to_dict().items() if k != "mechanism"}
         mechanism = self.problem.mechanism
         return {"name": self.name, "press": _drop_none(self.press.to_dict()),
                 **({} if mechanism == SLIDER_CRANK else {"mechanism": _drop_none(mechanism_to_dict(mechanism))}),
+                **({} if self.problem.drive is None else {"drive": self.problem.drive.to_dict()}),
                 "problem": {"period_s": period, **problem}, "model": model,
                 "solver": _drop_none({f.name: getattr(self.solver, f.name) for f in fields(SolverChoice)})}
 
@@ -241,8 +249,8 @@ class Scenario:
             data["name"] = f"{self.name}; " + ", ".join(f"{k} = {v}" for k, v in overrides.items())
         for key, value in overrides.items():
             parts = key.split(".")
-            if parts[0] not in (*data, "mechanism") or (len(parts) > 1 and not isinstance(data.get(parts[0]), dict)
-                                                         and parts[0] != "mechanism"):
+            if parts[0] not in (*data, "mechanism", "drive") or (
+                    len(parts) > 1 and not isinstance(data.get(parts[0]), dict) and parts[0] not in ("mechanism", "drive")):
                 parts = ["press", *parts]
             node = data
             for p in parts[:-1]:

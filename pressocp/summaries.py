@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .drive import MotorCycle, motor_cycle
+from .mechanism.ideal import ideal_inverse_dynamics
 from .objectives import get as get_objective
 from .ocp.ocp_result import OcpResult
 from .verify import is_periodic, ram_speed_error, rigid_reference, verify_speed
@@ -80,3 +82,39 @@ def simulate_speed(scenario: Scenario, speed: FourierSpeed) -> tuple[SimResult, 
     and the ideal press's on the same grid."""
     sim = verify_speed(scenario.build_model(), speed, scenario.solver.verify_rtol)
     return sim, rigid_reference(scenario.problem, speed)
+
+
+def motor_cycle_of(problem: SpeedProblem, speed: FourierSpeed, sim: SimResult) -> MotorCycle:
+    """The problem's drive over one period of `sim`, the response to `speed` (its first period, from
+    its first sample): the speed's crank motion, the response's crank torque, the ideal press's
+    inertia about the crank."""
+    keep = sim.t - sim.t[0] <= speed.period * (1 + 1e-12)
+    t, theta = sim.t[keep], sim.theta[keep]
+    _, omega, alpha = speed.evaluate(t)
+    inertia = 2 * ideal_inverse_dynamics(problem.press, problem.mechanism, theta, 1.0, 0.0)["kinetic_energy"]
+    return motor_cycle(problem.drive, t, omega, alpha, sim.torque[keep], inertia)
+
+
+def drive_summary(problem: SpeedProblem, cycles: dict[str, MotorCycle]) -> dict:
+    """The ``drive`` key of a summary: the drive's data and each cycle's figures by label (SI: N m,
+    rad/s, W, J; margins as fractions, negative when a rating is exceeded)."""
+    return {"drive": {**problem.drive.to_dict(), **{label: c.summary() for label, c in cycles.items()}}}
+
+
+def drive_text(problem: SpeedProblem, cycles: dict[str, MotorCycle]) -> str:
+    """The report's table of the drive's figures, one column per cycle."""
+    d = problem.drive
+    rows = [["motor (gear ratio {:g})".format(d.gear_ratio), *cycles],
+            [f"peak torque, N·m (peak curve {d.peak_torque:g})", *(f"{c.peak_torque:.3g}" for c in cycles.values())],
+            ["margin to the peak curve", *(f"{100 * c.peak_torque_margin:+.0f} %" for c in cycles.values())],
+            [f"RMS torque, N·m (continuous {d.continuous_torque:g})", *(f"{c.rms_torque:.3g}" for c in cycles.values())],
+            ["margin to the continuous rating", *(f"{100 * c.rms_margin:+.0f} %" for c in cycles.values())],
+            [f"top speed, rpm (max {d.max_speed * 60 / (2 * np.pi):.0f})",
+             *(f"{c.max_speed * 60 / (2 * np.pi):.0f}" for c in cycles.values())],
+            ["margin to the top speed", *(f"{100 * c.speed_margin:+.0f} %" for c in cycles.values())],
+            ["load / motor inertia", *(f"{c.inertia_ratio:.3g}" for c in cycles.values())],
+            ["peak power, kW", *(f"{c.peak_power / 1e3:.3g}" for c in cycles.values())],
+            ["energy per stroke out / back, J", *(f"{c.energy_driving:.4g} / {c.energy_regenerated:.4g}"
+                                                   for c in cycles.values())],
+            ["DC-bus energy swing, J", *(f"{c.bus_energy_swing:.4g}" for c in cycles.values())]]
+    return format_table(rows)

@@ -1,0 +1,184 @@
+"""The servo drive: a motor behind a gear, its torque-speed envelope, and a crank-side response in the
+motor's terms (what a drive is sized by: peak and RMS torque against the ratings, speed, inertia
+ratio, power, energy per stroke and the DC-bus energy swing).
+
+Conventions: the gear turns the crank `gear_ratio` times slower than the motor (omega_motor = i
+omega); motor torque is positive when it drives. Power through the gear loses (1 - efficiency) of
+itself in either direction: driving, the motor gives tau_crank omega / eta; regenerating, it takes
+back eta |tau_crank omega|. The motor and gear inertias act at the motor shaft, on top of the press
+(`PressParams.crank_inertia` is then the crank's own). Motor losses are not modelled: the electrical
+power is the motor's mechanical power.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from . import checks as chk
+
+#: A motor above this speed, rad/s (about 30 000 rpm), is suspected of a speed given in rpm.
+MAX_MOTOR_SPEED = 3200.0
+
+
+@dataclass(frozen=True)
+class Drive:
+    """A servo motor and its gear.
+
+    Attributes
+    ----------
+    gear_ratio : float
+        Motor speed over crank speed i, - (> 0).
+    peak_torque : float
+        The motor's peak torque up to its corner speed, N m.
+    continuous_torque : float
+        Its rated continuous (RMS) torque, N m, at most the peak torque.
+    max_speed : float
+        Its highest speed, rad/s (1000 rpm is 104.7 rad/s).
+    power_limit : float or None
+        Above the corner speed (power_limit / peak_torque, rad/s) the peak torque falls as
+        power_limit / speed, W; None: flat up to max_speed.
+    gear_efficiency : float
+        eta in (0, 1].
+    motor_inertia : float
+        The rotor's inertia, kg m^2.
+    gear_inertia : float
+        The gear's inertia at the motor shaft, kg m^2 (>= 0).
+    """
+
+    gear_ratio: float = 20.0
+    peak_torque: float = 20.0
+    continuous_torque: float = 10.0
+    max_speed: float = 314.0
+    power_limit: float | None = None
+    gear_efficiency: float = 0.95
+    motor_inertia: float = 2e-3
+    gear_inertia: float = 0.0
+
+    def __post_init__(self) -> None:
+        chk.convert_reals(self)
+        chk.positive("gear_ratio", self.gear_ratio, "-")
+        peak = chk.positive("peak_torque", self.peak_torque, "N m")
+        cont = chk.positive("continuous_torque", self.continuous_torque, "N m")
+        if cont > peak:
+            raise ValueError(f"continuous_torque must be in (0, peak_torque = {peak:g}] N m, got {cont!r}")
+        speed = chk.positive("max_speed", self.max_speed, "rad/s")
+        if speed > MAX_MOTOR_SPEED:
+            slip = f": a value in rpm? {speed:g} rpm is {speed * 2 * np.pi / 60:.4g} rad/s"
+            raise ValueError(f"max_speed must be in (0, {MAX_MOTOR_SPEED:g}] rad/s, got {speed!r}{slip}")
+        if self.power_limit is not None:
+            chk.positive("power_limit", self.power_limit, "W")
+        eta = chk.positive("gear_efficiency", self.gear_efficiency, "-")
+        if eta > 1.0:
+            raise ValueError(f"gear_efficiency must be in (0, 1], got {eta!r}" + (
+                f": a value in %? {eta:g} % is {eta / 100:g}" if eta <= 100 else ""))
+        chk.positive("motor_inertia", self.motor_inertia, "kg m^2")
+        chk.nonnegative("gear_inertia", self.gear_inertia, "kg m^2")
+
+    def peak_torque_at(self, speed) -> np.ndarray:
+        """The envelope: the motor's peak torque (N m) at motor speeds `speed` (rad/s, either sign);
+        0 above max_speed."""
+        s = np.abs(np.asarray(speed, dtype=float))
+        peak = np.full(s.shape, self.peak_torque)
+        if self.power_limit is not None:
+            peak = np.minimum(peak, self.power_limit / np.maximum(s, 1e-300))
+        return np.where(s <= self.max_speed, peak, 0.0)
+
+    def to_dict(self) -> dict:
+        """Plain data (None values left out)."""
+        return {k: v for k, v in asdict(self).items() if v is not None}
+
+
+@dataclass(frozen=True)
+class MotorCycle:
+    """One cycle of a response in the motor's terms.
+
+    Attributes
+    ----------
+    t : ndarray
+        Time, s.
+    speed, torque, power : ndarray
+        Motor speed (rad/s), torque (N m, positive driving) and mechanical power (W).
+    peak_torque, rms_torque, max_speed, peak_power : float
+        max |torque| (N m), its RMS over the cycle (N m), max |speed| (rad/s), max power (W).
+    inertia_ratio : float
+        The largest over the cycle of (load inertia / i^2 + gear inertia) / motor inertia, -.
+    peak_torque_margin : float
+        min over the cycle of (envelope(speed) - |torque|) / Drive.peak_torque, - (< 0: over the peak
+        curve somewhere, or turning faster than the top speed, where the envelope is 0).
+    rms_margin, speed_margin : float
+        1 - rms_torque / continuous_torque and 1 - max_speed / Drive.max_speed, - (< 0: over).
+    energy_driving, energy_regenerated : float
+        The motor's energy out (J) and back (J, >= 0) per cycle.
+    bus_energy_swing : float
+        Range of the integral of (power - its mean) over the cycle, J: what a DC-bus capacitor must
+        buffer for the supply to deliver the mean power only.
+    gear_losses : float
+        Energy lost in the gear per cycle, J.
+    """
+
+    t: np.ndarray
+    speed: np.ndarray
+    torque: np.ndarray
+    power: np.ndarray
+    peak_torque: float
+    rms_torque: float
+    max_speed: float
+    peak_power: float
+    inertia_ratio: float
+    peak_torque_margin: float
+    rms_margin: float
+    speed_margin: float
+    energy_driving: float
+    energy_regenerated: float
+    bus_energy_swing: float
+    gear_losses: float
+
+    def summary(self) -> dict[str, float]:
+        """The cycle's figures as plain data (SI)."""
+        return {k: float(getattr(self, k)) for k in (
+            "peak_torque", "rms_torque", "max_speed", "peak_power", "inertia_ratio", "peak_torque_margin", "rms_margin",
+            "speed_margin", "energy_driving", "energy_regenerated", "bus_energy_swing", "gear_losses")}
+
+
+def cycle_integral(t: np.ndarray, y: np.ndarray) -> float:
+    """Trapezoidal integral of samples `y` over times `t`."""
+    return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(t)))
+
+
+def motor_cycle(drive: Drive, t, omega, alpha, crank_torque, load_inertia) -> MotorCycle:
+    """The motor's side of one cycle of crank motion (`t` s over one period, `omega` rad/s > 0,
+    `alpha` rad/s^2) and crank torque (N m, positive driving); `load_inertia` is the press's
+    generalised inertia about the crank at those instants (kg m^2: twice its kinetic energy at
+    1 rad/s)."""
+    t, omega, alpha, tau = (np.asarray(v, dtype=float) for v in (t, omega, alpha, crank_torque))
+    if np.any(omega <= 0.0):
+        raise ValueError(f"omega must be in (0, inf) rad/s throughout, got a least value {float(np.min(omega)):g}: "
+                         "the drive's figures need a crank that keeps turning forward")
+    i, eta = drive.gear_ratio, drive.gear_efficiency
+    crank_power = tau * omega
+    through_gear = np.where(crank_power >= 0.0, crank_power / eta, crank_power * eta)
+    speed = i * omega
+    inertia = drive.motor_inertia + drive.gear_inertia
+    power = through_gear + inertia * speed * (i * alpha)
+    torque = power / speed
+    period = t[-1] - t[0]
+    mean = cycle_integral(t, power) / period
+    stored = np.concatenate([[0.0], np.cumsum(0.5 * ((power - mean)[1:] + (power - mean)[:-1]) * np.diff(t))])
+    envelope = drive.peak_torque_at(speed)
+    return MotorCycle(
+        t=t, speed=speed, torque=torque, power=power, peak_torque=float(np.max(np.abs(torque))),
+        rms_torque=float(np.sqrt(cycle_integral(t, torque**2) / period)), max_speed=float(np.max(np.abs(speed))),
+        peak_power=float(np.max(power)),
+        inertia_ratio=float(np.max((np.asarray(load_inertia) / i**2 + drive.gear_inertia) / drive.motor_inertia)),
+        peak_torque_margin=float(np.min(envelope - np.abs(torque)) / drive.peak_torque),
+        rms_margin=1.0 - float(np.sqrt(cycle_integral(t, torque**2) / period)) / drive.continuous_torque,
+        speed_margin=1.0 - float(np.max(np.abs(speed))) / drive.max_speed,
+        energy_driving=cycle_integral(t, np.maximum(power, 0.0)),
+        energy_regenerated=cycle_integral(t, np.maximum(-power, 0.0)),
+        bus_energy_swing=float(np.max(stored) - np.min(stored)),
+        gear_losses=cycle_integral(t, np.abs(through_gear - crank_power)))
+
+
+__all__ = ["Drive", "MotorCycle", "cycle_integral", "motor_cycle"]
