@@ -92,6 +92,8 @@ def check_speed_limits(problem: "SpeedProblem") -> None:
     must rise from its least value at the window's start to its least value at its end:
     |alpha| >= (lowest(end)^2 - highest(start)^2) / (2 x the window's crank angle)). Nothing is
     computed when none of the three limits is given."""
+    if problem.drive is not None:
+        check_drive_speed(problem)
     if problem.omega_max is None and problem.omega_min is None and problem.alpha_max is None:
         return
     press, mechanism = problem.press, problem.mechanism
@@ -114,6 +116,21 @@ def check_speed_limits(problem: "SpeedProblem") -> None:
         raise ValueError(f"alpha_max must be in [{rise:.4g}, inf) rad/s^2, got {problem.alpha_max!r}: holding the "
                          f"ram at {v} over the window, the crank speed rises from {highest[0]:.4g} rad/s or less to "
                          f"{lowest[-1]:.4g} rad/s or more, which needs at least {rise:.4g} rad/s^2")
+
+
+def check_drive_speed(problem: "SpeedProblem") -> None:
+    """ValueError when the drive's top speed, brought to the crank, is below the mean crank speed or
+    below the speed the window needs somewhere on the ideal press (with `LIMIT_MARGIN`)."""
+    d = problem.drive
+    top = d.max_speed / d.gear_ratio
+    _, lowest, _ = window_crank_speeds(problem.press, problem.ram_speed, problem.tol, problem.window,
+                                       mechanism=problem.mechanism)
+    need = max(2 * np.pi / problem.period, (1 - LIMIT_MARGIN) * float(lowest.max()))
+    if top < need:
+        raise ValueError(f"drive.max_speed must be in [{need * d.gear_ratio:.4g}, inf) rad/s at gear_ratio "
+                         f"{d.gear_ratio:g}, got {d.max_speed!r}: the crank must turn at {need:.4g} rad/s "
+                         f"({'its mean speed' if need == 2 * np.pi / problem.period else 'in the window'}); "
+                         "a faster motor or a smaller gear ratio")
 
 
 def check_ram_speed(press: PressParams, period: float, ram_speed: float, window: tuple[float, float],

@@ -159,3 +159,34 @@ def test_bad_drive_tables_are_refused_naming_the_key(line, match):
     text = Scenario.load("press75").to_toml() + "\n[drive]\n" + line + "\n"
     with pytest.raises(ScenarioError, match=match):
         Scenario.from_toml(text, source="my.toml")
+
+
+def test_the_drive_limits_hold_on_the_optimum_and_a_weak_motor_is_named():
+    """optimize_speed on the ideal press with a drive whose peak torque lies between what the
+    unconstrained optimum needs and what the problem needs at least: verified, the motor's figures
+    (recomputed by motor_cycle on the verifying simulation) inside the envelope and under the top
+    speed. A motor far too weak ends unconverged, its status naming drive.peak_torque; a motor too
+    slow for the window is refused before any solve."""
+    from pressocp import Rigid, Strategy, build_model, optimize_speed
+    from pressocp.summaries import motor_cycle_of
+
+    press = PressParams()
+    base = SpeedProblem(press, period=0.8, ram_speed=-0.1)
+    model = build_model(press, clearance=())
+    strategy = Strategy(rigid=Rigid(samples=400))
+    free = optimize_speed(base, model, strategy=strategy, progress=False)
+    slow = Drive(gear_ratio=10.0, peak_torque=60.0, continuous_torque=20.0, max_speed=200.0, motor_inertia=4e-3)
+    needs = motor_cycle_of(base.replace(drive=slow), free.speed, free.simulation)
+    assert needs.speed_margin < 0  # the unconstrained optimum turns the motor faster than 200 rad/s
+    problem = base.replace(drive=slow)
+    r = optimize_speed(problem, model, strategy=strategy, progress=False)
+    assert r.success and r.verified
+    held = motor_cycle_of(problem, r.speed, r.simulation)
+    assert held.speed_margin >= 0 and held.peak_torque_margin >= 0
+    assert r.peak_torque >= free.peak_torque * (1 - 1e-6)  # a limit costs crank torque, never saves it
+
+    weak = problem.replace(drive=Drive(**{**slow.to_dict(), "peak_torque": 5.0, "continuous_torque": 5.0}))
+    r = optimize_speed(weak, model, strategy=strategy, progress=False)
+    assert not r.success and "drive.peak_torque exceeded by" in r.status
+    with pytest.raises(ValueError, match=r"drive.max_speed must be in \[.*\) rad/s at gear_ratio 10, got 50.0"):
+        base.replace(drive=Drive(**{**slow.to_dict(), "max_speed": 50.0}))

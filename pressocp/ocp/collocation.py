@@ -338,7 +338,7 @@ class Collocation(StateSettings):
         t_start = time.perf_counter() - t0 - t_build
         nlp = StateNlp(c, X, X0, y, {k: y0[i : i + 1, :] for i, k in enumerate(names)}, grid.times, cons,
                        fixed=None if self.periodic else zi[:, 0],
-                       parameters=None if q is None else (q, model.nominal))
+                       parameters=None if q is None else (q, model.nominal), motion=W)
         run = StageRun(name, f"{name} ({K}x{d} radau{', jit' if jit else ''})", {**nlp_options(jit), **self.ipopt},
                        progress, details, grid=(K, d), keep=model.functions if jit else None, warm=point)
         r = solve_states(problem, model, start.speed, nlp, run, self)

@@ -105,6 +105,12 @@ def crank_map(n: int, period: float, times: np.ndarray) -> tuple[np.ndarray, np.
     return m0, A
 
 
+def crank_rows(problem: SpeedProblem, c, times: np.ndarray):
+    """theta, omega, alpha rows (3 x len(times)) at `times` as the affine map of the coefficients ``c``."""
+    m0, A = crank_map(problem.n_harmonics, problem.period, np.asarray(times))
+    return ca.reshape(ca.mtimes(ca.DM(A), c) + m0, 3, len(times))
+
+
 def crank_scale(period: float) -> np.ndarray:
     """Scales of (theta, omega, alpha) for a period T: 1 rad, the mean speed 2 pi/T and its square."""
     w_bar = 2 * np.pi / period
@@ -204,8 +210,7 @@ def add_speed_bounds(cons: Constraints, problem: SpeedProblem, omega, alpha) -> 
 
 def add_dense_speed_bounds(cons: Constraints, problem: SpeedProblem, c, samples: int) -> None:
     """`add_speed_bounds` at `samples` uniform times, the crank motion an affine map of ``c``."""
-    m0, A = crank_map(problem.n_harmonics, problem.period, np.linspace(0.0, problem.period, samples, endpoint=False))
-    motion = ca.reshape(ca.mtimes(ca.DM(A), c) + m0, 3, samples)  # theta, omega, alpha rows
+    motion = crank_rows(problem, c, np.linspace(0.0, problem.period, samples, endpoint=False))
     add_speed_bounds(cons, problem, motion[1, :], motion[2, :])
 
 
@@ -222,10 +227,61 @@ def add_pin_cap(cons: Constraints, problem: SpeedProblem, y: Mapping) -> None:
             cons.add(y[name] / problem.max_pin_force, -np.inf, PIN_CAP_BACKOFF, "max_pin_force")
 
 
+#: Share of the drive's ratings held at the samples (as `PIN_CAP_BACKOFF`).
+DRIVE_BACKOFF = 0.995
+
+
+def cycle_weights(times: np.ndarray, period: float) -> np.ndarray:
+    """Weights of samples at sorted `times` in [0, period) for the mean over a period (periodic
+    trapezoid: each sample's share of the period)."""
+    t = np.asarray(times, dtype=float)
+    after = np.append(t[1:], t[0] + period)
+    before = np.insert(t[:-1], 0, t[-1] - period)
+    return (after - before) / (2 * period)
+
+
+def add_drive_limits(cons: Constraints, problem: SpeedProblem, torque, omega, alpha, times: np.ndarray) -> None:
+    """The drive's limits at the samples `times` (s) of the crank torque `torque`, speed `omega` and
+    acceleration `alpha` (rows, N m, rad/s, rad/s^2; the lifted crank motion keeps each sample's
+    terms in its own variables), each held at `DRIVE_BACKOFF` of its rating: the motor torque under
+    the peak curve (`pressocp.drive.Drive.peak_torque_at`: the peak torque, and |torque| x speed
+    under the power limit) and the motor speed under its top speed. The motor torque is the driving
+    or the regenerating one (`pressocp.drive.motor_cycle`); a bound on both is a bound on whichever
+    acts. The RMS torque is reported, not bounded: its mean over the samples is one constraint row on
+    every sample's variables, whose Jacobian took 1.5 s per iteration instead of 0.01 s
+    (docs/decisions/2026-11-26-drive-limits.md). Nothing without a drive."""
+    d = problem.drive
+    if d is None:
+        return
+    i, eta = d.gear_ratio, d.gear_efficiency
+    speed, rotor = i * omega, (d.motor_inertia + d.gear_inertia) * i * alpha
+    driving, regenerating = torque / (i * eta) + rotor, torque * (eta / i) + rotor
+    for motor in (driving, regenerating):
+        cons.add(motor / d.peak_torque, -DRIVE_BACKOFF, DRIVE_BACKOFF, "drive_peak_torque")
+        if d.power_limit is not None:
+            cons.add(motor * speed / d.power_limit, -DRIVE_BACKOFF, DRIVE_BACKOFF, "drive_power")
+    cons.add(speed / d.max_speed, -np.inf, DRIVE_BACKOFF, "drive_speed")
+
+
+#: The drive's constraint groups (`add_drive_limits`) and the rating each holds.
+DRIVE_GROUPS = {"drive_peak_torque": "peak_torque", "drive_power": "power_limit", "drive_speed": "max_speed"}
+
+
+def drive_shortfall(violations: dict[str, float]) -> str:
+    """What a stage's least-infeasible point says of the drive: each limit it could not hold, by how
+    much of its rating (`violations` by constraint group, `StageResult.violations`); empty when it
+    held them all."""
+    short = [f"drive.{field} exceeded by {100 * violations[group]:.3g} % of its rating"
+             for group, field in DRIVE_GROUPS.items() if violations.get(group, 0.0) > 1e-6]
+    return "" if not short else ("; the drive is too weak for this problem: " + ", ".join(short)
+                                 + " (raise the rating or the gear ratio, or ask less of the press)")
+
+
 def needed_outputs(problem: SpeedProblem, objective: Objective, extra: tuple[str, ...] = ()) -> tuple[str, ...]:
-    """Output names a transcription must sample: the objective's, the pin forces under a cap, and
-    `extra`, each once in that order."""
-    names = list(objective.outputs) + (list(PIN_FORCES) if problem.max_pin_force is not None else []) + list(extra)
+    """Output names a transcription must sample: the objective's, the pin forces under a cap, the
+    torque under a drive, and `extra`, each once in that order."""
+    names = list(objective.outputs) + (list(PIN_FORCES) if problem.max_pin_force is not None else []) \
+        + (["torque"] if problem.drive is not None else []) + list(extra)
     return tuple(dict.fromkeys(names))
 
 

@@ -18,6 +18,7 @@ from ..problem import SpeedProblem
 from ..speed import FourierSpeed
 from ..workers import parallel_workers, process_pool
 from .collocation import Collocation
+from .nlp import drive_shortfall
 from .ocp_result import OcpResult, peaks_of
 from .stage import StageResult, Transcription, standing_stage
 from .strategy import Strategy
@@ -90,7 +91,8 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
         problem=problem, model=model.spec, transcription=repr(tr), strategy=repr(strat), speed=answer.speed,
         initial_speed=initial, objective_value=found.objective, verified_objective=objective.value(sim),
         peaks=peaks_of(sim), initial_peaks=peaks_of(init_sim), rigid_peak_torque=_rigid_peak(stages[0], problem),
-        t1=t1, t2=t2, success=found.success, status=outcome_status(answer, found, earlier),
+        t1=t1, t2=t2, success=found.success,
+        status=outcome_status(answer, found, earlier) + ("" if found.success else drive_shortfall(found.violations)),
         periodic=is_periodic(sim), max_ram_speed_violation=max(ram_speed_violation(sim, problem), 0.0),
         min_omega=answer.speed.min_speed(), iterations=sum(s.iterations for s in stages),
         wall_time=wall, stages=stages, verify_rtol=strat.verify_rtol, simulation=sim,

@@ -22,7 +22,7 @@ from ..problem import SpeedProblem
 from ..mechanism.ideal import ideal_response
 from ..speed import FourierSpeed
 from ..ipopt_options import IPOPT_RIGID
-from .nlp import (Constraints, NlpData, NlpRun, add_kinematic_window, add_objective, add_pin_cap,
+from .nlp import (Constraints, NlpData, NlpRun, add_drive_limits, add_kinematic_window, add_objective, add_pin_cap,
                   add_speed_bounds, lifted_crank, scaled_crank_start, solve_nlp)
 from .stage import NlpPoint, StageResult, Transcription, WarmStart, settings_repr
 
@@ -144,6 +144,7 @@ class Rigid(Transcription):
             cons.add((ca.vertcat(y["crank_pin_tension"], y["wrist_pin_tension"]) - P.min_tension) / P.hanging_weight,
                      0.0, np.inf, "rod_tension")
         add_pin_cap(cons, P, y)
+        add_drive_limits(cons, P, y["torque"], W[1, :], W[2, :], ts)
         w = ca.vertcat(c, s, t1, ca.vec(Wv))
         W0 = scaled_crank_start(initial, ts).ravel(order="F")
         w0 = np.concatenate([initial.coefficients, [scale, t1_0], W0]) if point is None else point.w

@@ -20,7 +20,7 @@ from ..simulate import Integrator, SimulationError, integrate, periodic_orbit
 from ..speed import FourierSpeed
 from ..verify import settled_state
 from ..ipopt_options import IPOPT_WARM
-from .nlp import (Constraints, NlpData, NlpRun, add_dense_speed_bounds, add_objective, add_pin_cap,
+from .nlp import (Constraints, NlpData, NlpRun, add_dense_speed_bounds, add_drive_limits, add_objective, crank_rows, add_pin_cap,
                   needed_outputs, parameter_symbols, solve_nlp)
 from .stage import NlpPoint, StageResult, Transcription, WarmStart, settings_repr
 
@@ -178,6 +178,9 @@ class StateNlp:
     parameters : (ca.MX, ndarray), optional
         The model's carried press parameters as the NLP's p, and their values; the stage then holds
         the NLP at its solution (``StageResult.point``).
+    motion : ca.MX, optional
+        The crank's theta, omega and alpha rows at ``times`` in the NLP's variables (the lifted
+        crank motion), for the drive's limits; None: the affine map of ``c``.
     """
 
     c: Any
@@ -190,6 +193,7 @@ class StateNlp:
     fixed: np.ndarray | None = None
     coefficient_step: float | None = None
     parameters: tuple | None = None
+    motion: Any = None
 
 
 @dataclass
@@ -244,6 +248,9 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
     add_window_samples(cons, P, y, inside, backoff)
     add_dense_speed_bounds(cons, P, c, omega_samples)
     add_pin_cap(cons, P, y)
+    if P.drive is not None:
+        motion = crank_rows(P, c, times) if nlp.motion is None else nlp.motion
+        add_drive_limits(cons, P, y["torque"], motion[1, :], motion[2, :], times)
     w = ca.vertcat(c, s, X)
     s0 = scale if objective.kind == "peak" else 0.0  # the epigraph starts at the warm start's peak
     w0 = np.concatenate([start.padded(n).coefficients, [s0], np.asarray(X0, float).ravel()])
