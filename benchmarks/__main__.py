@@ -95,6 +95,9 @@ JOBS = (
         4, "press75's default call, each run in a fresh process with an empty compile cache"),
     Job("verification", "bench_verification.py", (), 1,
         "the seed optimum's final verification, this version (with --before-python: against another)"),
+    Job("drive", "bench_drive.py", (), 40,
+        "press75 with a servo drive between the floor and today's optimum: the envelope held; a weak motor named "
+        "(2026-11-26: no answer within 25 min, docs/decisions/2026-11-26-drive-limits.md)", archive=True),
     Job("modal_rod", "bench_modal_rod.py", ("--t-end", "0.8"), 6,
         "the flexible rod reduced to 1-3 modes: one cycle of impacts (IDAS, compiled), time and error against the "
         "element rod; Simeon"),

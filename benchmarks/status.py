@@ -314,13 +314,31 @@ def shooting_row(res: Results) -> Row:
                f"transcriptions_flexible_shooting.json, {d['date']}")
 
 
+def drive_row(res: Results) -> Row:
+    """#32: press75's optimum with a drive between the floor and today's optimum holds its envelope
+    on the re-simulation; a too-weak motor is named (job drive)."""
+    goal = ("press75 with a motor between the rigid floor and today's optimum: the drive envelope holds on the "
+            "re-simulated optimum; a too-weak motor named")
+    d = res.json("drive.json")
+    if d is None:
+        return missing(32, goal, "drive.json")
+    held, weak, m = d["held"], d["weak"], d["held"]["motor"]
+    named = "drive.peak_torque" in weak["status"] and not weak["success"]
+    text = (f"motor {held['drive']['peak_torque']:g} N·m (crank equivalent {held['crank_equivalent_peak_N_m']:.0f} N·m): "
+            f"{'verified' if held['verified'] else 'NOT verified'} at {held['peak_torque_N_m']:.2f} N·m crank torque, "
+            f"motor peak {m['peak_torque']:.3g} N·m (margin {m['peak_torque_margin']:+.1%}), top speed margin "
+            f"{m['speed_margin']:+.1%}, {held['wall_time_s']:.0f} s; a {weak['drive']['peak_torque']:g} N·m motor: "
+            + ("named in the status" if named else f"status {weak['status'][:80]!r}"))
+    return Row(32, goal, text, verdict(bool(d["envelope_held"]) and named), f"drive.json, {d['date_run']['date']}")
+
+
 def not_in_suite(issue: int, goal: str, why: str) -> Row:
     return Row(issue, goal, why, "not measured by the suite", "")
 
 
 CHECKS: tuple[Callable[[Results], Row | list[Row]], ...] = (
     speed_rows, flexible_row, sweep_optima_row, suite_row, radau_row, verification_row, optimum_sensitivity_row,
-    sweep_parallel_row, modal_rod_rows, shooting_row)
+    sweep_parallel_row, modal_rod_rows, shooting_row, drive_row)
 
 #: Goals no job of the suite measures yet, with the last one-off measurement.
 UNMEASURED = (
