@@ -29,12 +29,19 @@ def inverse_dynamics_function(params: PressParams, mechanism: Mechanism) -> ca.F
                        list(rigid.INVERSE_DYNAMICS_OUTPUTS))
 
 
+@lru_cache(maxsize=32)
+def kinematics_function(params: PressParams, mechanism: Mechanism) -> ca.Function:
+    """`Mechanism.kinematics_function`, built once per press and mechanism (a six-bar's or a toggle's
+    took 10-20 ms to build, and the problem's checks and the design ask for it many times)."""
+    return mechanism.kinematics_function(params)
+
+
 def ideal_kinematics(params: PressParams, mechanism: Mechanism, theta: Any, omega: Any = 0.0,
                      alpha: Any = 0.0) -> dict[str, np.ndarray]:
     """Ram and rod kinematics of the ideal press at the driven crank's motion (arrays broadcast)."""
     for name, v in (("theta", theta), ("omega", omega), ("alpha", alpha)):
         chk.finite_array(name, v, ndim=None)
-    return rigid.evaluate_elementwise(mechanism.kinematics_function(params), theta, omega, alpha)
+    return rigid.evaluate_elementwise(kinematics_function(params, mechanism), theta, omega, alpha)
 
 
 def ideal_inverse_dynamics(params: PressParams, mechanism: Mechanism, theta: Any, omega: Any,

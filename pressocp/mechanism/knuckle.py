@@ -27,7 +27,7 @@ import numpy as np
 from .. import checks as chk
 from .. import rigid
 from ..params import PressParams
-from .six_bar import SixBar
+from .six_bar import SixBar, press_crank_function
 
 
 def clock(x: float, y: float) -> float:
@@ -177,20 +177,24 @@ class KnuckleJoint(SixBar):
 
     def input_angle_at_height(self, params: PressParams, height, stroke: str = "down") -> np.ndarray:
         """Input angle (rad) with the ram at `height` (m, in [0, stroke]) on the "down" ([0, BDC]) or
-        "up" ([BDC, 2 pi]) stroke, by bisection on the ram height (monotone on each), to round-off.
-        The dead centres themselves are returned exactly: the ram height is flat there (of fourth
-        order in theta at bottom dead centre), so round-off would move them by up to 1e-3 rad."""
+        "up" ([BDC, 2 pi]) stroke: the upper link's angle from the slider-crank's closed form, then
+        the input angle by bisection on the upper link's distance from the straight toggle (it
+        shrinks to 0 on the downstroke and grows on the upstroke), to round-off. The dead centres
+        themselves are returned exactly: the ram height is flat there (of fourth order in theta at
+        bottom dead centre), so round-off would move them by up to 1e-3 rad."""
         chk.choice("stroke", stroke, ("down", "up"))
         h = chk.finite_array("height", height, ndim=None)
         H = self.drive.stroke
         if np.any(h < -1e-12) or np.any(h > H + 1e-12):
             raise ValueError(f"height must be in [0, {H:g}] m (the stroke)")
-        kin = self.kinematics_function(params)
+        target = math.pi - rigid.crank_angle_at_height(params, np.clip(h, 0.0, H), "down")
+        f = press_crank_function(self.drive)
         lo = np.full(h.shape, 0.0 if stroke == "down" else self.drive.input_at_bottom_dead_centre)
         hi = np.full(h.shape, self.drive.input_at_bottom_dead_centre if stroke == "down" else 2 * math.pi)
         for _ in range(56):
             mid = 0.5 * (lo + hi)
-            above = rigid.evaluate_elementwise(kin, mid, 0.0, 0.0)["ram_height"] > h
+            bent = np.abs(np.angle(np.exp(1j * (rigid.evaluate_elementwise(f, mid)["psi"] - math.pi))))
+            above = bent > target
             lo, hi = (np.where(above, mid, lo), np.where(above, hi, mid)) if stroke == "down" else \
                 (np.where(above, lo, mid), np.where(above, mid, hi))
         theta = 0.5 * (lo + hi)
