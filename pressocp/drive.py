@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 
 import numpy as np
+from scipy.integrate import cumulative_trapezoid, trapezoid
 
 from . import checks as chk
 
@@ -85,6 +86,16 @@ class Drive:
             peak = np.minimum(peak, self.power_limit / np.maximum(s, 1e-300))
         return np.where(s <= self.max_speed, peak, 0.0)
 
+    def motor_torques(self, crank_torque, crank_alpha):
+        """The motor torque (N m) while the gear drives the crank and while the crank drives back
+        (regenerating), at crank torque `crank_torque` (N m) and crank acceleration `crank_alpha`
+        (rad/s^2): crank torque / (i eta) or crank torque x eta / i, plus the rotor's and the
+        gear's inertia torque. Numbers, arrays or CasADi expressions; which of the two acts follows
+        the sign of the crank's power."""
+        i, eta = self.gear_ratio, self.gear_efficiency
+        rotor = (self.motor_inertia + self.gear_inertia) * i * crank_alpha
+        return crank_torque / (i * eta) + rotor, crank_torque * (eta / i) + rotor
+
     def to_dict(self) -> dict:
         """Plain data (None values left out)."""
         return {k: v for k, v in asdict(self).items() if v is not None}
@@ -142,11 +153,6 @@ class MotorCycle:
             "speed_margin", "energy_driving", "energy_regenerated", "bus_energy_swing", "gear_losses")}
 
 
-def cycle_integral(t: np.ndarray, y: np.ndarray) -> float:
-    """Trapezoidal integral of samples `y` over times `t`."""
-    return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(t)))
-
-
 def motor_cycle(drive: Drive, t, omega, alpha, crank_torque, load_inertia) -> MotorCycle:
     """The motor's side of one cycle of crank motion (`t` s over one period, `omega` rad/s > 0,
     `alpha` rad/s^2) and crank torque (N m, positive driving); `load_inertia` is the press's
@@ -156,29 +162,25 @@ def motor_cycle(drive: Drive, t, omega, alpha, crank_torque, load_inertia) -> Mo
     if np.any(omega <= 0.0):
         raise ValueError(f"omega must be in (0, inf) rad/s throughout, got a least value {float(np.min(omega)):g}: "
                          "the drive's figures need a crank that keeps turning forward")
-    i, eta = drive.gear_ratio, drive.gear_efficiency
-    crank_power = tau * omega
-    through_gear = np.where(crank_power >= 0.0, crank_power / eta, crank_power * eta)
+    i = drive.gear_ratio
+    driving, regenerating = drive.motor_torques(tau, alpha)
+    torque = np.where(tau >= 0.0, driving, regenerating)  # omega > 0: the crank's power has tau's sign
     speed = i * omega
-    inertia = drive.motor_inertia + drive.gear_inertia
-    power = through_gear + inertia * speed * (i * alpha)
-    torque = power / speed
+    power = torque * speed
+    rotor = (drive.motor_inertia + drive.gear_inertia) * i * alpha * speed
     period = t[-1] - t[0]
-    mean = cycle_integral(t, power) / period
-    stored = np.concatenate([[0.0], np.cumsum(0.5 * ((power - mean)[1:] + (power - mean)[:-1]) * np.diff(t))])
-    envelope = drive.peak_torque_at(speed)
+    stored = cumulative_trapezoid(power - trapezoid(power, t) / period, t, initial=0.0)
+    rms, top = float(np.sqrt(trapezoid(torque**2, t) / period)), float(np.max(np.abs(speed)))
     return MotorCycle(
-        t=t, speed=speed, torque=torque, power=power, peak_torque=float(np.max(np.abs(torque))),
-        rms_torque=float(np.sqrt(cycle_integral(t, torque**2) / period)), max_speed=float(np.max(np.abs(speed))),
-        peak_power=float(np.max(power)),
+        t=t, speed=speed, torque=torque, power=power, peak_torque=float(np.max(np.abs(torque))), rms_torque=rms,
+        max_speed=top, peak_power=float(np.max(power)),
         inertia_ratio=float(np.max((np.asarray(load_inertia) / i**2 + drive.gear_inertia) / drive.motor_inertia)),
-        peak_torque_margin=float(np.min(envelope - np.abs(torque)) / drive.peak_torque),
-        rms_margin=1.0 - float(np.sqrt(cycle_integral(t, torque**2) / period)) / drive.continuous_torque,
-        speed_margin=1.0 - float(np.max(np.abs(speed))) / drive.max_speed,
-        energy_driving=cycle_integral(t, np.maximum(power, 0.0)),
-        energy_regenerated=cycle_integral(t, np.maximum(-power, 0.0)),
+        peak_torque_margin=float(np.min(drive.peak_torque_at(speed) - np.abs(torque)) / drive.peak_torque),
+        rms_margin=1.0 - rms / drive.continuous_torque, speed_margin=1.0 - top / drive.max_speed,
+        energy_driving=float(trapezoid(np.maximum(power, 0.0), t)),
+        energy_regenerated=float(trapezoid(np.maximum(-power, 0.0), t)),
         bus_energy_swing=float(np.max(stored) - np.min(stored)),
-        gear_losses=cycle_integral(t, np.abs(through_gear - crank_power)))
+        gear_losses=float(trapezoid(np.abs(power - rotor - tau * omega), t)))
 
 
-__all__ = ["Drive", "MotorCycle", "cycle_integral", "motor_cycle"]
+__all__ = ["Drive", "MotorCycle", "motor_cycle"]

@@ -231,15 +231,6 @@ def add_pin_cap(cons: Constraints, problem: SpeedProblem, y: Mapping) -> None:
 DRIVE_BACKOFF = 0.995
 
 
-def cycle_weights(times: np.ndarray, period: float) -> np.ndarray:
-    """Weights of samples at sorted `times` in [0, period) for the mean over a period (periodic
-    trapezoid: each sample's share of the period)."""
-    t = np.asarray(times, dtype=float)
-    after = np.append(t[1:], t[0] + period)
-    before = np.insert(t[:-1], 0, t[-1] - period)
-    return (after - before) / (2 * period)
-
-
 def add_drive_limits(cons: Constraints, problem: SpeedProblem, torque, omega, alpha, times: np.ndarray) -> None:
     """The drive's limits at the samples `times` (s) of the crank torque `torque`, speed `omega` and
     acceleration `alpha` (rows, N m, rad/s, rad/s^2; the lifted crank motion keeps each sample's
@@ -253,10 +244,8 @@ def add_drive_limits(cons: Constraints, problem: SpeedProblem, torque, omega, al
     d = problem.drive
     if d is None:
         return
-    i, eta = d.gear_ratio, d.gear_efficiency
-    speed, rotor = i * omega, (d.motor_inertia + d.gear_inertia) * i * alpha
-    driving, regenerating = torque / (i * eta) + rotor, torque * (eta / i) + rotor
-    for motor in (driving, regenerating):
+    speed = d.gear_ratio * omega
+    for motor in d.motor_torques(torque, alpha):
         cons.add(motor / d.peak_torque, -DRIVE_BACKOFF, DRIVE_BACKOFF, "drive_peak_torque")
         if d.power_limit is not None:
             cons.add(motor * speed / d.power_limit, -DRIVE_BACKOFF, DRIVE_BACKOFF, "drive_power")
