@@ -58,6 +58,8 @@ from .speed import FourierSpeed
 TRANSCRIPTIONS = ("auto", "collocation", "shooting-idas", "shooting-cvodes")
 #: Keys of the [problem] table other than the cycle (`stroke_rate_spm` or `period_s`).
 PROBLEM_KEYS = tuple(f.name for f in fields(SpeedProblem) if f.name not in ("press", "period", "mechanism", "drive"))
+#: Tables a scenario may leave out, which `--set` may still name.
+OPTIONAL_TABLES = ("mechanism", "drive")
 #: Keys of the [solver] table.
 SOLVER_KEYS = ("transcription", "elements", "jit", "verify_rtol", "polish_rounds")
 
@@ -199,10 +201,8 @@ class Scenario:
         try:
             mechanism = _mechanism(data.get("mechanism", {"name": "slider_crank"}), where)
             press = _press(_drive_lengths(data.get("press", {}), mechanism), where)
-            mechanism.check_press(press)
-            problem = _problem(data.get("problem", {}), press, mechanism, where)
-            if "drive" in data:
-                problem = problem.replace(drive=_typed(Drive, data["drive"], "drive", where))
+            drive = _typed(Drive, data["drive"], "drive", where) if "drive" in data else None
+            problem = _problem(data.get("problem", {}), press, mechanism, drive, where)
             model = _typed(ModelSpec, data.get("model", {}), "model", where, {"clearance": (list, tuple)},
                            exclude=("mechanism",))
             model = dataclasses.replace(model, mechanism=mechanism)
@@ -249,8 +249,8 @@ class Scenario:
             data["name"] = f"{self.name}; " + ", ".join(f"{k} = {v}" for k, v in overrides.items())
         for key, value in overrides.items():
             parts = key.split(".")
-            if parts[0] not in (*data, "mechanism", "drive") or (
-                    len(parts) > 1 and not isinstance(data.get(parts[0]), dict) and parts[0] not in ("mechanism", "drive")):
+            table = parts[0] in OPTIONAL_TABLES or isinstance(data.get(parts[0]), dict)
+            if not (table or (parts[0] in data and len(parts) == 1)):  # a press field without "press."
                 parts = ["press", *parts]
             node = data
             for p in parts[:-1]:
@@ -374,7 +374,7 @@ def _drive_lengths(table: Any, mechanism: Mechanism) -> Any:
     return {"crank_radius": drive.crank_radius, "rod_length": drive.rod_length, **table}
 
 
-def _problem(table: Any, press: PressParams, mechanism: Mechanism, where: str) -> SpeedProblem:
+def _problem(table: Any, press: PressParams, mechanism: Mechanism, drive: Drive | None, where: str) -> SpeedProblem:
     valid = ("stroke_rate_spm", "period_s", *PROBLEM_KEYS)
     _known(table, valid, "problem.", where)
     table = dict(table)
@@ -403,7 +403,7 @@ def _problem(table: Any, press: PressParams, mechanism: Mechanism, where: str) -
     if "window" in table:
         table["window"] = tuple(table["window"])
     try:
-        return SpeedProblem(press, **table, mechanism=mechanism)
+        return SpeedProblem(press, **table, mechanism=mechanism, drive=drive)
     except ValueError as err:
         raise ScenarioError(f"{where}problem: {err}") from None
 
