@@ -90,15 +90,17 @@ def check_speed_limits(problem: "SpeedProblem") -> None:
     (on the ideal press, with `LIMIT_MARGIN`): omega_max below the speed the window needs somewhere,
     omega_min above it, or alpha_max below the least peak acceleration any such speed has (the speed
     must rise from its least value at the window's start to its least value at its end:
-    |alpha| >= (lowest(end)^2 - highest(start)^2) / (2 x the window's crank angle)). Nothing is
-    computed when none of the three limits is given."""
-    if problem.drive is not None:
-        check_drive_speed(problem)
-    if problem.omega_max is None and problem.omega_min is None and problem.alpha_max is None:
+    |alpha| >= (lowest(end)^2 - highest(start)^2) / (2 x the window's crank angle)); and a drive's
+    top speed below the window's need (`check_drive_speed`). Nothing is computed when none of the
+    three limits nor a drive is given."""
+    if problem.omega_max is None and problem.omega_min is None and problem.alpha_max is None \
+            and problem.drive is None:
         return
     press, mechanism = problem.press, problem.mechanism
     theta, lowest, highest = window_crank_speeds(press, problem.ram_speed, problem.tol, problem.window,
                                                  mechanism=mechanism)
+    if problem.drive is not None:
+        check_drive_speed(problem, float(lowest.max()))
     where = lambda k: f"h = {float(ideal_kinematics(press, mechanism, theta[k])['ram_height']):.4g} m"  # noqa: E731
     v = f"{problem.ram_speed:g} m/s"
     if problem.omega_max is not None and problem.omega_max < (1 - LIMIT_MARGIN) * lowest.max():
@@ -118,14 +120,13 @@ def check_speed_limits(problem: "SpeedProblem") -> None:
                          f"{lowest[-1]:.4g} rad/s or more, which needs at least {rise:.4g} rad/s^2")
 
 
-def check_drive_speed(problem: "SpeedProblem") -> None:
+def check_drive_speed(problem: "SpeedProblem", window_need: float) -> None:
     """ValueError when the drive's top speed, brought to the crank, is below the mean crank speed or
-    below the speed the window needs somewhere on the ideal press (with `LIMIT_MARGIN`)."""
+    below `window_need`, the speed (rad/s) the window needs somewhere on the ideal press (with
+    `LIMIT_MARGIN`; `window_crank_speeds`)."""
     d = problem.drive
     top = d.max_speed / d.gear_ratio
-    _, lowest, _ = window_crank_speeds(problem.press, problem.ram_speed, problem.tol, problem.window,
-                                       mechanism=problem.mechanism)
-    need = max(2 * np.pi / problem.period, (1 - LIMIT_MARGIN) * float(lowest.max()))
+    need = max(2 * np.pi / problem.period, (1 - LIMIT_MARGIN) * window_need)
     if top < need:
         raise ValueError(f"drive.max_speed must be in [{need * d.gear_ratio:.4g}, inf) rad/s at gear_ratio "
                          f"{d.gear_ratio:g}, got {d.max_speed!r}: the crank must turn at {need:.4g} rad/s "
