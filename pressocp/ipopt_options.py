@@ -1,9 +1,10 @@
 """Every IPOPT option set of the package, in one place (the stages' transcriptions add their own
 ``ipopt`` overrides on top, and `pressocp.compile_cache.oracle_options` the derivative settings)."""
 
-#: Options of every IPOPT call (quiet, MUMPS).
-IPOPT_BASE = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False, "ipopt.max_iter": 300,
-              "ipopt.tol": 1e-8, "ipopt.linear_solver": "mumps"}
+#: No output from IPOPT or CasADi.
+QUIET = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False}
+#: Options of every IPOPT call of the optimiser (quiet, MUMPS).
+IPOPT_BASE = {**QUIET, "ipopt.max_iter": 300, "ipopt.tol": 1e-8, "ipopt.linear_solver": "mumps"}
 #: Rigid transcription: exact Hessian, adaptive barrier (with the monotone one the 15-harmonic
 #: default case stalled at 300 iterations). Its free mode (``adaptive_mu_globalization =
 #: never-monotone-mode``) took press60's rigid stage from 142 to 72 iterations, but stopped at other
@@ -36,18 +37,15 @@ IPOPT_WARM_START = {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-7,
 #: initial barrier parameter of 1e-5: at 1e-4 IPOPT spent about 50 iterations on the first barrier
 #: problem alone (75 spm seed: target 88 and polish 82 iterations at 1e-4, 60 and 38 at 1e-5, the
 #: verified optimum 145.16 and 145.14 N m; the adaptive strategy took 161).
-IPOPT_COLLOCATION = {"ipopt.hessian_approximation": "exact", "ipopt.constr_mult_init_max": 0.0, "ipopt.mumps_scaling": 0,
-                 "ipopt.mu_init": 1e-5}
+IPOPT_COLLOCATION = {"ipopt.hessian_approximation": "exact", "ipopt.constr_mult_init_max": 0.0,
+                     "ipopt.mumps_scaling": 0, "ipopt.mu_init": 1e-5}
 
 #: IPOPT options of a tracking re-solve (`resolve_tracking`): IPOPT starts at the given primal-dual point
 #: with a barrier parameter near the one it ended at and no push into the interior, so that its
 #: iterates follow the same local optimum instead of restarting the barrier (which can leave it for
-#: another local optimum).
-IPOPT_TRACKING = {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-9, "ipopt.warm_start_bound_push": 1e-9,
-            "ipopt.warm_start_bound_frac": 1e-9, "ipopt.warm_start_slack_bound_push": 1e-9,
-            "ipopt.warm_start_slack_bound_frac": 1e-9, "ipopt.warm_start_mult_bound_push": 1e-9,
-            "ipopt.mu_strategy": "monotone", "ipopt.tol": 1e-8, "ipopt.max_iter": 200, "ipopt.print_level": 0,
-            "ipopt.sb": "yes", "print_time": False, "ipopt.linear_solver": "mumps"}
+#: another local optimum): the primal-dual warm start with a smaller barrier parameter.
+IPOPT_TRACKING = {**IPOPT_BASE, **IPOPT_WARM_START, "ipopt.mu_init": 1e-9, "ipopt.mu_strategy": "monotone",
+                  "ipopt.max_iter": 200}
 
 #: The kinematic speed design (`pressocp.design.design_speed`): a small, smooth NLP solved tightly.
-IPOPT_DESIGN = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False, "ipopt.max_iter": 500, "ipopt.tol": 1e-10}
+IPOPT_DESIGN = {**QUIET, "ipopt.max_iter": 500, "ipopt.tol": 1e-10}
