@@ -13,7 +13,7 @@ from .model import ModelSpec, PressModel, build_model
 from .objectives import OBJECTIVES, Objective
 from .ocp import (Collocation, MultipleShooting, OcpResult, OptimumSensitivities, Rigid, SensitivityError,
                   StageResult, Strategy, Transcription, WarmStart, optimize_speed, optimum_sensitivities)
-from .params import Bearing, PressParams, ProcessForce, hertz_internal_stiffness
+from .params import Bearing, Counterbalance, PressParams, ProcessForce, hertz_internal_stiffness
 from .problem import SpeedProblem
 from .recommend import ModelRecommendation, recommend_model
 from .result import SimResult
@@ -28,7 +28,7 @@ __all__ = [
     "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "Drive", "FourierSpeed", "Integrator", "KnuckleJoint", "KnucklePress",
     "ModelRecommendation", "ModelSpec", "MotorCycle",
     "MultipleShooting", "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams",
-    "ProcessForce", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",
+    "Counterbalance", "ProcessForce", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",
     "SixBar", "SixBarPress", "SliderCrank",
     "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "Transcription", "WarmStart", "WorkingZone", "build_model",
     "constant_speed_zone", "crank_angle_at_height",

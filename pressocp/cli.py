@@ -110,7 +110,12 @@ TEMPLATE_NOTES = {
     "polish_rounds": "most re-solves of the last stage from its answer, each restarting the barrier (0: the first pass only)",
 }
 #: Notes of keys whose meaning depends on their table.
-TEMPLATE_TABLE_NOTES = {("model", "clearance"): "joints with clearance (crank_pin, wrist_pin; [] for ideal joints)"}
+TEMPLATE_TABLE_NOTES = {
+    ("model", "clearance"): "joints with clearance (crank_pin, wrist_pin; [] for ideal joints)",
+    ("press.counterbalance", "force"): "N, slide counterbalance: up on the ram at bottom dead centre (0: none)",
+    ("press.counterbalance", "gas_length"): "m, gas volume at bottom dead centre over the piston area",
+    ("press.counterbalance", "exponent"): "- polytropic: 0 constant force, 1 isothermal, 1.4 adiabatic",
+}
 #: Optional keys the template shows commented out, after the line of the key named first.
 TEMPLATE_OPTIONAL = {
     "objective": ["# ram_speed_tol = 0.001               # m/s (default 1 % of |ram_speed|)",
@@ -118,6 +123,8 @@ TEMPLATE_OPTIONAL = {
                   "# omega_min = 0.5                     # rad/s (default 5 % of the mean crank speed)",
                   "# omega_max = 40.0                    # rad/s, motor speed limit at the crank",
                   "# alpha_max = 2000.0                  # rad/s^2, motor acceleration limit at the crank"],
+    "speed_edge": ["# heights = [0.005, 0.03, 0.04]          # m above bottom dead centre, increasing: a curve",
+                   "# forces = [0.0, 8000.0, 0.0]            # N at those heights (instead of force)"],
     "n_elements": ["# n_modes = 2                         # reduce the flexible rod to its first bending modes"],
     "gravity": ["",
                 "# Another linkage than the slider-crank (six_bar or knuckle_joint): uncomment, and drop",

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import casadi as ca
 
+from .laws import softplus
 from .params import PressParams
 
 
@@ -113,12 +114,44 @@ def time_derivatives(expr: ca.SX, theta: ca.SX, omega: ca.SX, alpha: ca.SX) -> t
 
 
 def process_force(params: PressParams, h: ca.SX, v: ca.SX) -> ca.SX:
-    """Forming force on the ram (+y, resisting the downstroke), N; zero when it is off."""
+    """Forming force on the ram (+y, resisting the downstroke), N; zero when it is off
+    (`pressocp.params.ProcessForce`). The piecewise-linear curve through the knots, zero outside
+    them, is a sum of smoothed steps s(u / edge) at its two ends and of their integrals (ramps,
+    softplus(u, edge / 2)) at its corners, so it is C-infinity and exact a few edges away from any
+    knot; a constant force between two heights is the curve of two knots."""
     pf = params.process_force
-    if pf.force == 0.0:
+    if not pf.active:
         return ca.SX(0)
+    heights, forces = pf.knots()
+    e = pf.edge
 
-    def step(x):
-        return 0.5 * (1 + ca.tanh(x))
+    def step(u):
+        return 0.5 * (1 + ca.tanh(u / e))
 
-    return pf.force * step((h - pf.h_bottom) / pf.edge) * step((pf.h_top - h) / pf.edge) * step(-v / pf.speed_edge)
+    def ramp(u):  # the integral of step
+        return softplus(u, 0.5 * e)
+
+    curve = forces[0] * step(h - heights[0]) - forces[-1] * step(h - heights[-1])
+    for h0, h1, f0, f1 in zip(heights[:-1], heights[1:], forces[:-1], forces[1:]):
+        if f1 != f0:
+            curve += (f1 - f0) / (h1 - h0) * (ramp(h - h0) - ramp(h - h1))
+    return curve * 0.5 * (1 + ca.tanh(-v / pf.speed_edge))
+
+
+def counterbalance_potential(params: PressParams, h: ca.SX) -> ca.SX:
+    """Potential energy of the slide counterbalance at ram height h (m above bottom dead centre), J,
+    zero at bottom dead centre: minus the integral of its upward force F (1 + h/L)^-n from 0 to h
+    (`pressocp.params.Counterbalance`)."""
+    cb = params.counterbalance
+    F, L, n = cb.force, cb.gas_length, cb.exponent
+    if n == 0.0:
+        return -F * h
+    if n == 1.0:
+        return -F * L * ca.log1p(h / L)
+    return -F * L / (1.0 - n) * ((1.0 + h / L) ** (1.0 - n) - 1.0)
+
+
+def counterbalance_force(params: PressParams, h):
+    """Upward force of the slide counterbalance at ram height h (m above bottom dead centre), N."""
+    cb = params.counterbalance
+    return cb.force * (1.0 + h / cb.gas_length) ** (-cb.exponent)

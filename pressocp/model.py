@@ -313,7 +313,7 @@ def build_model(
     crank = ca.SX.sym("crank", 3)  # theta, omega, alpha: the prescribed crank motion, set from p at the end
     lk = spec.mechanism.linkage(params, P, spec.rod, spec.n_elements, spec.n_modes)
     st = Locked(lk, params, spec.clearance, crank)
-    lag = mech.lagrangian(lk.kinetic, lk.potential, lk.Q, lk.Qd)
+    lag = mech.lagrangian(lk.kinetic, lk.potential + mech.counterbalance_potential(P, lk.ram_height), lk.Q, lk.Qd)
     F_gen, contacts = with_contacts(lk, P, spec.clearance, lag.Q + lk.forces)
     f_proc = mech.process_force(P, lk.ram_height, lk.rate(lk.ram_height))
     F_gen = F_gen + ca.jacobian(lk.ram_height, lk.Q).T @ f_proc

@@ -15,6 +15,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass, field, fields, replace
+from pathlib import Path
+
+import numpy as np
 
 from . import checks as chk
 from .laws import CONTACT_LAWS
@@ -249,20 +252,28 @@ class Bearing:
 class ProcessForce:
     """Forming force on the ram over a height window on the downstroke, with smooth edges.
 
-    The force pushes the ram away from the bed (it resists the downstroke) with magnitude
-    ``force * s((h - h_bottom)/edge) * s((h_top - h)/edge) * s(-v/speed_edge)`` where
-    ``s(x) = (1 + tanh x) / 2``.
+    The force pushes the ram away from the bed (it resists the downstroke). It is either a constant
+    ``force`` between ``h_bottom`` and ``h_top``, or a measured curve: ``heights`` and ``forces``,
+    the force against the ram height (a deep-drawing or blanking curve), linear between the points
+    and zero outside them. The constant is the curve ``[(h_bottom, force), (h_top, force)]``. Both
+    are smoothed over ``edge`` (the corners and the steps at the ends are rounded over about
+    +-edge) and switched off on the upstroke by ``s(-v/speed_edge)``, ``s(x) = (1 + tanh x) / 2``.
 
     Parameters
     ----------
     force : float
-        Peak force, N, >= 0.
+        Constant force, N, >= 0 (0: no constant force).
     h_top, h_bottom : float
-        Ram heights above bottom dead centre where the window starts and ends, m.
+        Ram heights above bottom dead centre where the constant force starts and ends, m.
     edge : float
-        Smoothing length of the window edges, m.
+        Smoothing length of the corners and ends, m.
     speed_edge : float
         Smoothing speed of the downstroke switch, m/s.
+    heights : tuple of float
+        Ram heights above bottom dead centre of the curve's points, m, increasing (empty: no curve).
+        Not together with ``force``.
+    forces : tuple of float
+        The force at each height, N, >= 0.
     """
 
     force: float = 0.0
@@ -270,6 +281,8 @@ class ProcessForce:
     h_bottom: float = 0.0
     edge: float = 5e-4
     speed_edge: float = 1e-3
+    heights: tuple[float, ...] = ()
+    forces: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
         chk.convert_reals(self)
@@ -278,8 +291,86 @@ class ProcessForce:
         bottom = chk.finite("h_bottom", self.h_bottom)
         if bottom >= top:
             raise ValueError(f"h_bottom must be in (-inf, h_top={top:g}) m, got {bottom!r}")
-        chk.positive("edge", self.edge, "m")
+        edge = chk.positive("edge", self.edge, "m")
         chk.positive("speed_edge", self.speed_edge, "m/s")
+        h = tuple(float(x) for x in chk.finite_array("heights", self.heights))
+        f = tuple(float(x) for x in chk.finite_array("forces", self.forces))
+        object.__setattr__(self, "heights", h)
+        object.__setattr__(self, "forces", f)
+        if len(h) != len(f):
+            raise ValueError(f"heights and forces must have the same length, got {len(h)} and {len(f)}")
+        if not h:
+            return
+        if len(h) < 2:
+            raise ValueError(f"heights must hold at least 2 points (a curve), got {len(h)}")
+        if self.force > 0.0:
+            raise ValueError(f"force must be 0 when a curve (heights, forces) is given, got {self.force!r} N: "
+                             "give the constant force as the curve's points, or drop the curve")
+        steps = np.diff(h)
+        if np.any(steps <= 0.0):
+            k = int(np.argmax(steps <= 0.0))
+            raise ValueError(f"heights must increase, got {h[k]!r} then {h[k + 1]!r} m (points {k} and {k + 1})")
+        if min(f) < 0.0:
+            raise ValueError(f"forces must be >= 0 N (the force resists the downstroke), got {min(f)!r}")
+        if steps.min() < edge:
+            chk.suspect(f"process_force.heights are {steps.min():g} m apart somewhere, less than edge = {edge:g} m: "
+                        "the smoothing rounds such detail away")
+
+    @property
+    def active(self) -> bool:
+        """Whether any force acts."""
+        return self.force > 0.0 or any(f > 0.0 for f in self.forces)
+
+    def knots(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        """(heights m, forces N) of the piecewise-linear curve the force follows: the curve's points,
+        or the constant's two."""
+        if self.heights:
+            return self.heights, self.forces
+        return (self.h_bottom, self.h_top), (self.force, self.force)
+
+    @classmethod
+    def from_csv(cls, path: str | Path, **settings: float) -> "ProcessForce":
+        """A curve from a CSV file with a header and two columns: ram height above bottom dead centre
+        (m) and force (N), in any order of rows. ``settings``: ``edge``, ``speed_edge``."""
+        import pandas as pd
+
+        table = pd.read_csv(path)
+        if table.shape[1] != 2:
+            raise ValueError(f"{path}: a process-force curve needs 2 columns (height m, force N), got "
+                             f"{table.shape[1]}: {list(table.columns)}")
+        table = table.sort_values(table.columns[0])
+        return cls(heights=tuple(table.iloc[:, 0]), forces=tuple(table.iloc[:, 1]), **settings)
+
+
+@dataclass(frozen=True)
+class Counterbalance:
+    """Slide counterbalance: air cylinders that push the ram up, away from the bed.
+
+    The force at ram height h (above bottom dead centre) is ``force * (1 + h / gas_length) **
+    (-exponent)``: the gas is compressed as the ram goes down, polytropically. ``exponent`` 0 is a
+    constant force (a large surge tank), 1 isothermal, 1.4 adiabatic. The force is conservative: its
+    potential energy enters the press's, so it does no net work over a cycle.
+
+    Parameters
+    ----------
+    force : float
+        Upward force with the ram at bottom dead centre, N, >= 0 (0: none): the pre-charge pressure
+        times the piston area, compressed to bottom dead centre.
+    gas_length : float
+        Gas volume (cylinders and surge tank) at bottom dead centre over the piston area, m.
+    exponent : float
+        Polytropic exponent, in [0, 2].
+    """
+
+    force: float = 0.0
+    gas_length: float = 1.0
+    exponent: float = 0.0
+
+    def __post_init__(self) -> None:
+        chk.convert_reals(self)
+        chk.nonnegative("force", self.force, "N")
+        chk.positive("gas_length", self.gas_length, "m")
+        chk.in_closed_interval("exponent", self.exponent, 0.0, 2.0)
 
 
 @dataclass(frozen=True)
@@ -318,6 +409,8 @@ class PressParams:
         The crank-pin (crank-rod) and wrist-pin (rod-slider) joints.
     process_force : ProcessForce
         Optional forming force on the ram (default off).
+    counterbalance : Counterbalance
+        Optional slide counterbalance (default off).
     """
 
     crank_radius: float = 0.05
@@ -335,6 +428,7 @@ class PressParams:
     crank_pin: Bearing = field(default_factory=lambda: Bearing(clearance=1e-4, journal_radius=0.04))
     wrist_pin: Bearing = field(default_factory=lambda: Bearing(clearance=1e-4, journal_radius=0.025))
     process_force: ProcessForce = field(default_factory=ProcessForce)
+    counterbalance: Counterbalance = field(default_factory=Counterbalance)
 
     def __post_init__(self) -> None:
         chk.convert_reals(self)
@@ -382,18 +476,20 @@ class PressParams:
                 raise ValueError(f"{name} must be a Bearing, got {type(getattr(self, name)).__name__}")
         if not isinstance(self.process_force, ProcessForce):
             raise ValueError("process_force must be a ProcessForce")
+        if not isinstance(self.counterbalance, Counterbalance):
+            raise ValueError("counterbalance must be a Counterbalance")
         self._suspect_units()
-        H = self.stroke
-        for name in ("h_top", "h_bottom"):
-            h = getattr(self.process_force, name)
-            if self.process_force.force > 0.0 and not -H <= h <= 2 * H:
-                slip = f": a value in mm? {h:g} mm is {h / 1000:g} m" if -H <= h / 1000 <= 2 * H else ""
-                raise ValueError(f"process_force.{name} must be in [-stroke, 2 x stroke] = [{-H:g}, {2 * H:g}] m "
-                                 f"(a height above bottom dead centre), got {h!r}{slip}")
-        pf = self.process_force
-        if pf.force > 0.0 and (pf.h_top <= 0.0 or pf.h_bottom >= H):
-            chk.suspect(f"process_force acts for heights in [{pf.h_bottom:g}, {pf.h_top:g}] m, outside the stroke [0, "
-                        f"{H:g}] m: it never acts. Heights are above bottom dead centre, in m")
+        H, pf = self.stroke, self.process_force
+        heights, forces = pf.knots()
+        if pf.active:
+            for name, h in zip(("h_bottom", "h_top") if not pf.heights else ("heights",) * len(heights), heights):
+                if not -H <= h <= 2 * H:
+                    slip = f": a value in mm? {h:g} mm is {h / 1000:g} m" if -H <= h / 1000 <= 2 * H else ""
+                    raise ValueError(f"process_force.{name} must be in [-stroke, 2 x stroke] = [{-H:g}, {2 * H:g}] m "
+                                     f"(a height above bottom dead centre), got {h!r}{slip}")
+            if heights[-1] <= 0.0 or heights[0] >= H:
+                chk.suspect(f"process_force acts for heights in [{heights[0]:g}, {heights[-1]:g}] m, outside the "
+                            f"stroke [0, {H:g}] m: it never acts. Heights are above bottom dead centre, in m")
 
     def _suspect_units(self) -> None:
         """`PlausibilityWarning` for values inside their ranges that do not fit the rest of the press:
@@ -405,10 +501,12 @@ class PressParams:
             if v > MAX_PART_RATIO * m:
                 chk.suspect(f"{name} = {v:g} kg is {v / m:.3g} x slider_mass ({m:g} kg): a value in g? {v:g} g is "
                             f"{v / 1000:g} kg")
-        F, W = self.process_force.force, m * max(self.gravity, 9.81)
-        if F > MAX_FORCE_RATIO * W:
-            chk.suspect(f"process_force.force = {F:g} N is {F / W:.3g} x the slider's weight ({W:.4g} N): a value "
-                        f"in mN? {F:g} mN is {F / 1000:g} N")
+        W = m * max(self.gravity, 9.81)
+        for name, F in (("process_force.force", max(self.process_force.knots()[1])),
+                        ("counterbalance.force", self.counterbalance.force)):
+            if F > MAX_FORCE_RATIO * W:
+                chk.suspect(f"{name} = {F:g} N is {F / W:.3g} x the slider's weight ({W:.4g} N): a value in mN? "
+                            f"{F:g} mN is {F / 1000:g} N")
 
     @property
     def stroke(self) -> float:
@@ -487,13 +585,19 @@ class PressParams:
         return clone(self, top), syms
 
     def to_dict(self) -> dict:
-        """Plain-data form (JSON/TOML-safe), bearings and process force as nested dicts."""
-        return asdict(self)
+        """Plain-data form (JSON/TOML-safe), the `NESTED` parts as nested dicts (a curve's points as
+        lists, left out without a curve)."""
+        d = asdict(self)
+        pf = d["process_force"]
+        pf.update(heights=list(pf["heights"]), forces=list(pf["forces"]))
+        if not pf["heights"]:
+            del pf["heights"], pf["forces"]
+        return d
 
     @classmethod
     def from_dict(cls, data: dict) -> "PressParams":
         """Inverse of `to_dict`; missing keys take their defaults, unknown keys are an error."""
-        nested = {"crank_pin": Bearing, "wrist_pin": Bearing, "process_force": ProcessForce}
+        nested = NESTED
         known = {f.name for f in fields(cls)}
         unknown = sorted(set(data) - known)
         if unknown:
@@ -552,7 +656,11 @@ NUMERIC_PARAMETERS = (
     "slider_mass", "gravity",
     *(f"{j}.{f}" for j in ("crank_pin", "wrist_pin")
       for f in ("clearance", "journal_radius", "stiffness", "damping", "tangential_damping")),
+    "counterbalance.force", "counterbalance.gas_length",
 )
+
+#: The press's parts that are dataclasses of their own, by field name.
+NESTED = {"crank_pin": Bearing, "wrist_pin": Bearing, "process_force": ProcessForce, "counterbalance": Counterbalance}
 
 
 def check_parameter(name: str) -> str:

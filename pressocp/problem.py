@@ -240,8 +240,8 @@ class SpeedProblem:
             chk.positive("alpha_max", self.alpha_max, "rad/s^2")
         if self.min_tension is not None:
             chk.in_open_interval("min_tension", self.min_tension, -np.inf, self.hanging_weight, "N")
-            if self.press.process_force.force != 0.0:
-                raise ValueError("min_tension needs process_force.force == 0: the forming load compresses the rod, "
+            if self.press.process_force.active:
+                raise ValueError("min_tension needs a press without process force: the forming load compresses the rod, "
                                  "so its axial force must change sign")
         if self.max_pin_force is not None:
             chk.in_open_interval("max_pin_force", self.max_pin_force, self.hanging_weight, np.inf, "N")

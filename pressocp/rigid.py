@@ -126,7 +126,8 @@ def inverse_dynamics(params: PressParams, theta: ca.SX, omega: ca.SX, alpha: ca.
     T_c, V_c = mech.crank_energy(params, th, qd[0])
     T_r, V_r = mech.body_energy(params.rod_mass, params.rod_inertia_value, g, G, qd[1:3], qd[3])
     T_s, V_s = mech.body_energy(params.slider_mass, 0.0, g, S, qd[4:6], 0)
-    lag = mech.lagrangian(T_c + T_r + T_s, V_c + V_r + V_s, q, qd)
+    V_cb = mech.counterbalance_potential(params, S[1] + params.crank_radius + l)
+    lag = mech.lagrangian(T_c + T_r + T_s, V_c + V_r + V_s + V_cb, q, qd)
     theta_d = ca.SX.sym("theta_d")  # prescribed crank angle
     phi_c = ca.vertcat(
         mech.crank_pin(params, th) - (G + 0.5 * l * mech.unit(phi)),  # crank pin A

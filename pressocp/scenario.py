@@ -50,7 +50,7 @@ from .drive import Drive
 from .mechanism import MECHANISMS, SLIDER_CRANK, Mechanism, mechanism_to_dict
 from .model import ModelSpec, PressModel
 from .ocp import Collocation, MultipleShooting, OcpResult, Strategy, optimize_speed
-from .params import Bearing, PressParams, ProcessForce
+from .params import NESTED, PressParams
 from .problem import SpeedProblem
 from .speed import FourierSpeed
 
@@ -328,7 +328,7 @@ def _typed(cls, table: Any, prefix: str, where: str, lists: dict | None = None, 
 
 
 def _press(table: Any, where: str) -> PressParams:
-    nested = {"crank_pin": Bearing, "wrist_pin": Bearing, "process_force": ProcessForce}
+    nested = NESTED
     _known(table, [f.name for f in fields(PressParams)], "press.", where)
     hints = typing.get_type_hints(PressParams)
     for key, value in table.items():

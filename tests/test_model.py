@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from pressocp import Bearing, FourierSpeed, PressParams, beam, rigid_response
+from pressocp import Bearing, Counterbalance, FourierSpeed, PressParams, ProcessForce, beam, rigid_response
 from pressocp.mechanism.slider_crank import flexible_rod_energies
 from pressocp.model import build_model
 from pressocp.simulate import (Integrator, SimulationError, expect_settled, periodic_orbit, periodic_state, runs_compiled,
@@ -24,8 +24,15 @@ def _rel_peak_errors(res, ref, names=("torque", "crank_pin_force", "wrist_pin_fo
     return {n: res.peak(n) / ref.peak(n) - 1 for n in names}
 
 
-def test_rigid_model_equals_rigid_inverse_dynamics():
-    p = PressParams(crank_com=0.01)
+#: A press with both extra ram forces: a gas counterbalance and a process-force curve
+#: (their torque on the ideal press is checked against virtual work in test_ram_forces.py).
+RAM_FORCES = dict(counterbalance=Counterbalance(force=2500.0, gas_length=0.3, exponent=1.4),
+                  process_force=ProcessForce(heights=(0.02, 0.05, 0.07), forces=(0.0, 4000.0, 500.0)))
+
+
+@pytest.mark.parametrize("extra", [{}, RAM_FORCES], ids=["bare", "ram_forces"])
+def test_rigid_model_equals_rigid_inverse_dynamics(extra):
+    p = PressParams(crank_com=0.01, **extra)
     s = FourierSpeed(1.0, [2.0, 1.0], [0.5, -1.0], theta0=0.3)
     r = simulate(build_model(p, clearance=()), s, n_out=301)
     ref = rigid_response(p, s, r.t)
@@ -56,10 +63,12 @@ def test_flexible_rod_with_large_EI_is_rigid():
     assert np.max(np.abs(r.rod_midspan_deflection)) < 1e-7
 
 
-@pytest.mark.parametrize("rod", ["rigid", pytest.param("flexible", marks=pytest.mark.slow)])  # flexible: 13 s
-def test_energy_balance_with_clearances(rod, impact_speed):
-    """W_motor + W_process = dT + dV + contact work (stored + dissipated) + rod damping work."""
-    m = build_model(PressParams(), rod=rod, n_elements=2)
+@pytest.mark.parametrize("rod, extra", [("rigid", {}), ("rigid", RAM_FORCES),
+                                        pytest.param("flexible", {}, marks=pytest.mark.slow)])  # flexible: 13 s
+def test_energy_balance_with_clearances(rod, extra, impact_speed):
+    """W_motor + W_process = dT + dV + contact work (stored + dissipated) + rod damping work; the
+    counterbalance's energy is potential."""
+    m = build_model(PressParams(**extra), rod=rod, n_elements=2)
     r = simulate(m, impact_speed, t_end=0.8 if rod == "rigid" else 0.3, integrator=Integrator(method="cvodes", rtol=1e-10 if rod == "rigid" else 1e-9), work=True)
     E = r.energy
     dE = E["kinetic_end"] + E["potential_end"] - E["kinetic_start"] - E["potential_start"]

@@ -213,7 +213,7 @@ class Strategy:
                     st.superseded = "the chain from the neighbour's optimum failed here; it restarted as a cold chain"
             stages += tried
         margins = self.margins
-        if len(margins) > 1 and not rigid.check.verified and problem.press.process_force.force == 0.0:
+        if len(margins) > 1 and not rigid.check.verified and not problem.press.process_force.active:
             return stages + run_candidates(self, problem, base.spec, rigid, transcription, margins, progress, pool)
         return stages + self.clearance_chain(problem, base, rigid, transcription, None, progress,
                                              margins[0] if margins else None)
@@ -267,7 +267,7 @@ class Strategy:
         stages: list[StageResult] = []
         start = rigid
         if neighbour is None and not rigid.check.verified and margin is not None \
-                and problem.press.process_force.force == 0.0:
+                and not problem.press.process_force.active:
             bound = margin * problem.hanging_weight
             nr = self.rigid.solve(problem.replace(min_tension=bound), base, WarmStart(rigid.speed), "no_reversal",
                                   progress)
