@@ -14,7 +14,7 @@ from .objectives import OBJECTIVES, Objective
 from .ocp import (Collocation, MultipleShooting, OcpResult, OptimumSensitivities, Rigid, SensitivityError,
                   StageResult, Strategy, Transcription, WarmStart, optimize_speed, optimum_sensitivities)
 from .params import Bearing, Counterbalance, PressParams, ProcessForce, hertz_internal_stiffness
-from .problem import SpeedProblem
+from .problem import ReversalWarning, SpeedProblem
 from .recommend import ModelRecommendation, recommend_model
 from .result import SimResult
 from .scenario import Scenario, ScenarioError
@@ -28,7 +28,7 @@ __all__ = [
     "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "Drive", "FourierSpeed", "Integrator", "KnuckleJoint", "KnucklePress",
     "ModelRecommendation", "ModelSpec", "MotorCycle",
     "MultipleShooting", "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams",
-    "Counterbalance", "ProcessForce", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",
+    "Counterbalance", "ProcessForce", "ReversalWarning", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",
     "SixBar", "SixBarPress", "SliderCrank",
     "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "Transcription", "WarmStart", "WorkingZone", "build_model",
     "constant_speed_zone", "crank_angle_at_height",

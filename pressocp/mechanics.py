@@ -150,8 +150,3 @@ def counterbalance_potential(params: PressParams, h: ca.SX) -> ca.SX:
         return -F * L * ca.log1p(h / L)
     return -F * L / (1.0 - n) * ((1.0 + h / L) ** (1.0 - n) - 1.0)
 
-
-def counterbalance_force(params: PressParams, h):
-    """Upward force of the slide counterbalance at ram height h (m above bottom dead centre), N."""
-    cb = params.counterbalance
-    return cb.force * (1.0 + h / cb.gas_length) ** (-cb.exponent)

@@ -372,6 +372,11 @@ class Counterbalance:
         chk.positive("gas_length", self.gas_length, "m")
         chk.in_closed_interval("exponent", self.exponent, 0.0, 2.0)
 
+    def force_at(self, h):
+        """Upward force at ram height h (m above bottom dead centre; a number, array or CasADi
+        expression), N."""
+        return self.force * (1.0 + h / self.gas_length) ** (-self.exponent)
+
 
 @dataclass(frozen=True)
 class PressParams:

@@ -153,6 +153,11 @@ def check_ram_speed(press: PressParams, period: float, ram_speed: float, window:
     return v
 
 
+class ReversalWarning(UserWarning):
+    """The rod's load must reverse every stroke, whatever the crank speed (`SpeedProblem.reversal_cause`):
+    the journals will cross their clearances and impact."""
+
+
 @dataclass(frozen=True)
 class SpeedProblem:
     """Minimise a load over a Fourier crank speed, with the ram at constant speed in a window.
@@ -180,10 +185,9 @@ class SpeedProblem:
         Optional motor limits |omega| <= omega_max (rad/s), |alpha| <= alpha_max (rad/s^2).
     min_tension : float or None
         Lower bound on the rod's axial tension at both pins in the rigid model, N, below the
-        weight of rod and slider. The slider hangs from the rod; a bound >= 0 forbids the
-        joint-force reversal (tension to compression, the ram falling faster than g) that makes the
-        journals cross their clearance and impact. Needs a press without process force (the forming
-        load compresses the rod). None: no bound.
+        rod's static tension (`static_tension`). The slider hangs from the rod; a bound >= 0
+        forbids the joint-force reversal (tension to compression, the ram falling faster than g)
+        that makes the journals cross their clearance and impact. None: no bound.
     max_pin_force : float or None
         Cap on the crank-pin and wrist-pin force magnitudes, N, held at every sample together with
         any objective (bearing rating). None: no cap.
@@ -193,6 +197,15 @@ class SpeedProblem:
     drive : Drive or None
         Keyword-only: the servo motor and gear (`pressocp.drive.Drive`) whose figures every result
         reports (motor torque and speed, against its ratings); None: no drive.
+    max_tension : float or None
+        Keyword-only: upper bound on the rod's axial tension at both pins in the rigid model, N,
+        above the least static tension over the stroke (`static_tension`). With a counterbalance
+        that lifts more than the ram and rod weigh, the rod is in compression at rest; a bound <= 0
+        keeps it so (the joints loaded one way, upward) all cycle. None: no bound.
+    counterbalance_range : (float, float) or None
+        Keyword-only: optimise the counterbalance's force (`pressocp.params.Counterbalance.force`, N
+        at bottom dead centre) in [low, high] together with the crank speed, its gas law as the
+        press gives it. None: the press's counterbalance as it is.
     """
 
     press: PressParams
@@ -209,6 +222,8 @@ class SpeedProblem:
     max_pin_force: float | None = None
     mechanism: Mechanism = field(default=SLIDER_CRANK, kw_only=True, repr=False)
     drive: Drive | None = field(default=None, kw_only=True, repr=False)
+    max_tension: float | None = field(default=None, kw_only=True)
+    counterbalance_range: tuple[float, float] | None = field(default=None, kw_only=True)
 
     def __post_init__(self) -> None:
         chk.instance("press", self.press, PressParams)
@@ -238,11 +253,16 @@ class SpeedProblem:
                             f"value in rpm? {w:g} rpm is {w * 2 * np.pi / 60:.4g} rad/s")
         if self.alpha_max is not None:
             chk.positive("alpha_max", self.alpha_max, "rad/s^2")
+        low, high = self.static_tension
         if self.min_tension is not None:
-            chk.in_open_interval("min_tension", self.min_tension, -np.inf, self.hanging_weight, "N")
-            if self.press.process_force.active:
-                raise ValueError("min_tension needs a press without process force: the forming load compresses the rod, "
-                                 "so its axial force must change sign")
+            chk.in_open_interval("min_tension", self.min_tension, -np.inf, low, "N (the rod's least static tension: "
+                                 "hanging weight less counterbalance and process force)")
+        if self.counterbalance_range is not None:
+            lo, hi = check_counterbalance_range(self.counterbalance_range, self.hanging_weight)
+            object.__setattr__(self, "counterbalance_range", (lo, hi))
+        if self.max_tension is not None:
+            chk.in_open_interval("max_tension", self.max_tension, high, np.inf, "N (the rod's greatest static tension: "
+                                 "hanging weight less the counterbalance)")
         if self.max_pin_force is not None:
             chk.in_open_interval("max_pin_force", self.max_pin_force, self.hanging_weight, np.inf, "N")
         check_speed_limits(self)
@@ -257,6 +277,66 @@ class SpeedProblem:
     def hanging_weight(self) -> float:
         """Weight of rod and slider, N: the static rod tension is about this."""
         return (self.press.slider_mass + self.press.rod_mass) * self.press.gravity
+
+    @property
+    def static_tension(self) -> tuple[float, float]:
+        """(least, greatest) axial tension of the rod with the ram at rest in the stroke, N: the
+        hanging weight less the counterbalance's lift (greatest at bottom dead centre, least at the
+        top), the least also less the process force's largest value (it acts in the working window,
+        where the ram moves at constant speed)."""
+        H, cb, pf = self.stroke, self.press.counterbalance, self.press.process_force
+        W = self.hanging_weight
+        forming = max(pf.knots()[1]) if pf.active else 0.0
+        return W - cb.force_at(0.0) - forming, W - cb.force_at(H)
+
+    def free_parameters(self) -> dict[str, tuple[float, float]]:
+        """Press parameters optimised with the speed, by dotted name, with their (low, high) ranges
+        (`counterbalance_range`)."""
+        return {} if self.counterbalance_range is None else {"counterbalance.force": self.counterbalance_range}
+
+    def reversal_side(self) -> str | None:
+        """The sign the rod's axial load can keep all cycle: "tension" when the ram hangs from it
+        (`static_tension` > 0 at every height, the process force included), "compression" when the
+        counterbalance lifts more than ram and rod weigh at every height, None when neither: the
+        load must reverse every stroke, and the journals cross their clearances."""
+        low, high = self.static_tension
+        if low > 0.0:
+            return "tension"
+        if high < 0.0:
+            return "compression"
+        return None
+
+    def without_reversal(self, margin: float) -> "SpeedProblem | None":
+        """This problem with the rod's axial load held on its `reversal_side` at `margin` (a share) of
+        its static value: tension >= margin x the least static tension, or tension <= margin x the
+        greatest (negative); None when the load must reverse."""
+        side = self.reversal_side()
+        low, high = self.static_tension
+        if side == "tension":
+            return self.replace(min_tension=margin * low)
+        if side == "compression":
+            return self.replace(max_tension=margin * high)
+        return None
+
+    def reversal_cause(self) -> str:
+        """Why the rod's load must reverse every stroke, and the remedy ("" when it need not)."""
+        if self.reversal_side() is not None:
+            return ""
+        W, cb, pf = self.hanging_weight, self.press.counterbalance, self.press.process_force
+        forming = max(pf.knots()[1]) if pf.active else 0.0
+        low, high = self.static_tension
+        parts = [f"ram and rod hang from the rod with {newtons(W)}"]
+        if cb.force > 0.0:
+            parts.append(f"the counterbalance lifts {newtons(cb.force_at(self.stroke))} to {newtons(cb.force)} over "
+                         "the stroke")
+        if forming > 0.0:
+            parts.append(f"the process force reaches {newtons(forming)}")
+        need = 1.2 * W * (1.0 + self.stroke / cb.gas_length) ** cb.exponent
+        return (f"the rod's load must change sign every stroke ({'; '.join(parts)}: at rest it is {newtons(low)} at "
+                f"least and {newtons(high)} at most), so the joint forces reverse and the journals cross their "
+                f"clearances whatever the crank speed. A counterbalance that lifts more than ram and rod weigh at "
+                f"every height keeps the joints loaded one way: press.counterbalance.force of about {newtons(need)} "
+                f"or more (at bottom dead centre, with its gas_length and exponent)")
 
     @property
     def tol(self) -> float:
@@ -292,6 +372,8 @@ class SpeedProblem:
         """Plain-data form (JSON-safe): ``{"press": ..., field: value, ...}``."""
         d = {k: v for k, v in asdict(self).items() if k not in ("press", "mechanism", "drive")}
         d["window"] = list(self.window)
+        if self.counterbalance_range is not None:
+            d["counterbalance_range"] = list(self.counterbalance_range)
         if self.mechanism != SLIDER_CRANK:
             d["mechanism"] = mechanism_to_dict(self.mechanism)
         if self.drive is not None:
@@ -303,13 +385,37 @@ class SpeedProblem:
         """Inverse of `to_dict`."""
         d = dict(data)
         press = PressParams.from_dict(d.pop("press", {}))
-        if "window" in d:
-            d["window"] = tuple(d["window"])
+        for key in ("window", "counterbalance_range"):
+            if d.get(key) is not None:
+                d[key] = tuple(d[key])
         if "mechanism" in d:
             d["mechanism"] = mechanism_from_dict(d["mechanism"])
         if d.get("drive") is not None:
             d["drive"] = Drive(**d["drive"])
         return cls(press, **d)
+
+
+def newtons(force: float) -> str:
+    """A force for a message: N below 10 kN, kN above."""
+    return f"{force:.4g} N" if abs(force) < 1e4 else f"{force / 1e3:.4g} kN"
+
+
+#: A counterbalance range reaching above this many hanging weights is suspected of a unit slip (kN).
+MAX_COUNTERBALANCE_RATIO = 1000.0
+
+
+def check_counterbalance_range(value: Any, hanging_weight: float) -> tuple[float, float]:
+    """(low, high) of a counterbalance's force, N: two numbers, 0 <= low < high."""
+    try:
+        lo, hi = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ValueError(f"counterbalance_range must be two numbers [low, high] in N, got {value!r}") from None
+    chk.nonnegative("counterbalance_range[0]", lo, "N")
+    chk.in_open_interval("counterbalance_range[1]", hi, lo, np.inf, "N")
+    if hi > MAX_COUNTERBALANCE_RATIO * hanging_weight:
+        chk.suspect(f"counterbalance_range reaches {hi:g} N, {hi / hanging_weight:.3g} x the hanging weight of ram and "
+                    f"rod ({hanging_weight:.4g} N): a value in mN? {hi:g} mN is {hi / 1000:g} N")
+    return lo, hi
 
 
 def in_window(problem: SpeedProblem, theta: np.ndarray, ram_height: np.ndarray) -> np.ndarray:

@@ -384,10 +384,11 @@ def _problem(table: Any, press: PressParams, mechanism: Mechanism, drive: Drive 
     for key, value in table.items():
         if key in ("stroke_rate_spm", "period_s"):
             _check_type(value, float, f"problem.{key}", where)
-        elif key == "window":
+        elif key in ("window", "counterbalance_range"):
             if not (isinstance(value, list) and len(value) == 2 and all(isinstance(v, (int, float))
                                                                         and not isinstance(v, bool) for v in value)):
-                raise ScenarioError(f"{where}problem.window must be a list of two numbers [h1/H, h2/H], got {value!r}")
+                what = "[h1/H, h2/H]" if key == "window" else "[low, high] in N"
+                raise ScenarioError(f"{where}problem.{key} must be a list of two numbers {what}, got {value!r}")
         else:
             _check_type(value, hints[key], f"problem.{key}", where)
     if "stroke_rate_spm" in table:
@@ -400,8 +401,9 @@ def _problem(table: Any, press: PressParams, mechanism: Mechanism, drive: Drive 
         if not (isinstance(T, (int, float)) and 0.0 < T < math.inf):
             raise ScenarioError(f"{where}problem.period_s must be in (0, inf) s, got {T!r}")
         table["period"] = T
-    if "window" in table:
-        table["window"] = tuple(table["window"])
+    for key in ("window", "counterbalance_range"):
+        if key in table:
+            table[key] = tuple(table[key])
     try:
         return SpeedProblem(press, **table, mechanism=mechanism, drive=drive)
     except ValueError as err:

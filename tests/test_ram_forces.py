@@ -62,6 +62,24 @@ def test_constant_force_equals_its_two_point_curve():
     np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-9)
 
 
+def test_constant_force_is_the_product_of_smoothed_steps():
+    """The constant force as first written: F s((h - h_bottom)/edge) s((h_top - h)/edge) s(-v/speed_edge)."""
+    pf = po.ProcessForce(force=4000.0, h_top=0.06, h_bottom=0.02, edge=2e-3)
+    theta = np.linspace(0.05, 2 * np.pi - 0.05, 301)
+    omega, alpha = 5.0 + np.cos(theta), np.zeros_like(theta)
+    press = po.PressParams(crank_radius=R, rod_length=L, process_force=pf)
+    extra = torque(press, theta, omega, alpha) - torque(po.PressParams(crank_radius=R, rod_length=L), theta, omega,
+                                                         alpha)
+    h = height(theta)
+    v = dh_dtheta(theta) * omega
+
+    def s(x):
+        return 0.5 * (1 + np.tanh(x))
+
+    force = 4000.0 * s((h - 0.02) / 2e-3) * s((0.06 - h) / 2e-3) * s(-v / 1e-3)
+    np.testing.assert_allclose(extra, -force * dh_dtheta(theta), rtol=1e-9, atol=1e-9)
+
+
 def test_curve_follows_its_points_away_from_the_knots():
     heights, forces = (0.01, 0.03, 0.05, 0.07), (0.0, 6000.0, 2500.0, 1000.0)
     press = po.PressParams(process_force=po.ProcessForce(heights=heights, forces=forces, edge=2e-4))

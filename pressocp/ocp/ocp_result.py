@@ -134,8 +134,8 @@ class OcpResult:
 
     @property
     def rigid(self) -> StageResult:
-        """The rigid-press stage."""
-        return self.stages[0]
+        """The rigid-press stage (after the ``counterbalance`` stage, when it ran)."""
+        return next(s for s in self.stages if s.name == "rigid")
 
     @property
     def history(self) -> list[float]:

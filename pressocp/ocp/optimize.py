@@ -4,6 +4,7 @@ window, found by a chain of stages (`Strategy`) and verified by re-simulation.""
 from __future__ import annotations
 
 import time
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -14,7 +15,7 @@ from ..compile_cache import compile_seconds, prepared_record, write_prepared_rec
 from ..design import design_speed
 from ..model import ModelSpec, PressModel, build_model
 from ..objectives import get as get_objective
-from ..problem import SpeedProblem
+from ..problem import ReversalWarning, SpeedProblem
 from ..speed import FourierSpeed
 from ..workers import parallel_workers, process_pool
 from .collocation import Collocation
@@ -73,7 +74,12 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     t_start = time.perf_counter()
     strat, tr, model, initial = checked_request(problem, model, transcription, strategy, initial)
     t_chain = time.perf_counter()
-    stages, init_sim, timing, (t_verify, c_verify) = run_chain(problem, model, tr, strat, initial, progress)
+    settled: list[StageResult] = []
+    if problem.counterbalance_range is not None:
+        stage, problem, model = strat.settle_counterbalance(problem, model, initial, progress)
+        settled = [stage]
+    chain, init_sim, timing, (t_verify, c_verify) = run_chain(problem, model, tr, strat, initial, progress)
+    stages = [*settled, *chain]
     answer = stages[-1]
     # judged by the stage whose answer stands; an earlier stage that stopped short (its answer a start
     # that a later stage improved on) is recorded, not inherited
@@ -90,7 +96,7 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     return OcpResult(
         problem=problem, model=model.spec, transcription=repr(tr), strategy=repr(strat), speed=answer.speed,
         initial_speed=initial, objective_value=found.objective, verified_objective=objective.value(sim),
-        peaks=peaks_of(sim), initial_peaks=peaks_of(init_sim), rigid_peak_torque=_rigid_peak(stages[0], problem),
+        peaks=peaks_of(sim), initial_peaks=peaks_of(init_sim), rigid_peak_torque=_rigid_peak(chain[0], problem),
         t1=t1, t2=t2, success=found.success,
         status=outcome_status(answer, found, earlier) + ("" if found.success else drive_shortfall(found.violations)),
         periodic=is_periodic(sim), max_ram_speed_violation=max(ram_speed_violation(sim, problem), 0.0),
@@ -122,6 +128,9 @@ def checked_request(problem: SpeedProblem, model: PressModel | None, transcripti
                          "MultipleShooting or Collocation (or a model built with clearance=())")
     if model.n_harmonics != problem.n_harmonics:
         model = model.spec.build(model.params, problem.n_harmonics)
+    if model.clearance and problem.reversal_side() is None:
+        warnings.warn(ReversalWarning(f"{problem.reversal_cause()}. The optimiser cannot design the impacts away: it "
+                                      "runs without its no-reversal stage, and the answer impacts"), stacklevel=3)
     if initial is None:
         initial = design_speed(problem).speed
     elif not isinstance(initial, FourierSpeed) or not np.isclose(initial.period, problem.period):

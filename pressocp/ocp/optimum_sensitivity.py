@@ -196,8 +196,8 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
             raise ValueError(f"the answer is the ideal press's optimum (verified on the clearance model), which "
                              f"does not depend on {', '.join(bearings)}: differentiate a clearance-model optimum "
                              "(optimize_speed(..., strategy='all')) or sweep it")
-        if stage.details.get("min_tension_N") is not None:
-            problem = problem.replace(min_tension=stage.details["min_tension_N"])
+        problem = problem.replace(min_tension=stage.details.get("min_tension_N"),
+                                  max_tension=stage.details.get("max_tension_N"))
         spec = result.model
     elif transcription.gives_parametric_point:
         spec = result.model if stage.model == result.model.describe() else ModelSpec("rigid", result.model.clearance, mechanism=result.model.mechanism)

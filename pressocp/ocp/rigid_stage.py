@@ -129,40 +129,55 @@ class Rigid(Transcription):
             and start.point.grid == self.grid() else None
         c, s, t1 = ca.MX.sym("c", 2 * n), ca.MX.sym("s"), ca.MX.sym("t1")
         symbols = () if model is None else model.symbols
-        q = ca.MX.sym("q", len(symbols)) if symbols else ca.MX(0, 1)
+        free = P.free_parameters()
+        if free and symbols:
+            raise ValueError(f"a rigid stage cannot carry press parameters ({', '.join(symbols)}) and optimise "
+                             f"{', '.join(free)} at once")
+        names = tuple(free) or symbols
+        q = ca.MX.sym("q", len(names)) if names else ca.MX(0, 1)
         ts = np.linspace(0.0, T, N, endpoint=False)
         cons = Constraints()
         Wv, W = lifted_crank(cons, c, T, ts)
         jit = use_jit(self.jit, "the rigid stage")
-        y = dict(zip(LOAD_OUTPUTS, loads_function(P, symbols, jit).map(N)(W[0, :], W[1, :], W[2, :], q)))
+        y = dict(zip(LOAD_OUTPUTS, loads_function(P, names, jit).map(N)(W[0, :], W[1, :], W[2, :], q)))
         y.update(theta=W[0, :], omega=W[1, :])
         scale = objective.value(ideal_response(P.press, P.mechanism, initial, ts)) if point is None else point.scale
         f = add_objective(cons, objective, y, s, scale)
         add_kinematic_window(cons, P, c, t1, duration, self.window_samples, self.backoff, h_start, jit)
         add_speed_bounds(cons, P, W[1, :], W[2, :])
-        if P.min_tension is not None:  # no joint-force reversal
-            cons.add((ca.vertcat(y["crank_pin_tension"], y["wrist_pin_tension"]) - P.min_tension) / P.hanging_weight,
-                     0.0, np.inf, "rod_tension")
+        tension = ca.vertcat(y["crank_pin_tension"], y["wrist_pin_tension"])
+        if P.min_tension is not None:  # no joint-force reversal: the rod in tension
+            cons.add((tension - P.min_tension) / P.hanging_weight, 0.0, np.inf, "rod_tension")
+        if P.max_tension is not None:  # no joint-force reversal: the rod in compression
+            cons.add((P.max_tension - tension) / P.hanging_weight, 0.0, np.inf, "rod_compression")
         add_pin_cap(cons, P, y)
         add_drive_limits(cons, P, y["torque"], W[1, :], W[2, :], ts)
-        w = ca.vertcat(c, s, t1, ca.vec(Wv))
+        w = ca.vertcat(c, s, t1, ca.vec(Wv), q if free else ca.MX(0, 1))
         W0 = scaled_crank_start(initial, ts).ravel(order="F")
-        w0 = np.concatenate([initial.coefficients, [scale, t1_0], W0]) if point is None else point.w
-        lbw = np.concatenate([np.full(2 * n, -np.inf), [0.0, 0.0], np.full(W0.size, -np.inf)])
-        ubw = np.concatenate([np.full(2 * n, np.inf), [np.inf, T - duration], np.full(W0.size, np.inf)])
-        out = solve_nlp(NlpData(w, f, cons, w0, lbw, ubw, parameters=(q, model.nominal) if symbols else None,
+        lo, hi = (np.array([b[k] for b in free.values()]) for k in (0, 1))
+        q0 = np.clip([P.press.value(name) for name in free], lo, hi)
+        w0 = np.concatenate([initial.coefficients, [scale, t1_0], W0, q0]) if point is None else point.w
+        lbw = np.concatenate([np.full(2 * n, -np.inf), [0.0, 0.0], np.full(W0.size, -np.inf), lo])
+        ubw = np.concatenate([np.full(2 * n, np.inf), [np.inf, T - duration], np.full(W0.size, np.inf), hi])
+        out = solve_nlp(NlpData(w, f, cons, w0, lbw, ubw, parameters=(q, model.nominal) if symbols and not free else None,
                                 multipliers=None if point is None else (point.lam_x, point.lam_g)),
                         NlpRun(f"rigid_{name}", {**IPOPT_RIGID, **oracle_options(jit), **self.ipopt}, objective,
                                scale, f"{name} (rigid press, {N} samples)", progress))
         speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
-        sampled = ideal_response(P.press, P.mechanism, speed, ts)
+        chosen = dict(zip(free, (float(v) for v in out.w[out.w.size - len(free):]))) if free else {}
+        press = P.press
+        for name, value in chosen.items():
+            press = press.with_value(name, value)
+        sampled = ideal_response(press, P.mechanism, speed, ts)
         return StageResult(
             name=name, transcription=repr(self), model=ModelSpec("rigid", (), mechanism=P.mechanism).describe(), success=out.success,
             status=out.status, iterations=out.iterations, wall_time=out.wall_time, objective=objective.value(sampled),
             speed=speed, last_speed=FourierSpeed.from_coefficients(T, out.last_w[: 2 * n]),
             t1=float(out.w[2 * n + 1]), history=out.history, barrier=out.barrier, iteration_log=out.iteration_log,
             violations_start=out.violations_start, violations=out.violations,
-            details={"window_extension_m": drop, "min_tension_N": P.min_tension, "samples": N,
+            details={"window_extension_m": drop, "min_tension_N": P.min_tension,
+                     "max_tension_N": P.max_tension,
+                     **({"free": chosen} if free else {}), "samples": N,
                      "window_samples": self.window_samples, "backoff": self.backoff, "warm": point is not None},
             timing=dict(out.timing), point=out.point,
             nlp=None if out.lam_x is None or not out.success else

@@ -2,8 +2,10 @@
 
 1. ``rigid``: the ideal press (`Rigid`), exact Hessian, seconds. Its optimum is the floor. It is
    re-simulated on the target model (rigid rod); when it impacts there (the joint forces reverse):
-2. ``no_reversal``: the ideal press again, with the rod tension at both pins kept above a margin x
-   the hanging weight, warm-started from the rigid optimum. Without a force reversal the journals
+2. ``no_reversal``: the ideal press again, with the rod's axial load at both pins kept on one side
+   (`SpeedProblem.without_reversal`: in tension above a margin x its static value, or, with a
+   counterbalance that lifts more than ram and rod weigh, in compression), warm-started from the
+   rigid optimum. Without a force reversal the journals
    stay on their bearings; it is re-simulated on the target model too. With several margins
    (``tension_margin``, default 0.05 and 0.02), stages 2-5 run once per margin, side by side in
    worker processes, and the lowest verified answer is kept (`pressocp.ocp.candidates`).
@@ -71,6 +73,10 @@ def soft_params(params: PressParams, factor: float) -> PressParams:
     return params.replace(**bearings)
 
 
+#: The first no-reversal margin, and the counterbalance stage's when the strategy has none.
+DEFAULT_MARGIN = 0.05
+
+
 @dataclass(frozen=True)
 class Strategy:
     """How `optimize_speed` chains its stages.
@@ -86,9 +92,10 @@ class Strategy:
     rigid : Rigid
         Transcription of the rigid and no-reversal stages.
     tension_margin : float, tuple of float, or None
-        Rod tension kept at both pins by the no-reversal stage, as a fraction of the weight of rod and
-        slider, each in [0, 1); None skips that stage. It runs only when the rigid optimum is not
-        verified on the target model and the press has no process force. Several margins: each starts
+        Rod load kept at both pins by the no-reversal stage, as a fraction of its static value
+        (`SpeedProblem.without_reversal`), each in [0, 1); None skips that stage. It runs only when
+        the rigid optimum is not verified on the target model and the load can keep one sign
+        (`SpeedProblem.reversal_side`). Several margins: each starts
         a candidate chain (no-reversal, target and polish stages, named ``stage@margin``), run side by
         side in `workers` processes, and the lowest verified answer is kept (`pressocp.ocp.candidates`).
     workers : int
@@ -124,7 +131,7 @@ class Strategy:
 
     mode: str = "auto"
     rigid: Rigid = field(default_factory=Rigid)
-    tension_margin: float | tuple[float, ...] | None = (0.05, 0.02)
+    tension_margin: float | tuple[float, ...] | None = (DEFAULT_MARGIN, 0.02)
     workers: int = 2
     verified_ratio: float = 1.02
     soft_factor: float | None = 100.0
@@ -172,6 +179,29 @@ class Strategy:
         return cls(mode=strategy)
 
     # The chain ---------------------------------------------------------------------------------
+    def settle_counterbalance(self, problem: SpeedProblem, model: PressModel, initial: FourierSpeed,
+                              progress: bool) -> tuple[StageResult, SpeedProblem, PressModel]:
+        """The ``counterbalance`` stage of a problem with a `SpeedProblem.counterbalance_range`: the
+        ideal press with the counterbalance's force free in that range, and the rod's load held on the
+        side it can keep at the top of the range (`SpeedProblem.without_reversal` at the first
+        margin; in compression, when the counterbalance can lift more than ram and rod weigh, at
+        that margin of their weight, as in tension), so that the force is chosen for joints loaded
+        one way. Returns the stage, and the problem and
+        model with the force it chose (the chain then designs the speed for that press)."""
+        lo, hi = problem.counterbalance_range
+        top = problem.replace(press=problem.press.with_value("counterbalance.force", hi), counterbalance_range=None)
+        margin = self.margins[0] if self.margins else DEFAULT_MARGIN
+        held = top.without_reversal(margin) or top
+        if held.max_tension is not None and -margin * problem.hanging_weight > top.static_tension[1]:
+            held = held.replace(max_tension=-margin * problem.hanging_weight)  # the tension side's margin
+        stage = self.rigid.solve(held.replace(counterbalance_range=(lo, hi)), None, WarmStart(initial),
+                                 "counterbalance", progress)
+        force = stage.details["free"]["counterbalance.force"]
+        stage.details["reversal_side"] = top.reversal_side()
+        press = problem.press.with_value("counterbalance.force", force)
+        fixed = problem.replace(press=press, counterbalance_range=None)
+        return stage, fixed, model.spec.build(press, model.n_harmonics)
+
     def run(self, problem: SpeedProblem, model: PressModel, transcription: Transcription, initial: FourierSpeed,
             progress: bool, pool: Executor | None = None) -> list[StageResult]:
         """Every stage in order; the last one's speed is the answer. `pool`: worker processes for the
@@ -213,7 +243,7 @@ class Strategy:
                     st.superseded = "the chain from the neighbour's optimum failed here; it restarted as a cold chain"
             stages += tried
         margins = self.margins
-        if len(margins) > 1 and not rigid.check.verified and not problem.press.process_force.active:
+        if len(margins) > 1 and not rigid.check.verified and problem.reversal_side() is not None:
             return stages + run_candidates(self, problem, base.spec, rigid, transcription, margins, progress, pool)
         return stages + self.clearance_chain(problem, base, rigid, transcription, None, progress,
                                              margins[0] if margins else None)
@@ -266,11 +296,9 @@ class Strategy:
         ended so)."""
         stages: list[StageResult] = []
         start = rigid
-        if neighbour is None and not rigid.check.verified and margin is not None \
-                and not problem.press.process_force.active:
-            bound = margin * problem.hanging_weight
-            nr = self.rigid.solve(problem.replace(min_tension=bound), base, WarmStart(rigid.speed), "no_reversal",
-                                  progress)
+        held = None if margin is None else problem.without_reversal(margin)
+        if neighbour is None and not rigid.check.verified and held is not None:
+            nr = self.rigid.solve(held, base, WarmStart(rigid.speed), "no_reversal", progress)
             stages.append(nr)
             if candidate and not nr.success:
                 return stages
