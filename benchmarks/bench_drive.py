@@ -25,7 +25,7 @@ from pressocp.drive import Drive
 from pressocp.io import versions
 from pressocp.plots import plot_torque_speed, save
 from pressocp.report import stamp
-from pressocp.summaries import motor_cycle_of
+from pressocp.verify import motor_cycle_of
 
 OUT = Path(__file__).parent / "results"
 

@@ -15,6 +15,7 @@ from .ocp import (Collocation, MultipleShooting, OcpResult, OptimumSensitivities
                   StageResult, Strategy, Transcription, WarmStart, optimize_speed, optimum_sensitivities)
 from .params import Bearing, Counterbalance, PressParams, ProcessForce, hertz_internal_stiffness
 from .problem import ReversalWarning, SpeedProblem
+from .stroke_rate import RateSearch, max_stroke_rate
 from .recommend import ModelRecommendation, recommend_model
 from .result import SimResult
 from .scenario import Scenario, ScenarioError
@@ -28,11 +29,11 @@ __all__ = [
     "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "Drive", "FourierSpeed", "Integrator", "KnuckleJoint", "KnucklePress",
     "ModelRecommendation", "ModelSpec", "MotorCycle",
     "MultipleShooting", "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams",
-    "Counterbalance", "ProcessForce", "ReversalWarning", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",
+    "Counterbalance", "ProcessForce", "RateSearch", "ReversalWarning", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",
     "SixBar", "SixBarPress", "SliderCrank",
     "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "Transcription", "WarmStart", "WorkingZone", "build_model",
     "constant_speed_zone", "crank_angle_at_height",
-    "design_speed", "hertz_internal_stiffness", "motor_cycle", "optimize_speed", "optimum_sensitivities", "recommend_model",
+    "design_speed", "hertz_internal_stiffness", "max_stroke_rate", "motor_cycle", "optimize_speed", "optimum_sensitivities", "recommend_model",
     "rigid_inverse_dynamics", "rigid_kinematics", "rigid_response", "sensitivities", "Sensitivities", "simulate",
     "sweep",
 ]

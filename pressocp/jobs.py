@@ -16,26 +16,27 @@ from .design import design_speed
 from .io import SUMMARY_NAME, RunMismatch, atomic_write, check_run_file, versions, write_json
 from .objectives import get as get_objective
 from .params import PressParams
-from .verify import is_periodic, rigid_reference, window_times
-from .plots import plot_impact_study, plot_responses, plot_torque_speed, rigid_torque_level, save
+from .verify import is_periodic, motor_cycle_of, rigid_reference, window_times
+from .plots import plot_impact_study, plot_journal_orbits, plot_responses, plot_torque_speed, rigid_torque_level, save
 from .problem import SpeedProblem
 from .report import describe_problem, format_table, load_table, peak_summary, stamp, write_cycle_table
 from .result import SimResult
 from .series import PEAK_SERIES
 from .scenario import Scenario
 from .speed import FourierSpeed
-from .summaries import (drive_summary, drive_text, motor_cycle_of, optimum_summary, problem_summary, simulate_speed,
+from .summaries import (drive_summary, drive_text, optimum_summary, problem_summary, simulate_speed,
                         simulation_summary, time_table_text)
 
 #: Figures of a response pair: file name -> series stacked in it.
 FIGURES = {
     "speed.png": ("omega", "ram_height", "ram_velocity"),
     "loads.png": PEAK_SERIES,
-    "journals.png": ("crank_pin_eccentricity", "wrist_pin_eccentricity"),
 }
+#: The journal orbits of a response pair on a model with clearance (`plot_journal_orbits`).
+JOURNALS = "journals.png"
 #: Every file a job may write into its folder (checked to be placeable before a job runs).
-OUTPUT_NAMES = ("results.csv", "speed.json", "result.json", *FIGURES, "motor.png", "design.png", "impacts.png",
-                "report.txt", SUMMARY_NAME)
+OUTPUT_NAMES = ("results.csv", "speed.json", "result.json", *FIGURES, JOURNALS, "motor.png", "design.png",
+                "impacts.png", "report.txt", SUMMARY_NAME)
 
 
 @dataclass
@@ -118,10 +119,17 @@ def _flat(d: dict, prefix: str = "") -> dict:
     return out
 
 
-def _figures(out: Path, responses: list[tuple[str, SimResult]], problem: SpeedProblem,
-             window: tuple[float, float], title: str, journals: bool, floor: float | None = None) -> list[Path]:
+def _state_names(scenario: Scenario) -> list[str]:
+    """The names of the states of the scenario's model (`PressModel.state_names`)."""
+    return scenario.build_model().state_names
+
+
+def _figures(out: Path, responses: list[tuple[str, SimResult]], scenario: Scenario,
+             window: tuple[float, float], title: str, state_names: list[str], floor: float | None = None) -> list[Path]:
     """The `FIGURES`, with the ram speed tolerance, the pin-force cap (when the problem has one) and
-    the rigid-press optimum's peak torque (`floor`, N·m, for an optimum) drawn."""
+    the rigid-press optimum's peak torque (`floor`, N·m, for an optimum) drawn; and `JOURNALS`, the
+    journal orbits, when the scenario's model has clearances (its states named by `state_names`)."""
+    problem = scenario.problem
     levels: dict[str, list[tuple[float, str]]] = {}
     if floor is not None:
         levels["torque"] = [rigid_torque_level(problem.objective, floor)]
@@ -130,11 +138,13 @@ def _figures(out: Path, responses: list[tuple[str, SimResult]], problem: SpeedPr
             levels[pin] = [(problem.max_pin_force, f"cap {problem.max_pin_force:.0f} N")]
     files = []
     for name, series in FIGURES.items():
-        if name == "journals.png" and not journals:
-            continue
         fig = plot_responses(responses, window=window, series=series, title=title,
                              ram_speed=(problem.ram_speed, problem.tol), levels=levels)
         files.append(save(fig, out / name))
+    if scenario.model.clearance:
+        clearances = {j: getattr(scenario.press, j).clearance for j in scenario.model.clearance}
+        fig = plot_journal_orbits(responses, state_names, clearances, window=window, title=title)
+        files.append(save(fig, out / JOURNALS))
     return files
 
 
@@ -174,11 +184,12 @@ def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobRep
     summary = {**optimum_summary(scenario, result, ideal), "versions": versions(), "run": stamp()}
     error = summary["max_ram_speed_error"]
     motors = _motors(problem, {"initial": (result.initial_speed, init), "optimum": (result.speed, sim)})
-    files = [write_cycle_table(out / "results.csv", {"initial": init, "optimum": sim}, motors),
+    names = _state_names(scenario)
+    files = [write_cycle_table(out / "results.csv", {"initial": init, "optimum": sim}, motors, names),
              write_json(out / "speed.json", result.speed.to_dict()), result.to_json(out / "result.json")]
     label = "optimum" if result.success else "best iterate (not converged)"
-    files += _figures(out, [("initial: rigid design", init), (label, sim)], problem, (result.t1, result.t2),
-                      f"{scenario.name}: {where}", bool(scenario.model.clearance), result.rigid_peak_torque)
+    files += _figures(out, [("initial: rigid design", init), (label, sim)], scenario, (result.t1, result.t2),
+                      f"{scenario.name}: {where}", names, result.rigid_peak_torque)
     files += _motor_figure(out, problem, motors, summary, f"{scenario.name}: {where}")
     verdict = ("converged and verified" if result.success and result.verified else
                f"NOT {'verified' if result.success else 'converged'}: {result.status}"
@@ -221,10 +232,11 @@ def simulate_job(scenario: Scenario, out: Path, speed: FourierSpeed | None = Non
                "versions": versions(), "run": stamp()}
     periodic, error, where = summary["periodic"], summary["max_ram_speed_error"], summary["model"]
     motors = _motors(problem, {"speed": (speed, sim)})
-    files = [write_cycle_table(out / "results.csv", {"speed": sim}, motors),
+    names = _state_names(scenario)
+    files = [write_cycle_table(out / "results.csv", {"speed": sim}, motors, names),
              write_json(out / "speed.json", speed.to_dict())]
-    files += _figures(out, [("ideal joints", ideal), (where, sim)], problem, _window(sim, problem),
-                      f"{scenario.name}: {source}", bool(scenario.model.clearance))
+    files += _figures(out, [("ideal joints", ideal), (where, sim)], scenario, _window(sim, problem),
+                      f"{scenario.name}: {source}", names)
     files += _motor_figure(out, problem, motors, summary, f"{scenario.name}: {source} on the {where}")
     text = "\n".join([f"{scenario.name}: {source} on the {where}", f"  {describe_problem(problem)}", "",
                       format_table(load_table([("ideal joints", ideal), ("model", sim)])), "",
@@ -285,7 +297,8 @@ def impacts_job(scenario: Scenario, out: Path) -> JobReport:
                                                "designed": float(st.designed_rigid.wrist_pin_force.min())},
                "periodic": {"constant": is_periodic(st.constant), "designed": is_periodic(st.designed)},
                "wall_time_s": wall, "versions": versions(), "run": stamp()}
-    files = [write_cycle_table(out / "results.csv", {"constant": st.constant, "designed": st.designed}),
+    files = [write_cycle_table(out / "results.csv", {"constant": st.constant, "designed": st.designed},
+                               state_names=_state_names(scenario)),
              write_json(out / "speed.json", st.design.speed.to_dict()),
              save(plot_impact_study(st), out / "impacts.png")]
     rows = [["model / ideal joints", "torque", "normal force", "crank pin", "wrist pin"],
@@ -298,4 +311,4 @@ def impacts_job(scenario: Scenario, out: Path) -> JobReport:
     return _finish("impacts", out, summary, text, "", files, not missing)
 
 
-__all__ = ["FIGURES", "JobReport", "design_job", "impacts_job", "optimize_job", "read_speed", "simulate_job"]
+__all__ = ["FIGURES", "JOURNALS", "JobReport", "design_job", "impacts_job", "optimize_job", "read_speed", "simulate_job"]

@@ -6,8 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .drive import MotorCycle, motor_cycle
-from .mechanism.ideal import ideal_inverse_dynamics
+from .drive import MotorCycle
 from .objectives import get as get_objective
 from .ocp.ocp_result import OcpResult
 from .verify import is_periodic, ram_speed_error, rigid_reference, verify_speed
@@ -82,17 +81,6 @@ def simulate_speed(scenario: Scenario, speed: FourierSpeed) -> tuple[SimResult, 
     and the ideal press's on the same grid."""
     sim = verify_speed(scenario.build_model(), speed, scenario.solver.verify_rtol)
     return sim, rigid_reference(scenario.problem, speed)
-
-
-def motor_cycle_of(problem: SpeedProblem, speed: FourierSpeed, sim: SimResult) -> MotorCycle:
-    """The problem's drive over one period of `sim`, the response to `speed` (its first period, from
-    its first sample): the speed's crank motion, the response's crank torque, the ideal press's
-    inertia about the crank."""
-    keep = sim.t - sim.t[0] <= speed.period * (1 + 1e-12)
-    t, theta = sim.t[keep], sim.theta[keep]
-    _, omega, alpha = speed.evaluate(t)
-    inertia = 2 * ideal_inverse_dynamics(problem.press, problem.mechanism, theta, 1.0, 0.0)["kinetic_energy"]
-    return motor_cycle(problem.drive, t, omega, alpha, sim.torque[keep], inertia)
 
 
 def drive_summary(problem: SpeedProblem, cycles: dict[str, MotorCycle]) -> dict:

@@ -9,7 +9,8 @@ from .model import PressModel
 from .objectives import get as get_objective
 from .problem import SpeedProblem, in_window
 from .result import SimResult
-from .mechanism.ideal import ideal_response
+from .drive import MotorCycle, motor_cycle
+from .mechanism.ideal import ideal_inverse_dynamics, ideal_response
 from .simulate import Integrator, SimulationError, simulate
 from .speed import FourierSpeed
 
@@ -108,3 +109,14 @@ def screen(model: PressModel, speed: FourierSpeed, reference: float, objective: 
         return sim, ratio
     sim = verify_speed(model, speed, rtol, x0=x3)
     return sim, value(sim) / reference
+
+
+def motor_cycle_of(problem: SpeedProblem, speed: FourierSpeed, sim: SimResult) -> MotorCycle:
+    """The problem's drive over one period of `sim`, the response to `speed` (its first period, from
+    its first sample): the speed's crank motion, the response's crank torque, the ideal press's
+    inertia about the crank."""
+    keep = sim.t - sim.t[0] <= speed.period * (1 + 1e-12)
+    t, theta = sim.t[keep], sim.theta[keep]
+    _, omega, alpha = speed.evaluate(t)
+    inertia = 2 * ideal_inverse_dynamics(problem.press, problem.mechanism, theta, 1.0, 0.0)["kinetic_energy"]
+    return motor_cycle(problem.drive, t, omega, alpha, sim.torque[keep], inertia)

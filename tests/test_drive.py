@@ -168,7 +168,7 @@ def test_the_drive_limits_hold_on_the_optimum_and_a_weak_motor_is_named():
     speed. A motor far too weak ends unconverged, its status naming drive.peak_torque; a motor too
     slow for the window is refused before any solve."""
     from pressocp import Rigid, Strategy, build_model, optimize_speed
-    from pressocp.summaries import motor_cycle_of
+    from pressocp.verify import motor_cycle_of
 
     press = PressParams()
     base = SpeedProblem(press, period=0.8, ram_speed=-0.1)

@@ -1,0 +1,215 @@
+"""The highest stroke rate at which a press runs its job with a given servo drive.
+
+"How fast can this press run this job with this motor?" At each stroke rate tried, the speed that
+minimises the problem's objective (peak motor torque by default) is optimised on the target model
+(`optimize_speed`, the drive's limits left out of the NLP) and re-simulated; the rate is feasible
+when that verified answer meets every limit on its re-simulation: the drive's peak-torque curve
+(with its power limit) and top speed, its continuous (RMS) rating, the problem's pin-force cap,
+and the ram speed in the window. The search steps the rate up (or down) from the problem's until
+feasibility changes, then bisects to `RateSearch.tolerance_spm`, and finally tries the found rate
+plus `RateSearch.check_step` to show which limit fails there.
+
+The drive's limits are checked, not constrained: the minimum-peak-torque speed is the one most
+likely to fit under a peak-torque curve, and a drive-constrained NLP that has no feasible point
+(a rate too high) costs IPOPT's iteration limit instead of a verdict. A rate is called infeasible
+when its optimum misses a limit; a speed that meets the limits at that rate by another objective
+is not searched for.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import checks as chk
+from .drive import MotorCycle
+from .model import PressModel
+from .ocp import OcpResult, Strategy, optimize_speed
+from .problem import SpeedProblem
+from .verify import motor_cycle_of
+
+
+@dataclass(frozen=True)
+class RateSearch:
+    """How `max_stroke_rate` searches.
+
+    Attributes
+    ----------
+    tolerance_spm : float
+        Width of the final bracket, strokes/min, > 0.
+    step : float
+        Factor by which the rate steps up (or down) from the problem's until feasibility changes, > 1.
+    check_step : float
+        Relative step above the found rate at which the answer is tried once more, to show the limit
+        that fails there, in (0, 0.5).
+    max_trials : int
+        Most optimisations of the search, 2..40 (the check above the found rate is one more).
+    strategy : str or Strategy
+        `optimize_speed`'s strategy at each rate.
+    """
+
+    tolerance_spm: float = 1.0
+    step: float = 1.15
+    check_step: float = 0.02
+    max_trials: int = 12
+    strategy: str | Strategy = "auto"
+
+    def __post_init__(self) -> None:
+        chk.convert_reals(self)
+        chk.positive("tolerance_spm", self.tolerance_spm, "strokes/min")
+        chk.in_open_interval("step", self.step, 1.0, 3.0)
+        chk.in_open_interval("check_step", self.check_step, 0.0, 0.5)
+        chk.integer("max_trials", self.max_trials, 2, 40)
+
+
+@dataclass
+class RateTrial:
+    """One stroke rate tried: its verified optimum and what it failed, if anything.
+
+    Attributes
+    ----------
+    rate_spm : float
+        Strokes per minute.
+    feasible : bool
+        Every limit held on the re-simulation.
+    failed : dict
+        Limits missed, by name, with the margin (a share of the rating; negative) or the reason.
+    margins : dict
+        The motor's margins on the re-simulation (peak-curve, RMS, speed; shares) and the largest pin
+        force (N), when the optimisation ran.
+    peak_torque : float
+        Verified peak crank torque, N m (nan when the problem at that rate is invalid).
+    wall_time : float
+        s.
+    result : OcpResult or None
+        The optimum (None when the problem at that rate is invalid).
+    motor : MotorCycle or None
+        Its motor cycle.
+    """
+
+    rate_spm: float
+    feasible: bool
+    failed: dict
+    margins: dict = field(default_factory=dict)
+    peak_torque: float = float("nan")
+    wall_time: float = 0.0
+    result: OcpResult | None = field(default=None, repr=False)
+    motor: MotorCycle | None = field(default=None, repr=False)
+
+    def summary(self) -> dict:
+        """Plain data."""
+        return {"rate_spm": self.rate_spm, "feasible": self.feasible, "failed": self.failed, "margins": self.margins,
+                "peak_torque": self.peak_torque, "wall_time": self.wall_time}
+
+
+@dataclass
+class RateResult:
+    """The highest feasible stroke rate found.
+
+    Attributes
+    ----------
+    rate_spm : float or None
+        The highest rate tried at which every limit held (None: none of those tried). Should the
+        check above it hold too (the limits are not monotone in the rate), that is the rate.
+    best : RateTrial or None
+        The trial at that rate.
+    above : RateTrial or None
+        The trial at `rate_spm` x (1 + check_step): the limit that fails just above.
+    trials : list of RateTrial
+        Every rate tried, in order.
+    wall_time : float
+        s.
+    """
+
+    rate_spm: float | None
+    best: RateTrial | None
+    above: RateTrial | None
+    trials: list[RateTrial]
+    wall_time: float
+
+    def summary(self) -> dict:
+        """Plain data: the rate, its trial and the one above, and every trial."""
+        return {"max_stroke_rate_spm": self.rate_spm, "best": None if self.best is None else self.best.summary(),
+                "above": None if self.above is None else self.above.summary(),
+                "trials": [t.summary() for t in self.trials], "wall_time": self.wall_time}
+
+
+def try_rate(problem: SpeedProblem, model: PressModel | None, rate_spm: float, strategy: str | Strategy = "auto",
+             progress: bool = False) -> RateTrial:
+    """The verified optimum of `problem` at `rate_spm` (its drive's limits left out of the NLP)
+    checked against the drive and the pin-force cap on its re-simulation."""
+    t0 = time.perf_counter()
+    try:
+        at_rate = problem.replace(period=60.0 / rate_spm, drive=None, max_pin_force=None)
+    except ValueError as err:  # e.g. the window takes too much of a shorter period
+        return RateTrial(rate_spm, False, {"problem": str(err)}, wall_time=time.perf_counter() - t0)
+    spec_model = None if model is None else model.spec.build(at_rate.press, at_rate.n_harmonics)
+    result = optimize_speed(at_rate, spec_model, strategy=strategy, progress=progress)
+    motor = motor_cycle_of(problem, result.speed, result.simulation)
+    pin = max(result.peaks["crank_pin_force"], result.peaks["wrist_pin_force"])
+    margins = {"peak_torque_margin": motor.peak_torque_margin, "rms_margin": motor.rms_margin,
+               "speed_margin": motor.speed_margin, "max_pin_force": pin}
+    failed: dict = {k: v for k, v in margins.items() if k.endswith("margin") and v < 0.0}
+    if problem.max_pin_force is not None and pin > problem.max_pin_force:
+        failed["max_pin_force"] = 1.0 - pin / problem.max_pin_force
+    if not result.verified:
+        failed["verified"] = result.status
+    return RateTrial(rate_spm, not failed, failed, margins, result.peak_torque, time.perf_counter() - t0, result,
+                     motor)
+
+
+def max_stroke_rate(problem: SpeedProblem, model: PressModel | None = None, search: RateSearch = RateSearch(),
+                    progress: bool = False) -> RateResult:
+    """The highest stroke rate at which `problem`'s press meets its drive's limits (see the module).
+
+    Parameters
+    ----------
+    problem : SpeedProblem
+        The job at a first rate to try (its period), with a drive (`SpeedProblem.drive`).
+    model : PressModel, optional
+        Target model; default both clearances and a rigid rod. Rebuilt at each rate's harmonics.
+    search : RateSearch
+        Bracket, steps and the number of optimisations.
+    progress : bool
+        Progress bars of each optimisation.
+
+    Returns
+    -------
+    RateResult
+    """
+    chk.instance("problem", problem, SpeedProblem)
+    chk.instance("search", search, RateSearch)
+    if problem.drive is None:
+        raise ValueError("problem.drive must be a Drive: the stroke rate is limited by the drive's ratings")
+    t0 = time.perf_counter()
+    trials: list[RateTrial] = []
+
+    def trial(rate: float) -> RateTrial:
+        found = next((t for t in trials if np.isclose(t.rate_spm, rate, rtol=1e-9)), None)
+        if found is None:
+            found = try_rate(problem, model, rate, search.strategy, progress)
+            trials.append(found)
+        return found
+
+    rate = problem.stroke_rate_spm
+    first = trial(rate)
+    good, bad = (rate, None) if first.feasible else (None, rate)
+    while (good is None or bad is None) and len(trials) < search.max_trials:
+        rate = rate * search.step if bad is None else rate / search.step
+        if trial(rate).feasible:
+            good = rate if good is None else max(good, rate)
+        else:
+            bad = rate if bad is None else min(bad, rate)
+    while good is not None and bad is not None and bad - good > search.tolerance_spm \
+            and len(trials) < search.max_trials:
+        mid = 0.5 * (good + bad)
+        if trial(mid).feasible:
+            good = mid
+        else:
+            bad = mid
+    above = None if good is None else trial(good * (1 + search.check_step))
+    feasible = [t for t in trials if t.feasible]
+    best = max(feasible, key=lambda t: t.rate_spm) if feasible else None
+    return RateResult(None if best is None else best.rate_spm, best, above, trials, time.perf_counter() - t0)
