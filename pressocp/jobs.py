@@ -24,6 +24,7 @@ from .result import SimResult
 from .series import PEAK_SERIES
 from .scenario import Scenario
 from .speed import FourierSpeed
+from .units import format_force
 from .summaries import (drive_summary, drive_text, optimum_summary, problem_summary, simulate_speed,
                         simulation_summary, time_table_text)
 
@@ -135,7 +136,7 @@ def _figures(out: Path, responses: list[tuple[str, SimResult]], scenario: Scenar
         levels["torque"] = [rigid_torque_level(problem.objective, floor)]
     if problem.max_pin_force is not None:
         for pin in ("crank_pin_force", "wrist_pin_force"):
-            levels[pin] = [(problem.max_pin_force, f"cap {problem.max_pin_force:.0f} N")]
+            levels[pin] = [(problem.max_pin_force, f"cap {format_force(problem.max_pin_force)}")]
     files = []
     for name, series in FIGURES.items():
         fig = plot_responses(responses, window=window, series=series, title=title,
@@ -175,8 +176,8 @@ def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobRep
     """The scenario's optimum: the rigid design, its response on the scenario's model, the optimum and
     its verification. Writes summary.json, results.csv, speed.json, result.json, report.txt and
     figures."""
-    problem = scenario.problem
     result = scenario.optimize(progress)
+    problem = result.problem  # with a counterbalance chosen with the speed, the chosen one
     sim, init = result.simulation, result.initial_simulation
     ideal = rigid_reference(problem, result.initial_speed)
     where = scenario.model.describe()
@@ -205,6 +206,9 @@ def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobRep
         f"  peak torque {summary['peak_torque_N_m']:.1f} N·m, "
         f"{100 * (summary['peak_torque_N_m'] / summary['initial_peak_torque_N_m'] - 1):+.1f} % against the design; "
         f"floor (rigid press optimum) {result.rigid_peak_torque:.1f} N·m; {result.wall_time:.0f} s",
+        *([f"  counterbalance {problem.press.counterbalance.force:.0f} N at bottom dead centre, chosen with the "
+           f"speed in [{scenario.problem.counterbalance_range[0]:g}, {scenario.problem.counterbalance_range[1]:g}] N"]
+          if scenario.problem.counterbalance_range else []),
         *(["", drive_text(problem, motors)] if motors else []),
     ])
     stages = format_table([["stage", "model", "status", "iterations", "time, s", f"objective, {unit}"],
@@ -275,7 +279,7 @@ def design_job(scenario: Scenario, out: Path) -> JobReport:
         f"  IPOPT: {d.status} ({wall:.2f} s); window t1 = {d.t1:.4f} s, t2 = {d.t2:.4f} s",
         f"  ram speed error: max {100 * d.max_error:.3f} %, RMS {100 * d.rms_error:.3f} %; "
         f"min crank speed {d.min_omega:.3f} rad/s (mean {2 * np.pi / problem.period:.3f})",
-        f"  min wrist-pin force with the design on the ideal press: {summary['min_wrist_pin_force_N']:.1f} N "
+        f"  min wrist-pin force with the design on the ideal press: {format_force(summary['min_wrist_pin_force_N'])} "
         + ("(the rod stays in tension)" if summary["min_wrist_pin_force_N"] > 0.05 * problem.hanging_weight else
            "(near zero or below, the journals leave their walls and impact: see pressocp impacts)"),
     ])

@@ -18,17 +18,26 @@ from .speed import FourierSpeed
 
 
 def problem_summary(problem: SpeedProblem) -> dict:
-    """The problem's keys of a summary: period, stroke rate, ram speed and tolerance, window, objective."""
+    """The problem's keys of a summary: period, stroke rate, ram speed and tolerance, window, objective;
+    the counterbalance and the process force's largest value when the press has them."""
+    press = problem.press
+    forces = {}
+    if press.counterbalance.force > 0.0:
+        cb = press.counterbalance
+        forces["counterbalance"] = {"force_N": cb.force, "gas_length_m": cb.gas_length, "exponent": cb.exponent}
+    if press.process_force.active:
+        forces["process_force_max_N"] = max(press.process_force.knots()[1])
     return {"period_s": problem.period, "stroke_rate_spm": problem.stroke_rate_spm,
             "ram_speed_m_s": problem.ram_speed, "ram_speed_tol_m_s": problem.tol,
-            "window_h_over_H": list(problem.window), "objective": problem.objective}
+            "window_h_over_H": list(problem.window), "objective": problem.objective, **forces}
 
 
 def optimum_summary(scenario: Scenario, result: OcpResult, ideal: SimResult | None = None) -> dict:
     """The keys of an optimum's ``summary.json``: the problem, convergence and verification, the peaks
     of the answer and of the initial speed on the model (``initial_...``) and of the initial speed on
-    the ideal press (``initial_ideal_joints_...``, when `ideal` is given), the floor, stages."""
-    problem = scenario.problem
+    the ideal press (``initial_ideal_joints_...``, when `ideal` is given), the floor, stages. The
+    problem is the result's: with a counterbalance chosen with the speed, its force is the chosen one."""
+    problem = result.problem
     ideal_peaks = {} if ideal is None else peak_summary(ideal, "initial_ideal_joints_")
     return {
         "job": "optimize", "scenario": scenario.name, "model": scenario.model.describe(),

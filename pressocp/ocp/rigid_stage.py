@@ -166,8 +166,8 @@ class Rigid(Transcription):
         speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
         chosen = dict(zip(free, (float(v) for v in out.w[out.w.size - len(free):]))) if free else {}
         press = P.press
-        for name, value in chosen.items():
-            press = press.with_value(name, value)
+        for key, value in chosen.items():
+            press = press.with_value(key, value)
         sampled = ideal_response(press, P.mechanism, speed, ts)
         return StageResult(
             name=name, transcription=repr(self), model=ModelSpec("rigid", (), mechanism=P.mechanism).describe(), success=out.success,
