@@ -14,8 +14,10 @@ import numpy as np
 
 from .drive import Drive, MotorCycle
 from .io import atomic_path
+from .report import journal_orbits
 from .result import SimResult
 from .mechanism.ideal import ideal_response
+from .units import force_unit, format_force, key_unit
 
 #: Axis labels (with units) of the `SimResult` series, and the factor from SI to the plotted unit.
 SERIES_LABELS = {
@@ -31,6 +33,21 @@ SERIES_LABELS = {
     "wrist_pin_eccentricity": ("wrist-pin eccentricity |e|/c [-]", 1.0),
     "rod_midspan_deflection": ("rod midspan deflection [µm]", 1e6),
 }
+
+
+#: The `SimResult` series that are forces (N): an axis shows them in N or kN by the largest it draws.
+FORCE_SERIES = ("slider_normal_force", "crank_pin_force", "wrist_pin_force")
+
+
+def series_axis(name: str, *values) -> tuple[str, float]:
+    """The axis label (with its unit) of a `SimResult` series and the factor from SI to that unit:
+    `SERIES_LABELS`, a force in N or kN by the largest magnitude of `values` (N, arrays or numbers,
+    `pressocp.units.force_unit`)."""
+    label, scale = SERIES_LABELS.get(name, (name, 1.0))
+    if name in FORCE_SERIES:
+        unit, scale = force_unit(*values)
+        label = label.replace("[N]", f"[{unit}]")
+    return label, scale
 
 
 def draw_levels(ax, levels: Sequence[tuple[float, str]], legend: bool = True, loc: str = "upper left") -> None:
@@ -107,7 +124,7 @@ def plot_responses(
     fig, axes = plt.subplots(rows, 1, figsize=(8, 1.9 * rows + 0.6), sharex=True)
     axes = np.atleast_1d(axes)
     for ax, name in zip(axes, series):
-        label, scale = SERIES_LABELS.get(name, (name, 1.0))
+        label, scale = series_axis(name, *(getattr(res, name) for _, res in responses))
         for curve, res in responses:
             ax.plot(res.t - res.t[0], getattr(res, name) * scale, label=curve, lw=1.1)
         ax.set_ylabel(label, fontsize=8)
@@ -121,6 +138,77 @@ def plot_responses(
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=8, loc="best")
     axes[-1].set_xlabel("time in the cycle t [s]" + (" (grey: working window)" if window is not None else ""))
+    if title:
+        fig.suptitle(textwrap.fill(title, 100), fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+#: The orbits' unit: micrometres per metre.
+MICROMETRES = 1e6
+
+
+def plot_journal_orbits(
+    responses: Sequence[tuple[str, SimResult]],
+    state_names: Sequence[str],
+    clearances: Mapping[str, float],
+    window: tuple[float, float] | None = None,
+    title: str = "",
+):
+    """The journal orbits of the joints with clearance: per joint (one column), the journal's x/y
+    eccentricity inside the clearance circle (µm, equal aspect; the cycle's start marked; the
+    model's e, the bearing centre minus the journal centre, x across the slide and y along it), and
+    under it the eccentricity ratio |e|/c against time.
+
+    Parameters
+    ----------
+    responses : sequence of (label, SimResult)
+        Responses to draw; those without states (the ideal press) appear in the time panels only.
+    state_names : sequence of str
+        The model's state names (`PressModel.state_names`: ``crank_pin_ex``, ...) naming the rows
+        of `SimResult.states`.
+    clearances : mapping of joint name to float
+        The radial clearance of each joint to draw, m (its circle's radius).
+    window : (t1, t2), optional
+        Working window to shade in the time panels, s.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    joints = list(clearances)
+    fig, axes = plt.subplots(2, len(joints), figsize=(4.6 * len(joints) + 0.6, 8.4), squeeze=False,
+                             gridspec_kw={"height_ratios": [1.6, 1.0]})
+    for col, joint in enumerate(joints):
+        orbit_ax, time_ax = axes[0, col], axes[1, col]
+        radius = clearances[joint] * MICROMETRES
+        reach = radius
+        for k, (curve, res) in enumerate(responses):
+            orbit = journal_orbits(res, state_names)
+            if f"{joint}_ex" in orbit:
+                x, y = orbit[f"{joint}_ex"] * MICROMETRES, orbit[f"{joint}_ey"] * MICROMETRES
+                orbit_ax.plot(x, y, color=f"C{k}", lw=0.9, label=curve)
+                orbit_ax.plot(x[:1], y[:1], "o", color=f"C{k}", ms=4)
+                reach = max(reach, float(np.max(np.hypot(x, y))))
+            time_ax.plot(res.t - res.t[0], getattr(res, f"{joint}_eccentricity"), color=f"C{k}", lw=1.0, label=curve)
+        orbit_ax.add_patch(plt.Circle((0.0, 0.0), radius, fill=False, color="k", ls="--", lw=1.0,
+                                      label=f"clearance c = {radius:.4g} µm"))
+        orbit_ax.set_xlim(-1.1 * reach, 1.1 * reach)
+        orbit_ax.set_ylim(-1.1 * reach, 1.1 * reach)
+        orbit_ax.set_aspect("equal")
+        orbit_ax.set_xlabel("eccentricity e_x, across the slide [µm]", fontsize=8)
+        orbit_ax.set_ylabel("eccentricity e_y, along the slide [µm]", fontsize=8)
+        orbit_ax.set_title(f"{joint.replace('_', ' ')}: journal orbit (dot: cycle start)", fontsize=9)
+        orbit_ax.legend(fontsize=7, loc="best")
+        orbit_ax.grid(alpha=0.3)
+        time_ax.set_ylabel(SERIES_LABELS[f"{joint}_eccentricity"][0], fontsize=8)
+        time_ax.set_xlabel("time in the cycle t [s]" + (" (grey: working window)" if window is not None else ""))
+        if window is not None:
+            time_ax.axvspan(*window, color="0.9", zorder=0)
+        time_ax.grid(alpha=0.3)
+    axes[1, 0].legend(fontsize=7, loc="best")
     if title:
         fig.suptitle(textwrap.fill(title, 100), fontsize=10)
     fig.tight_layout()
@@ -188,14 +276,14 @@ def plot_impact_study(study) -> "plt.Figure":
     fig, axes = plt.subplots(4, 2, figsize=(12, 9), sharex="col")
     cols = [("constant crank speed", study.constant, study.constant_rigid),
             ("rigid-designed speed", study.designed, study.designed_rigid)]
-    rows = [("omega", "crank speed ω [rad/s]"), ("torque", "motor torque [N·m]"),
-            ("slider_normal_force", "slider normal force [N]"), ("wrist_pin_force", "wrist-pin force [N]")]
+    rows = [series_axis(name, *(getattr(r, name) for _, *pair in cols for r in pair)) + (name,)
+            for name in ("omega", "torque", "slider_normal_force", "wrist_pin_force")]
     ratios = study.ratios()
     for j, (title, clr, rig) in enumerate(cols):
-        for i, (name, label) in enumerate(rows):
+        for i, (label, scale, name) in enumerate(rows):
             ax = axes[i, j]
-            ax.plot(clr.t, getattr(clr, name), lw=0.9, color="C3", label="model with clearance")
-            ax.plot(rig.t, getattr(rig, name), lw=1.6, color="k", ls="--", label="ideal joints")
+            ax.plot(clr.t, getattr(clr, name) * scale, lw=0.9, color="C3", label="model with clearance")
+            ax.plot(rig.t, getattr(rig, name) * scale, lw=1.6, color="k", ls="--", label="ideal joints")
             ax.grid(alpha=0.3)
             if j == 0:
                 ax.set_ylabel(label, fontsize=8)
@@ -249,17 +337,18 @@ def plot_speed_design(result, title: str = "",
               ("rigid optimum, rigid press", rr, {"lw": 0.8, "ls": "--", "color": "k"})]
     drawn = {"torque": [rigid_torque_level(result.problem.objective, result.rigid_peak_torque)]}
     if cap is not None:
-        drawn["pin_force"] = [(cap, f"pin-force cap {cap:.0f} N")]
+        drawn["pin_force"] = [(cap, f"pin-force cap {format_force(cap)}")]
     for key, extra in (levels or {}).items():
         drawn.setdefault(key, []).extend(extra)
     for ax, (key, name) in zip(axes, rows):
-        for curve, res, style in curves:
-            y = (np.maximum(res.crank_pin_force, res.wrist_pin_force) if key == "pin_force"
-                 else getattr(res, key))
-            ax.plot(res.t, y, label=curve, **style)
-        ax.set_ylabel(name)
+        ys = [np.maximum(res.crank_pin_force, res.wrist_pin_force) if key == "pin_force" else getattr(res, key)
+              for _, res, _ in curves]
+        unit, scale = force_unit(*ys) if name.endswith(", N") else (None, 1.0)
+        for (curve, res, style), y in zip(curves, ys):
+            ax.plot(res.t, y * scale, label=curve, **style)
+        ax.set_ylabel(name if unit is None else f"{name[:-1]}{unit}")
         if drawn.get(key):  # where the curves and levels leave room (impact spikes fill either end)
-            draw_levels(ax, drawn[key], loc="best")
+            draw_levels(ax, [(value * scale, text) for value, text in drawn[key]], loc="best")
     # the window's times are the optimum's (another speed crosses h/H at other times)
     ram_speed_error_axis(axes[-1], curves[1:2], (result.t1, result.t2), result.problem.ram_speed, result.problem.tol)
     for ax in axes:
@@ -274,16 +363,21 @@ def plot_speed_design(result, title: str = "",
     return fig
 
 
-#: Units of varied keys, by the end of their dotted name (SI, or as the name says).
-KEY_UNITS = (("_spm", "strokes/min"), ("ram_speed", "m/s"), ("period_s", "s"), ("clearance", "m"), ("mass", "kg"),
-             ("inertia", "kg m²"), ("radius", "m"), ("length", "m"), ("stiffness", "N/m^exponent"),
-             ("tangential_damping", "N s/m"))
-
-
-def key_label(key: str) -> str:
-    """A varied key with its unit, for an axis: ``"problem.ram_speed [m/s]"``."""
-    unit = next((u for end, u in KEY_UNITS if key.endswith(end)), None)
+def key_label(key: str, values=()) -> str:
+    """A varied key with its display unit (`pressocp.units.key_unit`), for an axis:
+    ``"problem.ram_speed [m/s]"``, ``"crank_pin.clearance [mm]"``; a force in N or kN by the
+    largest of `values` (N)."""
+    unit, _ = key_unit(key, values)
     return f"{key} [{unit}]" if unit else key
+
+
+def key_values(key: str, values, column=None):
+    """A varied key's values (SI) in the display unit of its whole `column` (default `values`;
+    `pressocp.units.key_unit`); as given for a key without a unit (a name, a ratio)."""
+    if key_unit(key)[0] is None:
+        return values
+    _, factor = key_unit(key, values if column is None else column)
+    return np.asarray(values, dtype=float) * factor
 
 
 #: A sweep figure's panels: (axis label, [(column, style, legend entry or None for the point's own)]).
@@ -298,6 +392,14 @@ IMPACT_PANELS = tuple(
     (f"{series.replace('_', ' ')}:\nclearance model / rigid press", ((f"designed_{series}_ratio", "o-", None),
                                                                     (f"constant_{series}_ratio", "x:", "constant speed")))
     for series in ("torque", "slider_normal_force", "crank_pin_force", "wrist_pin_force"))
+
+
+def _key_value(key: str, value: float, column) -> str:
+    """``"key = value unit"`` of one value of a varied key, in the unit its whole `column` is shown in."""
+    if key_unit(key)[0] is None:
+        return f"{key} = {value:g}" if isinstance(value, (int, float)) else f"{key} = {value}"
+    unit, factor = key_unit(key, column)
+    return f"{key} = {value * factor:g} {unit}"
 
 
 def plot_sweep(table, keys: Sequence[str], title: str = "") -> "plt.Figure":
@@ -316,25 +418,27 @@ def plot_sweep(table, keys: Sequence[str], title: str = "") -> "plt.Figure":
         why = "no point is ok" if data.empty else "its rows hold no peaks or impact ratios"
         raise ValueError(f"nothing to draw: {why} ({len(table)} rows)")
     x, others = keys[0], list(keys[1:])
+    scales = [force_unit(*(data[c] for c, _, _ in cols)) if name.endswith("[N]") else (None, 1.0)
+              for name, cols in panels]
     groups = data.groupby(others, sort=True) if others else [((), data)]
     fig, axes = plt.subplots(len(panels), 1, figsize=(7, 2.4 * len(panels) + 0.6), sharex=True, squeeze=False)
     axes = axes[:, 0]
     for k, (values, group) in enumerate(groups):
         values = values if isinstance(values, tuple) else (values,)
-        label = (", ".join(f"{o} = {v:g}" for o, v in zip(others, values))
+        label = (", ".join(_key_value(o, v, data[o]) for o, v in zip(others, values))
                  or ("optimum" if "rigid_peak_torque_N_m" in group else "model"))
         group = group.sort_values(x)
-        for ax, (_, cols) in zip(axes, panels):
+        for ax, (_, cols), (_, scale) in zip(axes, panels, scales):
             for col, style, entry in cols:
-                ax.plot(group[x], group[col], style, color=f"C{k}", lw=1.5 if entry is None else 0.8,
-                        label=label if entry is None else (entry if k == 0 else None))
-    for ax, (name, _) in zip(axes, panels):
-        ax.set_ylabel(name, fontsize=8)
+                ax.plot(key_values(x, group[x], data[x]), group[col] * scale, style, color=f"C{k}",
+                        lw=1.5 if entry is None else 0.8, label=label if entry is None else (entry if k == 0 else None))
+    for ax, (name, _), (unit, _) in zip(axes, panels, scales):
+        ax.set_ylabel(name if unit is None else f"{name[:-3]}[{unit}]", fontsize=8)
         ax.grid(alpha=0.3)
     if "initial_peak_torque_N_m" in data and data["initial_peak_torque_N_m"].max() > 5 * data["peak_torque_N_m"].max():
         axes[0].set_yscale("log")  # an impacting initial speed would flatten the optima against the floor
     axes[0].legend(fontsize=7)
-    axes[-1].set_xlabel(key_label(x))
+    axes[-1].set_xlabel(key_label(x, data[x]))
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
@@ -392,12 +496,14 @@ def plot_wear(table, design_clearance: float | None = None, title: str = "") -> 
     axes[0].plot(c, table["peak_torque_N_m"], "o-", label="clearance model")
     axes[0].plot(c, table["ideal_joints_peak_torque_N_m"], "--", color="0.4", label="ideal joints")
     axes[0].set_ylabel("peak motor torque [N·m]")
+    unit, scale = force_unit(*(table[f"peak_{j}_force_N"] for j in ("crank_pin", "wrist_pin")
+                               if f"peak_{j}_force_N" in table))
     for k, joint in enumerate(("crank_pin", "wrist_pin")):
         if f"peak_{joint}_force_N" in table:
-            axes[1].plot(c, table[f"peak_{joint}_force_N"], "o-", color=f"C{k}", label=joint.replace("_", " "))
+            axes[1].plot(c, table[f"peak_{joint}_force_N"] * scale, "o-", color=f"C{k}", label=joint.replace("_", " "))
         if f"min_{joint}_eccentricity" in table:
             axes[2].plot(c, table[f"min_{joint}_eccentricity"], "o-", color=f"C{k}", label=joint.replace("_", " "))
-    axes[1].set_ylabel("peak pin force [N]")
+    axes[1].set_ylabel(f"peak pin force [{unit}]")
     axes[2].axhline(FREE_FLIGHT_ECCENTRICITY, ls="--", color="0.4", lw=0.8, label="leaves the wall")
     axes[2].set_ylabel("smallest |e|/c [-]")
     axes[2].set_xlabel("clearance of both joints [mm]")

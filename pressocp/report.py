@@ -16,6 +16,7 @@ from .drive import MotorCycle
 from .io import atomic_write
 from .problem import SpeedProblem
 from .result import SERIES_UNITS, SimResult
+from .units import force_unit, format_force
 
 #: Loads reported by every job: `SimResult` series -> (summary key stem, label, unit).
 LOADS = {
@@ -31,10 +32,27 @@ def peak_summary(sim: SimResult, prefix: str = "") -> dict[str, float]:
     return {prefix + key: sim.peak(name) for name, (key, _, _) in LOADS.items()}
 
 
-def cycle_table(responses: Mapping[str, SimResult], motors: Mapping[str, MotorCycle] | None = None) -> pd.DataFrame:
+#: The suffixes of a journal's eccentricity states (`PressModel.state_names`): the journal centre's
+#: x and y from the bearing's centre, m.
+ORBIT_SUFFIXES = ("_ex", "_ey")
+
+
+def journal_orbits(sim: SimResult, state_names: Sequence[str]) -> dict[str, np.ndarray]:
+    """The journal centres' x/y eccentricities of a response, by state name (``crank_pin_ex``,
+    ``crank_pin_ey``, ...; m), from its states (`SimResult.states`, named by `state_names`, the
+    model's `PressModel.state_names`). Empty for a response without states (the ideal press)."""
+    if sim.states.shape[0] != len(state_names):
+        return {}
+    return {name: sim.states[k] for k, name in enumerate(state_names) if name.endswith(ORBIT_SUFFIXES)}
+
+
+def cycle_table(responses: Mapping[str, SimResult], motors: Mapping[str, MotorCycle] | None = None,
+                state_names: Sequence[str] = ()) -> pd.DataFrame:
     """One period of several responses side by side: ``t [s]`` from the first response's start, then
     ``{label} {series} [unit]`` per response (interpolated onto the first one's grid when needed),
-    and with `motors` (by the same labels) each one's ``motor_speed [rad/s]`` and ``motor_torque [N m]``."""
+    with `state_names` (the model's) each response's journal eccentricities ``{label} crank_pin_ex [m]``
+    and so on (`journal_orbits`), and with `motors` (by the same labels) each one's
+    ``motor_speed [rad/s]`` and ``motor_torque [N m]``."""
     items = list(responses.items())
     t_ref = items[0][1].t - items[0][1].t[0]
     columns = {"t [s]": t_ref}
@@ -46,6 +64,8 @@ def cycle_table(responses: Mapping[str, SimResult], motors: Mapping[str, MotorCy
                 continue
             values = getattr(sim, name)
             columns[f"{label} {name} [{unit}]"] = values if same else np.interp(t_ref, t, values)
+        for name, values in journal_orbits(sim, state_names).items():
+            columns[f"{label} {name} [m]"] = values if same else np.interp(t_ref, t, values)
     for label, motor in (motors or {}).items():
         t = motor.t - motor.t[0]
         for name, unit in (("speed", "rad/s"), ("torque", "N m")):
@@ -54,16 +74,21 @@ def cycle_table(responses: Mapping[str, SimResult], motors: Mapping[str, MotorCy
 
 
 def write_cycle_table(path: str | Path, responses: Mapping[str, SimResult],
-                      motors: Mapping[str, MotorCycle] | None = None) -> Path:
+                      motors: Mapping[str, MotorCycle] | None = None, state_names: Sequence[str] = ()) -> Path:
     """`cycle_table` as CSV, written atomically."""
-    return atomic_write(path, cycle_table(responses, motors).to_csv(index=False, float_format="%.10g"))
+    table = cycle_table(responses, motors, state_names)
+    return atomic_write(path, table.to_csv(index=False, float_format="%.10g"))
 
 
 def load_table(columns: Sequence[tuple[str, SimResult]]) -> list[list[str]]:
-    """Rows "load | value per column" of the peak `LOADS` of each response."""
+    """Rows "load | value per column" of the peak `LOADS` of each response; a row of forces in kN when
+    its largest is 10 kN or more (`pressocp.units.force_unit`), else in N."""
     rows = [["", *(label for label, _ in columns)]]
     for name, (_, label, unit) in LOADS.items():
-        rows.append([f"{label}, {unit}", *(f"{sim.peak(name):,.1f}" for _, sim in columns)])
+        peaks = [sim.peak(name) for _, sim in columns]
+        unit, factor = force_unit(peaks) if unit == "N" else (unit, 1.0)
+        digits = 2 if factor != 1.0 else 1
+        rows.append([f"{label}, {unit}", *(f"{p * factor:,.{digits}f}" for p in peaks)])
     return rows
 
 
@@ -84,11 +109,16 @@ def stamp() -> dict[str, str]:
 
 
 def describe_problem(problem: SpeedProblem) -> str:
-    """One line: cycle, ram speed and window, objective."""
+    """One line: cycle, ram speed and window, objective; the largest process force and the
+    counterbalance's force at bottom dead centre when the press has them (`format_force`)."""
     h1, h2 = problem.window
+    process, balance = problem.press.process_force, problem.press.counterbalance
+    largest = max(process.knots()[1]) if process.active else 0.0
+    forces = ((f", process force up to {format_force(largest)}" if largest > 0 else "")
+              + (f", counterbalance {format_force(balance.force)} at bottom dead centre" if balance.force > 0 else ""))
     return (f"T = {problem.period:g} s ({problem.stroke_rate_spm:g} strokes/min), ram speed "
             f"{problem.ram_speed:g} ± {problem.tol:.3g} m/s over h/H {h1:g} → {h2:g}, "
-            f"objective {problem.objective}")
+            f"objective {problem.objective}{forces}")
 
 
-__all__ = ["LOADS", "cycle_table", "describe_problem", "format_table", "load_table", "peak_summary", "stamp", "write_cycle_table"]
+__all__ = ["LOADS", "ORBIT_SUFFIXES", "cycle_table", "describe_problem", "format_table", "journal_orbits", "load_table", "peak_summary", "stamp", "write_cycle_table"]

@@ -5,7 +5,7 @@ in test_sweep.py; the full studies run in the benchmarks and the slow notebook.)
 import pytest
 
 import pressocp as po
-from pressocp.plots import key_label, plot_tornado
+from pressocp.plots import plot_tornado
 
 
 def test_tornado_of_normalised_sensitivities(tmp_path):
@@ -21,14 +21,3 @@ def test_tornado_of_normalised_sensitivities(tmp_path):
     fig.savefig(tmp_path / "tornado.png")
     assert (tmp_path / "tornado.png").stat().st_size > 5_000
     assert s.derivative("peak_torque", "slider_mass") == pytest.approx(t.loc["slider_mass", "derivative"])
-
-
-@pytest.mark.parametrize("key, label", [
-    ("problem.ram_speed", "problem.ram_speed [m/s]"),
-    ("wrist_pin.clearance", "wrist_pin.clearance [m]"),
-    ("slider_mass", "slider_mass [kg]"),
-    ("crank_pin.stiffness", "crank_pin.stiffness [N/m^exponent]"),
-    ("problem.window", "problem.window"),
-])
-def test_a_varied_key_is_labelled_with_its_unit(key, label):
-    assert key_label(key) == label
