@@ -98,6 +98,11 @@ JOBS = (
     Job("drive", "bench_drive.py", (), 40,
         "press75 with a servo drive between the floor and today's optimum: the envelope held; a weak motor named "
         "(2026-11-26: no answer within 25 min, docs/decisions/2026-11-26-drive-limits.md)", archive=True),
+    Job("counterbalance", "bench_counterbalance.py", (), 60,
+        "press75 with an optimised counterbalance (constant, gas spring) against none; drawing75 (a deep-drawing "
+        "curve); a constant process force against its two-point curve"),
+    Job("stroke_rate", "bench_stroke_rate.py", (), 60,
+        "press75's highest stroke rate with a 15 N·m motor (gear 10): every rate tried verified, +2 % fails"),
     Job("modal_rod", "bench_modal_rod.py", ("--t-end", "0.8"), 6,
         "the flexible rod reduced to 1-3 modes: one cycle of impacts (IDAS, compiled), time and error against the "
         "element rod; Simeon"),

@@ -332,13 +332,60 @@ def drive_row(res: Results) -> Row:
     return Row(32, goal, text, verdict(bool(d["envelope_held"]) and named), f"drive.json, {d['date_run']['date']}")
 
 
+def counterbalance_rows(res: Results) -> list[Row]:
+    """#32: the optimised counterbalance against none on press75 (verified peaks, reversals); the
+    process-force curve against the constant force, and a deep-drawing curve verified (job
+    counterbalance)."""
+    goals = ("press75: the optimised counterbalance lowers the verified peak torque below 145.4 N·m; reversals "
+             "before/after",
+             "process force: a tabulated curve equal to the constant force gives the same optimum (±0.1 %); a "
+             "deep-drawing curve gives a verified optimum")
+    d = res.json("counterbalance.json")
+    if d is None:
+        return [missing(32, g, "counterbalance.json") for g in goals]
+    by, when = {c["case"]: c for c in d["cases"]}, f"counterbalance.json, {d['date_run']['date']}"
+
+    def line(c: dict) -> str:
+        cb = c["counterbalance"]
+        losses = "/".join(str(v) for v in c["contact_losses"].values())
+        return (f"{c['case']}: {'verified' if c['verified'] else 'NOT verified'} {c['peak_torque_N_m']:.1f} N·m"
+                + (f" with {cb['force']:.0f} N" if cb["force"] else "")
+                + f", {c['rod_load_reversals']} rod-load reversals, contact losses {losses}, {c['wall_time_s']:.0f} s")
+
+    first = "; ".join(line(by[k]) for k in ("none", "constant", "gas") if k in by)
+    rows = [Row(32, goals[0], first, verdict(bool(d["counterbalance_lowers_peak"])), when)]
+    if "drawing_curve" in by:
+        rel, draw = d["curve_against_constant"], by["drawing"]
+        text = (f"curve against constant {rel:+.4%}; {line(by['drawing_constant'])}; {line(by['drawing_curve'])}; "
+                f"{line(draw)}")
+        rows.append(Row(32, goals[1], text, verdict(abs(rel) <= 1e-3 and draw["verified"]), when))
+    return rows
+
+
+def stroke_rate_row(res: Results) -> Row:
+    """#32: press75's highest stroke rate with a given motor, verified; +2 % fails (job stroke_rate)."""
+    goal = ("press75 with a given motor: the highest stroke rate, verified with every limit held; at +2 % some "
+            "limit fails; the time it takes")
+    d = res.json("stroke_rate.json")
+    if d is None:
+        return missing(32, goal, "stroke_rate.json")
+    if d["max_stroke_rate_spm"] is None:
+        return Row(32, goal, "no rate tried held every limit", verdict(False), f"stroke_rate.json, {d['date_run']['date']}")
+    best, above = d["best"], d["above"]
+    text = (f"motor {d['drive']['peak_torque']:g} N·m (gear {d['drive']['gear_ratio']:g}): {d['max_stroke_rate_spm']:.1f} "
+            f"strokes/min, verified peak {best['peak_torque']:.1f} N·m at the crank, peak-curve margin "
+            f"{best['margins']['peak_torque_margin']:+.1%}; at {above['rate_spm']:.1f} spm failed "
+            f"{', '.join(above['failed']) or 'nothing'}; {len(d['trials'])} rates tried in {d['wall_time']:.0f} s")
+    return Row(32, goal, text, verdict(bool(d["above_fails"])), f"stroke_rate.json, {d['date_run']['date']}")
+
+
 def not_in_suite(issue: int, goal: str, why: str) -> Row:
     return Row(issue, goal, why, "not measured by the suite", "")
 
 
 CHECKS: tuple[Callable[[Results], Row | list[Row]], ...] = (
     speed_rows, flexible_row, sweep_optima_row, suite_row, radau_row, verification_row, optimum_sensitivity_row,
-    sweep_parallel_row, modal_rod_rows, shooting_row, drive_row)
+    sweep_parallel_row, modal_rod_rows, shooting_row, drive_row, counterbalance_rows, stroke_rate_row)
 
 #: Goals no job of the suite measures yet, with the last one-off measurement.
 UNMEASURED = (

@@ -1,0 +1,134 @@
+"""press75 with a slide counterbalance, and press75 drawing a cup: verified optima and joint-force
+reversals.
+
+    python -m benchmarks.bench_counterbalance [--skip-constant]
+
+Runs the default call (both clearances, rigid rod, the default chain) of:
+
+* ``none``: press75 as bundled (no counterbalance);
+* ``constant``: press75 with ``counterbalance_range = [0, 12 kN]``, a constant force (a large surge
+  tank): the counterbalance stage chooses the force with the speed on the ideal press, the rod
+  held in compression;
+* ``gas``: the same with a gas spring (0.3 m of gas at bottom dead centre, exponent 1.4);
+* ``drawing``: the bundled drawing75 (a deep-drawing force curve over the window, no counterbalance);
+* ``drawing_constant`` and ``drawing_curve`` (unless ``--skip-constant``): a 1 kN force over h 30 to
+  70 mm, once as the constant force and once as the curve of its two points: the same optimum.
+
+For each: the verified peak torque, the chosen force, the wall time, the rod-load reversals of the
+answer on the ideal press (sign changes of the axial load at the wrist pin over a period) and the
+journals' contact losses on the verifying simulation (entries of the eccentricity below the
+clearance, per joint). Single runs, not medians: the results are answers, not times; the machine's
+load is recorded with the date. Writes ``results/counterbalance.json`` and
+``results/counterbalance.png``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+import pressocp as po
+from pressocp.io import versions
+from pressocp.plots import save
+from pressocp.report import stamp
+
+OUT = Path(__file__).parent / "results"
+#: Range of the counterbalance's force, N (8 x the hanging weight of ram and rod).
+RANGE = (0.0, 12000.0)
+
+
+def reversals(problem: po.SpeedProblem, speed: po.FourierSpeed) -> int:
+    """Sign changes over one period of the rod's axial load at the wrist pin on the ideal press."""
+    t = np.linspace(0.0, speed.period, 4001)[:-1]
+    theta, omega, alpha = speed.evaluate(t)
+    load = np.asarray(po.rigid_inverse_dynamics(problem.press, theta, omega, alpha)["wrist_pin_tension"]).ravel()
+    sign = np.sign(load)
+    return int(np.sum(sign != np.roll(sign, 1)))
+
+
+def contact_losses(sim, press: po.PressParams) -> dict[str, int]:
+    """Per joint, how often the journal leaves its bearing wall over the simulated period."""
+    out = {}
+    for joint in ("crank_pin", "wrist_pin"):
+        free = np.asarray(getattr(sim, f"{joint}_eccentricity")) < getattr(press, joint).clearance
+        out[joint] = int(np.sum(free & ~np.roll(free, 1)))
+    return out
+
+
+def case(name: str, scenario: po.Scenario, **changes) -> dict:
+    problem = scenario.problem.replace(**changes)
+    t0 = time.perf_counter()
+    result = po.optimize_speed(problem, scenario.build_model().spec.build(problem.press, problem.n_harmonics),
+                               progress=False)
+    wall = time.perf_counter() - t0
+    final = result.problem
+    record = {
+        "case": name, "success": result.success, "verified": result.verified, "status": result.status,
+        "peak_torque_N_m": result.peak_torque, "rigid_peak_torque_N_m": result.rigid_peak_torque,
+        "counterbalance": final.press.counterbalance.__dict__, "process_force_max_N":
+            max(final.press.process_force.knots()[1]) if final.press.process_force.active else 0.0,
+        "reversal_side": final.reversal_side(), "rod_load_reversals": reversals(final, result.speed),
+        "contact_losses": contact_losses(result.simulation, final.press),
+        "max_ram_speed_violation_m_s": result.max_ram_speed_violation, "wall_time_s": wall,
+        "stages": [{"name": s.name, "status": s.status, "iterations": s.iterations, "objective": s.objective,
+                    "wall_time_s": s.wall_time} for s in result.stages]}
+    print(json.dumps({k: record[k] for k in ("case", "verified", "peak_torque_N_m", "counterbalance",
+                                              "rod_load_reversals", "contact_losses", "wall_time_s")}), flush=True)
+    return record | {"_result": result}
+
+
+def figure(records: list[dict]):
+    import matplotlib.pyplot as plt
+
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.2))
+    for r in records:
+        res = r["_result"]
+        sim = res.simulation
+        deg = np.degrees(np.mod(sim.theta, 2 * np.pi))
+        order = np.argsort(deg)
+        label = f"{r['case']}: {r['peak_torque_N_m']:.1f} N·m"
+        ax.plot(deg[order], sim.torque[order], lw=1, label=label)
+        bx.plot(deg[order], np.asarray(sim.wrist_pin_force)[order] / 1e3, lw=1, label=r["case"])
+    ax.set(xlabel="crank angle, deg (0: top dead centre)", ylabel="motor torque at the crank, N·m",
+           title="verified optima (re-simulated, both clearances)")
+    bx.set(xlabel="crank angle, deg", ylabel="wrist-pin force, kN", title="wrist-pin force")
+    ax.legend(fontsize=8)
+    bx.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--skip-constant", action="store_true", help="skip the constant-against-curve pair")
+    args = ap.parse_args()
+    OUT.mkdir(exist_ok=True)
+    press75, drawing = po.Scenario.load("press75"), po.Scenario.load("drawing75")
+    gas = press75.press.replace(counterbalance=po.Counterbalance(gas_length=0.3, exponent=1.4))
+    records = [case("none", press75), case("constant", press75, counterbalance_range=RANGE),
+               case("gas", press75, press=gas, counterbalance_range=RANGE), case("drawing", drawing)]
+    if not args.skip_constant:
+        constant = po.ProcessForce(force=1000.0, h_top=0.07, h_bottom=0.03)
+        curve = po.ProcessForce(heights=(0.03, 0.07), forces=(1000.0, 1000.0))
+        records += [case("drawing_constant", press75, press=press75.press.replace(process_force=constant)),
+                    case("drawing_curve", press75, press=press75.press.replace(process_force=curve))]
+    fig = figure(records[:4])
+    out = {"date_run": stamp(), "versions": versions(), "range_N": list(RANGE),
+           "cases": [{k: v for k, v in r.items() if k != "_result"} for r in records]}
+    by = {r["case"]: r for r in out["cases"]}
+    out["counterbalance_lowers_peak"] = bool(
+        min(by["constant"]["peak_torque_N_m"], by["gas"]["peak_torque_N_m"]) < by["none"]["peak_torque_N_m"]
+        and by["constant"]["verified"] and by["gas"]["verified"])
+    if "drawing_curve" in by:
+        out["curve_against_constant"] = by["drawing_curve"]["peak_torque_N_m"] / by["drawing_constant"][
+            "peak_torque_N_m"] - 1.0
+    (OUT / "counterbalance.json").write_text(json.dumps(out, indent=1, default=float))
+    save(fig, OUT / "counterbalance.png")
+
+
+if __name__ == "__main__":
+    main()
