@@ -206,8 +206,8 @@ def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobRep
         f"  peak torque {summary['peak_torque_N_m']:.1f} N·m, "
         f"{100 * (summary['peak_torque_N_m'] / summary['initial_peak_torque_N_m'] - 1):+.1f} % against the design; "
         f"floor (rigid press optimum) {result.rigid_peak_torque:.1f} N·m; {result.wall_time:.0f} s",
-        *([f"  counterbalance {problem.press.counterbalance.force:.0f} N at bottom dead centre, chosen with the "
-           f"speed in [{scenario.problem.counterbalance_range[0]:g}, {scenario.problem.counterbalance_range[1]:g}] N"]
+        *([f"  counterbalance {format_force(problem.press.counterbalance.force)} at bottom dead centre, chosen with "
+           f"the speed in [{', '.join(format_force(f) for f in scenario.problem.counterbalance_range)}]"]
           if scenario.problem.counterbalance_range else []),
         *(["", drive_text(problem, motors)] if motors else []),
     ])
