@@ -8,6 +8,7 @@ Also `python -m pressocp`.
     pressocp design [SCENARIO]                 rigid speed design (seconds)
     pressocp impacts [SCENARIO]                constant and designed speed: impacts in the clearances
     pressocp sweep [SCENARIO] --vary KEY=A:B:N one task over a grid of values, in parallel
+    pressocp compare A B [-o DIR]              two designs side by side (results folders, scenarios, speeds)
     pressocp scenario new PATH                 a commented scenario file to edit
     pressocp scenario show [SCENARIO]          the scenario as it will be run (bundled: press75, ...)
 
@@ -203,6 +204,16 @@ def _parser() -> argparse.ArgumentParser:
                     "each point's rigid design)")
     sw.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
     sw.add_argument("--resume", action="store_true", help="skip the points already done in OUT/sweep.csv")
+    cmp = sub.add_parser("compare", help="two designs side by side: sizing figures, B/A, overlaid figures")
+    for side in ("A", "B"):
+        cmp.add_argument(side, help="a results folder (optimize, simulate), a scenario (bundled name or TOML: its "
+                                    "rigid design simulated) or a speed file (.json, simulated on --scenario)")
+    cmp.add_argument("-o", "--out", type=Path, default=Path("compare"), help="output folder (default: compare)")
+    cmp.add_argument("--scenario", default=None,
+                     help=f"the scenario a speed file is simulated on (default {DEFAULT_SCENARIO})")
+    cmp.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                     help="override a key of the scenarios simulated (repeatable)")
+    cmp.add_argument("--quiet", "-q", action="store_true", help="no table on the terminal")
     scen = sub.add_parser("scenario", help="write a template or show a scenario")
     ssub = scen.add_subparsers(dest="action", metavar="ACTION", required=True)
     new = ssub.add_parser("new", help="write a commented scenario file to edit")
@@ -279,6 +290,8 @@ def _prepare(args: argparse.Namespace):
             return write
         text = load_scenario(args.scenario, args.set).to_toml()
         return lambda: print(text, end="") or 0
+    if args.command == "compare":
+        return _prepare_compare(args)
 
     scenario = load_scenario(args.scenario, args.set)
     out: Path = args.out
@@ -325,6 +338,42 @@ def _prepare(args: argparse.Namespace):
             print(f"pressocp {report.job}: results written but flagged: {flag_reason(report.summary)}",
                   file=sys.stderr)
         return report.exit_code
+    return run
+
+
+def _prepare_compare(args: argparse.Namespace):
+    """Check both sides of ``compare`` and its output folder; return the job that writes the
+    comparison (compare.csv, compare.png, motor.png with drives on both sides, report.txt)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from .compare import COMPARE_FILES, CompareError, prepare, run_compare
+    from .io import NotRegularFile, check_regular, output_folder
+
+    out: Path = args.out
+    if out.exists() and not out.is_dir():
+        raise InputError(f"-o {out} is a file, not a folder")
+    check_writable(out, f"-o {out}")
+    for name in COMPARE_FILES:
+        try:
+            check_regular(out / name)
+        except NotRegularFile as err:
+            raise InputError(f"-o: {err}") from None
+    overrides = parse_set(args.set)
+    scenario = load_scenario(args.scenario, args.set)
+    try:
+        make_a = prepare(args.A, "A", scenario, overrides)
+        make_b = prepare(args.B, "B", scenario, overrides)
+    except CompareError as err:
+        raise InputError(str(err)) from None
+
+    def run() -> int:
+        with output_folder(out) as folder:
+            _, text, files = run_compare(make_a, make_b, folder)
+        if not args.quiet:
+            print(text)
+            print(f"  wrote {', '.join(p.name for p in files)} to {out}/")
+        return 0
     return run
 
 
@@ -422,7 +471,7 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
 #: The files a sweep writes into its folder: its table (resumed from), figure and report.
 SWEEP_FILES = ("sweep.csv", "sweep.png", "report.txt")
 #: Subcommands; a command line that starts with none of them runs ``optimize``.
-COMMANDS = ("optimize", "simulate", "design", "impacts", "sweep", "scenario")
+COMMANDS = ("optimize", "simulate", "design", "impacts", "sweep", "scenario", "compare")
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -546,3 +546,77 @@ def plot_torque_speed(drive: Drive, cycles: Mapping[str, MotorCycle], title: str
     ax.legend(fontsize=8, loc="best")
     fig.tight_layout()
     return fig
+
+
+#: The panels of `plot_compared_cycles`: (series, axis label with "{unit}" for forces, unit in SI).
+COMPARED_SERIES = (("torque", "crank torque [N·m]"), ("ram_velocity", "ram velocity dh/dt [m/s]"),
+                   ("crank_pin_force", "crank-pin force [{unit}]"), ("wrist_pin_force", "wrist-pin force [{unit}]"))
+
+
+def plot_compared_cycles(cycles: Sequence[tuple[str, Mapping[str, np.ndarray]]], title: str = "") -> "plt.Figure":
+    """Designs overlaid against the crank angle (degrees from the first sample's turn, so that designs
+    at other stroke rates line up): crank torque, ram velocity and the two pin forces (N, or kN from
+    10 kN: `pressocp.units.force_unit`, one unit per axis).
+
+    Parameters
+    ----------
+    cycles : sequence of (label, mapping)
+        Each design's one cycle: ``theta`` (rad), ``torque`` (N m), ``ram_velocity`` (m/s),
+        ``crank_pin_force`` and ``wrist_pin_force`` (N), arrays over the same samples; a missing
+        series is not drawn for that design.
+    title : str
+        Figure title.
+    """
+    fig, axes = plt.subplots(len(COMPARED_SERIES), 1, figsize=(8, 2.1 * len(COMPARED_SERIES) + 0.8), sharex=True)
+    for ax, (name, label) in zip(axes, COMPARED_SERIES):
+        present = [k for k, (_, c) in enumerate(cycles) if name in c and "theta" in c]
+        unit, scale = force_unit(*(cycles[k][1][name] for k in present)) if "{unit}" in label else (None, 1.0)
+        for k in present:
+            curve, c = cycles[k]
+            turn = 2 * np.pi * np.floor(c["theta"][0] / (2 * np.pi))
+            ax.plot(np.degrees(c["theta"] - turn), np.asarray(c[name]) * scale, color=f"C{k}", lw=1.1, label=curve)
+        ax.set_ylabel(label.format(unit=unit), fontsize=8)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8, loc="best")
+    axes[-1].set_xlabel("crank angle θ [deg] (0: top dead centre)")
+    axes[-1].set_xticks(np.arange(0, 361, 45))
+    if title:
+        fig.suptitle(textwrap.fill(title, 100), fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def plot_operating_points(points: Sequence[tuple[str, Drive, np.ndarray, np.ndarray]], title: str = "") -> "plt.Figure":
+    """Designs' motor operating points overlaid (torque against speed, rpm), each over its own drive's
+    peak-torque envelope (one curve when the drives are equal) and top speed.
+
+    Parameters
+    ----------
+    points : sequence of (label, Drive, motor speed rad/s, motor torque N m)
+        Each design's drive and its cycle's operating points.
+    title : str
+        Figure title.
+    """
+    rpm = 60 / (2 * np.pi)
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    drawn: list[Drive] = []
+    for k, (label, drive, speed, torque) in enumerate(points):
+        color = f"C{k}"
+        if drive not in drawn:
+            speeds = np.linspace(0.0, drive.max_speed, 400)
+            peak = drive.peak_torque_at(speeds)
+            which = "both" if all(d == drive for _, d, _, _ in points) else label
+            ax.plot(speeds * rpm, peak, color=color, ls="--", lw=1.2, label=f"peak-torque envelope ({which})")
+            ax.plot(speeds * rpm, -peak, color=color, ls="--", lw=1.2)
+            ax.axvline(drive.max_speed * rpm, color=color, ls=":", lw=1.0)
+            drawn.append(drive)
+        ax.plot(np.asarray(speed) * rpm, torque, color=color, lw=1.4,
+                label=f"{label}: peak {np.max(np.abs(torque)):.3g} N·m (gear ratio {drive.gear_ratio:g})")
+    ax.set_xlabel("motor speed [rpm] (dotted: top speed)")
+    ax.set_ylabel("motor torque [N·m] (positive: driving)")
+    ax.set_xlim(0.0, None)
+    ax.set_title(title or "operating points over the motors' envelopes", fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="best")
+    fig.tight_layout()
+    return fig
