@@ -165,7 +165,8 @@ def test_the_drive_limits_hold_on_the_optimum_and_a_weak_motor_is_named():
     """optimize_speed on the ideal press with a drive whose peak torque lies between what the
     unconstrained optimum needs and what the problem needs at least: verified, the motor's figures
     (recomputed by motor_cycle on the verifying simulation) inside the envelope and under the top
-    speed. A motor far too weak ends unconverged, its status naming drive.peak_torque; a motor too
+    speed. A motor far too weak ends unconverged after the rigid stage, its status quoting what the
+    unconstrained optimum asks of the motor against drive.peak_torque; a motor too
     slow for the window is refused before any solve."""
     from pressocp import Rigid, Strategy, build_model, optimize_speed
     from pressocp.verify import motor_cycle_of
@@ -187,6 +188,10 @@ def test_the_drive_limits_hold_on_the_optimum_and_a_weak_motor_is_named():
 
     weak = problem.replace(drive=Drive(**{**slow.to_dict(), "peak_torque": 5.0, "continuous_torque": 5.0}))
     r = optimize_speed(weak, model, strategy=strategy, progress=False)
-    assert not r.success and "drive.peak_torque exceeded by" in r.status
+    assert not r.success and "the drive is too weak for this problem" in r.status
+    # the message quotes what the ideal press's optimum without the drive asks of the motor
+    import re
+    asked = float(re.search(r"needs ([0-9.]+) N m peak at the motor", r.status).group(1))
+    assert asked == pytest.approx(needs.peak_torque, rel=1e-3) and "drive.peak_torque = 5 N m" in r.status
     with pytest.raises(ValueError, match=r"drive.max_speed must be in \[.*\) rad/s at gear_ratio 10, got 50.0"):
         base.replace(drive=Drive(**{**slow.to_dict(), "max_speed": 50.0}))

@@ -21,9 +21,11 @@ from ..workers import parallel_workers, process_pool
 from .collocation import Collocation
 from .nlp import drive_shortfall
 from .ocp_result import OcpResult, peaks_of
-from .stage import StageResult, Transcription, standing_stage
+from .stage import StageResult, Transcription, WarmStart, standing_stage
 from .strategy import Strategy
-from ..verify import is_periodic, ram_speed_violation, rigid_reference, screen, verify_speed, window_times
+from ..mechanism.ideal import ideal_response
+from ..verify import (is_periodic, motor_cycle_of, ram_speed_violation, rigid_reference, screen, verify_speed,
+                      window_times)
 
 
 #: Tolerance of the initial speed's response. It usually impacts, and its 4th cycle from rest is then
@@ -98,7 +100,8 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
         initial_speed=initial, objective_value=found.objective, verified_objective=objective.value(sim),
         peaks=peaks_of(sim), initial_peaks=peaks_of(init_sim), rigid_peak_torque=_rigid_peak(chain[0], problem),
         t1=t1, t2=t2, success=found.success,
-        status=outcome_status(answer, found, earlier) + ("" if found.success else drive_shortfall(found.violations)),
+        status=outcome_status(answer, found, earlier) + (drive_floor(problem, strat, initial, found)
+                                                         or ("" if found.success else drive_shortfall(found.violations))),
         periodic=is_periodic(sim), max_ram_speed_violation=max(ram_speed_violation(sim, problem), 0.0),
         min_omega=answer.speed.min_speed(), iterations=sum(s.iterations for s in stages),
         wall_time=wall, stages=stages, verify_rtol=strat.verify_rtol, simulation=sim,
@@ -178,6 +181,26 @@ def run_chain(problem: SpeedProblem, model: PressModel, tr: Transcription, strat
         if pool is not None:
             pool.shutdown(wait=False, cancel_futures=True)
     return stages, init_sim, timing, ended
+
+
+def drive_floor(problem: SpeedProblem, strat: Strategy, initial: FourierSpeed, found: StageResult) -> str:
+    """When the rigid stage found no speed within the drive's limits: what the ideal press's best
+    speed without them (its floor, `Rigid`) asks of the motor, against the drive's ratings; else "".
+    IPOPT's least-infeasible point spreads the excess over every constraint, so its own shortfall
+    understates how much the motor lacks."""
+    if problem.drive is None or found.success or found.name != "rigid":
+        return ""
+    floor = strat.rigid.solve(problem.replace(drive=None), None, WarmStart(initial), "drive_floor")
+    if not floor.success:
+        return ""
+    d = problem.drive
+    motor = motor_cycle_of(problem, floor.speed, ideal_response(problem.press, problem.mechanism, floor.speed))
+    return (f"; the drive is too weak for this problem: without its limits the ideal press's best speed (peak crank "
+            f"torque {floor.objective:.4g} N m) "
+            f"needs {motor.peak_torque:.4g} N m peak at the motor and {motor.max_speed * 60 / (2 * np.pi):.0f} rpm, "
+            f"{motor.rms_torque:.3g} N m RMS; the drive gives drive.peak_torque = {d.peak_torque:g} N m, "
+            f"drive.max_speed = {d.max_speed * 60 / (2 * np.pi):.0f} rpm, drive.continuous_torque = "
+            f"{d.continuous_torque:g} N m (gear ratio {d.gear_ratio:g})")
 
 
 def outcome_status(answer: StageResult, found: StageResult, earlier: list[StageResult]) -> str:

@@ -208,8 +208,8 @@ class Strategy:
         candidate chains (default: started when needed, `workers` of them)."""
         rigid = self.rigid.solve(problem, model, WarmStart(initial), "rigid", progress)
         stages = [rigid]
-        if model.is_rigid:
-            return stages
+        if model.is_rigid or (problem.drive is not None and not rigid.success):
+            return stages  # a drive the ideal press cannot meet: no clearance model does better
         if not model.clearance:  # a flexible rod between ideal joints: no clearance stages
             return stages + self.flexible_only(problem, model, rigid, transcription, progress)
         base = model if model.rod == "rigid" else self.clearance_spec(model.spec).build(model.params,
