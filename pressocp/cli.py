@@ -9,6 +9,7 @@ Also `python -m pressocp`.
     pressocp impacts [SCENARIO]                constant and designed speed: impacts in the clearances
     pressocp sweep [SCENARIO] --vary KEY=A:B:N one task over a grid of values, in parallel
     pressocp compare A B [-o DIR]              two designs side by side (results folders, scenarios, speeds)
+    pressocp rate [SCENARIO]                   the highest stroke rate its [drive] allows (tens of minutes)
     pressocp scenario new PATH                 a commented scenario file to edit
     pressocp scenario show [SCENARIO]          the scenario as it will be run (bundled: press75, ...)
 
@@ -193,6 +194,10 @@ def _parser() -> argparse.ArgumentParser:
                      help="speed.json or result.json from optimize (default: the rigid design)")
     sub.add_parser("design", parents=[common], help="rigid speed design (seconds)")
     sub.add_parser("impacts", parents=[common], help="impacts of constant and designed speed")
+    rate = sub.add_parser("rate", parents=[common], help="the highest stroke rate the scenario's [drive] allows, "
+                          "each rate's optimum verified (tens of minutes)")
+    rate.add_argument("--tolerance-spm", type=float, default=1.0, help="width of the final bracket, strokes/min")
+    rate.add_argument("--max-trials", type=int, default=12, help="most optimisations of the search")
     sw = sub.add_parser("sweep", parents=[common], help="a task over a grid or a path of values (sweep.csv)")
     sw.add_argument("--vary", action="append", default=[], metavar="KEY=VALUES", required=True,
                     help="values of a scenario key: START:STOP:N (evenly spaced) or V1,V2,... (repeatable: a grid)")
@@ -321,6 +326,17 @@ def _prepare(args: argparse.Namespace):
         job = lambda folder: jobs.design_job(scenario, folder)  # noqa: E731
     elif args.command == "impacts":
         job = lambda folder: jobs.impacts_job(scenario, folder)  # noqa: E731
+    elif args.command == "rate":
+        if scenario.problem.drive is None:
+            raise InputError(f"rate: scenario {scenario.name!r} has no [drive] table: the stroke rate is limited by "
+                             "the drive's ratings (pressocp scenario new shows one)")
+        from .stroke_rate import RateSearch
+
+        try:
+            search = RateSearch(tolerance_spm=args.tolerance_spm, max_trials=args.max_trials)
+        except ValueError as err:
+            raise InputError(f"rate: {err}") from None
+        job = lambda folder: jobs.rate_job(scenario, folder, search, progress=not args.quiet)  # noqa: E731
     else:
         job = lambda folder: jobs.optimize_job(scenario, folder, progress=not args.quiet)  # noqa: E731
 
@@ -471,7 +487,7 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
 #: The files a sweep writes into its folder: its table (resumed from), figure and report.
 SWEEP_FILES = ("sweep.csv", "sweep.png", "report.txt")
 #: Subcommands; a command line that starts with none of them runs ``optimize``.
-COMMANDS = ("optimize", "simulate", "design", "impacts", "sweep", "scenario", "compare")
+COMMANDS = ("optimize", "simulate", "design", "impacts", "sweep", "scenario", "compare", "rate")
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -24,6 +24,7 @@ from .result import SimResult
 from .series import PEAK_SERIES
 from .scenario import Scenario
 from .speed import FourierSpeed
+from .stroke_rate import RateSearch, max_stroke_rate
 from .units import format_force
 from .summaries import (drive_summary, drive_text, optimum_summary, problem_summary, simulate_speed,
                         simulation_summary, time_table_text)
@@ -316,3 +317,43 @@ def impacts_job(scenario: Scenario, out: Path) -> JobReport:
 
 
 __all__ = ["FIGURES", "JOURNALS", "JobReport", "design_job", "impacts_job", "optimize_job", "read_speed", "simulate_job"]
+
+
+def rate_job(scenario: Scenario, out: Path, search: RateSearch, progress: bool = True) -> JobReport:
+    """The highest stroke rate the scenario's drive allows (`pressocp.stroke_rate.max_stroke_rate`):
+    every rate tried with its verdict, the found rate's optimum (speed.json, result.json) and the
+    motor's cycle at that rate and 2 % above (motor.png). Flagged when no rate held every limit."""
+    problem = scenario.problem
+    found = max_stroke_rate(problem, scenario.build_model(), search, progress)
+    rows = [["strokes/min", "verdict", "peak crank torque, N·m", "peak-curve margin", "RMS margin", "speed margin",
+             "time, s"]]
+    for t in sorted(found.trials, key=lambda t: t.rate_spm):
+        m = t.margins
+        rows.append([f"{t.rate_spm:.2f}", "held" if t.feasible else "failed: " + ", ".join(t.failed),
+                     f"{t.peak_torque:.1f}", *(f"{100 * m[k]:+.1f} %" if k in m else "-" for k in
+                                               ("peak_torque_margin", "rms_margin", "speed_margin")),
+                     f"{t.wall_time:.0f}"])
+    summary = {"job": "rate", "scenario": scenario.name, "model": scenario.model.describe(),
+               **problem_summary(problem), "drive": problem.drive.to_dict(), **found.summary(),
+               "converged": found.rate_spm is not None, "versions": versions(), "run": stamp()}
+    files: list[Path] = []
+    cycles = {f"{label}: {t.rate_spm:.1f} spm": t.motor for label, t in (("found", found.best), ("+2 %", found.above))
+              if t is not None and t.motor is not None}
+    if found.best is not None:
+        files += [write_json(out / "speed.json", found.best.result.speed.to_dict()),
+                  found.best.result.to_json(out / "result.json")]
+    if cycles:
+        files.append(save(plot_torque_speed(problem.drive, cycles, f"{scenario.name}: the highest stroke rate"),
+                          out / "motor.png"))
+    d = problem.drive
+    verdict = ("no rate tried held every limit" if found.rate_spm is None else
+               f"{found.rate_spm:.1f} strokes/min (every limit held on the verified optimum)"
+               + ("" if found.above is None else f"; at {found.above.rate_spm:.1f}: "
+                  + ("held too" if found.above.feasible else "failed " + ", ".join(found.above.failed))))
+    text = "\n".join([f"{scenario.name}: the highest stroke rate with its drive (peak {d.peak_torque:g} N·m, "
+                      f"continuous {d.continuous_torque:g} N·m, {d.max_speed * 60 / (2 * math.pi):.0f} rpm, gear "
+                      f"{d.gear_ratio:g})", f"  {describe_problem(problem)}", "", format_table(rows), "",
+                      f"  {verdict}; {len(found.trials)} optimisations in {found.wall_time:.0f} s"])
+    details = ("each rate: the scenario's optimum at that rate (the drive's limits checked on its periodic "
+               "re-simulation, not constrained); margins are shares of the rating, negative when exceeded")
+    return _finish("rate", out, summary, text, details, files, found.rate_spm is not None)
