@@ -362,6 +362,24 @@ def counterbalance_rows(res: Results) -> list[Row]:
     return rows
 
 
+def forming_row(res: Results) -> Row:
+    """#32: the forming press with its 60 kN force: verified without journal impacts with an
+    optimised counterbalance, within 1.5 x its rigid floor; said up front without one (job forming)."""
+    goal = ("forming press (60 kN): with an optimised counterbalance a verified optimum without journal impacts, "
+            "within 1.5 x its rigid floor; without one, said at the start")
+    d = res.json("forming.json")
+    if d is None:
+        return missing(32, goal, "forming.json")
+    losses = sum(d["contact_losses"].values())
+    text = (f"{'verified' if d['verified'] else 'NOT verified'} {d['peak_torque_N_m'] / 1e3:.2f} kN·m with a "
+            f"{d['counterbalance_N'] / 1e3:.1f} kN counterbalance, {d['ratio_to_floor']:.2f} x the rigid floor "
+            f"({d['rigid_floor_without_counterbalance_N_m'] / 1e3:.2f} kN·m), {d['rod_load_reversals']} rod-load "
+            f"reversals, {losses} contact losses, {d['wall_time_s']:.0f} s; without a counterbalance: "
+            + ("warned before any solve" if d["warning_without_counterbalance"] else "no warning"))
+    ok = d["verified"] and losses == 0 and d["ratio_to_floor"] <= 1.5 and bool(d["warning_without_counterbalance"])
+    return Row(32, goal, text, verdict(ok), f"forming.json, {d['date_run']['date']}")
+
+
 def stroke_rate_row(res: Results) -> Row:
     """#32: press75's highest stroke rate with a given motor, verified; +2 % fails (job stroke_rate)."""
     goal = ("press75 with a given motor: the highest stroke rate, verified with every limit held; at +2 % some "
@@ -385,7 +403,7 @@ def not_in_suite(issue: int, goal: str, why: str) -> Row:
 
 CHECKS: tuple[Callable[[Results], Row | list[Row]], ...] = (
     speed_rows, flexible_row, sweep_optima_row, suite_row, radau_row, verification_row, optimum_sensitivity_row,
-    sweep_parallel_row, modal_rod_rows, shooting_row, drive_row, counterbalance_rows, stroke_rate_row)
+    sweep_parallel_row, modal_rod_rows, shooting_row, drive_row, counterbalance_rows, forming_row, stroke_rate_row)
 
 #: Goals no job of the suite measures yet, with the last one-off measurement.
 UNMEASURED = (

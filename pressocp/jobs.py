@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import textwrap
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -343,8 +344,8 @@ def rate_job(scenario: Scenario, out: Path, search: RateSearch, progress: bool =
         files += [write_json(out / "speed.json", found.best.result.speed.to_dict()),
                   found.best.result.to_json(out / "result.json")]
     if cycles:
-        files.append(save(plot_torque_speed(problem.drive, cycles, f"{scenario.name}: the highest stroke rate"),
-                          out / "motor.png"))
+        title = textwrap.fill(f"{scenario.name}: the highest stroke rate", 110)
+        files.append(save(plot_torque_speed(problem.drive, cycles, title), out / "motor.png"))
     d = problem.drive
     verdict = ("no rate tried held every limit" if found.rate_spm is None else
                f"{found.rate_spm:.1f} strokes/min (every limit held on the verified optimum)"
