@@ -96,8 +96,8 @@ JOBS = (
     Job("verification", "bench_verification.py", (), 1,
         "the seed optimum's final verification, this version (with --before-python: against another)"),
     Job("drive", "bench_drive.py", (), 40,
-        "press75 with a servo drive between the floor and today's optimum: the envelope held; a weak motor named "
-        "(2026-11-26: no answer within 25 min, docs/decisions/2026-11-26-drive-limits.md)", archive=True),
+        "press75 (counterbalance optimised) with a servo drive between the floor and today's optimum: the envelope "
+        "held; a weak motor named"),
     Job("counterbalance", "bench_counterbalance.py", (), 60,
         "press75 with an optimised counterbalance (constant, gas spring) against none; drawing75 (a deep-drawing "
         "curve); a constant process force against its two-point curve"),

@@ -324,7 +324,9 @@ def drive_row(res: Results) -> Row:
         return missing(32, goal, "drive.json")
     held, weak, m = d["held"], d["weak"], d["held"]["motor"]
     named = "drive.peak_torque" in weak["status"] and not weak["success"]
-    text = (f"motor {held['drive']['peak_torque']:g} N·m (crank equivalent {held['crank_equivalent_peak_N_m']:.0f} N·m): "
+    cb = held.get("counterbalance_N", 0.0)
+    text = (f"motor {held['drive']['peak_torque']:g} N·m (crank equivalent {held['crank_equivalent_peak_N_m']:.0f} N·m)"
+            + (f", press75 with a {cb:.0f} N counterbalance chosen with the speed" if cb else "") + ": "
             f"{'verified' if held['verified'] else 'NOT verified'} at {held['peak_torque_N_m']:.2f} N·m crank torque, "
             f"motor peak {m['peak_torque']:.3g} N·m (margin {m['peak_torque_margin']:+.1%}), top speed margin "
             f"{m['speed_margin']:+.1%}, {held['wall_time_s']:.0f} s; a {weak['drive']['peak_torque']:g} N·m motor: "
