@@ -31,7 +31,8 @@ def execute_and_check_figures(self):
 NotebookRun.execute = execute_and_check_figures
 
 #: Notebooks that solve optima or sensitivities (45 s to minutes): run with ``pytest -m slow``.
-SLOW_NOTEBOOKS = {"04_speed_optimisation.ipynb", "05_your_press.ipynb", "06_sensitivity.ipynb"}
+SLOW_NOTEBOOKS = {"04_speed_optimisation.ipynb", "05_your_press.ipynb", "06_sensitivity.ipynb",
+                  "07_drive_sizing.ipynb"}
 
 
 def pytest_collection_modifyitems(config, items):
