@@ -294,6 +294,14 @@ class SpeedProblem:
         (`counterbalance_range`)."""
         return {} if self.counterbalance_range is None else {"counterbalance.force": self.counterbalance_range}
 
+    def lifted(self) -> "SpeedProblem":
+        """This problem with the counterbalance at the top of its `counterbalance_range` (itself
+        without one): the most the optimiser can lift the ram with."""
+        if self.counterbalance_range is None:
+            return self
+        top = self.press.with_value("counterbalance.force", self.counterbalance_range[1])
+        return self.replace(press=top, counterbalance_range=None)
+
     def reversal_side(self) -> str | None:
         """The sign the rod's axial load can keep all cycle: "tension" when the ram hangs from it
         (`static_tension` > 0 at every height, the process force included), "compression" when the

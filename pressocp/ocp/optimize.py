@@ -131,7 +131,7 @@ def checked_request(problem: SpeedProblem, model: PressModel | None, transcripti
                          "MultipleShooting or Collocation (or a model built with clearance=())")
     if model.n_harmonics != problem.n_harmonics:
         model = model.spec.build(model.params, problem.n_harmonics)
-    if model.clearance and problem.reversal_side() is None:
+    if model.clearance and problem.lifted().reversal_side() is None:
         warnings.warn(ReversalWarning(f"{problem.reversal_cause()}. The optimiser cannot design the impacts away: it "
                                       "runs without its no-reversal stage, and the answer impacts"), stacklevel=3)
     if initial is None:

@@ -189,7 +189,7 @@ class Strategy:
         one way. Returns the stage, and the problem and
         model with the force it chose (the chain then designs the speed for that press)."""
         lo, hi = problem.counterbalance_range
-        top = problem.replace(press=problem.press.with_value("counterbalance.force", hi), counterbalance_range=None)
+        top = problem.lifted()
         margin = self.margins[0] if self.margins else DEFAULT_MARGIN
         held = top.without_reversal(margin) or top
         if held.max_tension is not None and -margin * problem.hanging_weight > top.static_tension[1]:
