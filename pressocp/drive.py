@@ -46,6 +46,11 @@ class Drive:
         The rotor's inertia, kg m^2.
     gear_inertia : float
         The gear's inertia at the motor shaft, kg m^2 (>= 0).
+    curve_speeds, curve_torques : tuple of float
+        The peak-torque curve as points from the motor's data sheet instead of a power limit: motor
+        speeds (rad/s, increasing from 0 to max_speed) and the peak torque at each (N m, never
+        rising with speed, the first equal to peak_torque); linear between them. Empty: the
+        corner-speed form above.
     """
 
     gear_ratio: float = 20.0
@@ -56,6 +61,8 @@ class Drive:
     gear_efficiency: float = 0.95
     motor_inertia: float = 2e-3
     gear_inertia: float = 0.0
+    curve_speeds: tuple[float, ...] = ()
+    curve_torques: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
         chk.convert_reals(self)
@@ -76,12 +83,41 @@ class Drive:
                 f": a value in %? {eta:g} % is {eta / 100:g}" if eta <= 100 else ""))
         chk.positive("motor_inertia", self.motor_inertia, "kg m^2")
         chk.nonnegative("gear_inertia", self.gear_inertia, "kg m^2")
+        self._check_curve(peak, speed)
+
+    def _check_curve(self, peak: float, top: float) -> None:
+        w = tuple(float(v) for v in chk.finite_array("curve_speeds", self.curve_speeds))
+        t = tuple(float(v) for v in chk.finite_array("curve_torques", self.curve_torques))
+        object.__setattr__(self, "curve_speeds", w)
+        object.__setattr__(self, "curve_torques", t)
+        if len(w) != len(t):
+            raise ValueError(f"curve_speeds and curve_torques must have the same length, got {len(w)} and {len(t)}")
+        if not w:
+            return
+        if self.power_limit is not None:
+            raise ValueError("power_limit must be None with a peak-torque curve (curve_speeds, curve_torques): the "
+                             "curve gives the torque at every speed")
+        if len(w) < 2 or w[0] != 0.0 or abs(w[-1] - top) > 1e-9 * top:
+            slip = (f": speeds in rpm? {w[-1]:g} rpm is {w[-1] * 2 * np.pi / 60:.4g} rad/s"
+                    if len(w) >= 2 and abs(w[-1] * 2 * np.pi / 60 - top) <= 1e-3 * top else "")
+            raise ValueError(f"curve_speeds must run from 0 to max_speed = {top:g} rad/s, increasing, got {list(w)}"
+                             + slip)
+        for k in range(len(w) - 1):
+            if w[k + 1] <= w[k]:
+                raise ValueError(f"curve_speeds must increase, got {w[k]:g} then {w[k + 1]:g} rad/s")
+            if t[k + 1] > t[k]:
+                raise ValueError(f"curve_torques must not rise with speed (a peak-torque envelope), got {t[k]:g} N m "
+                                 f"at {w[k]:g} rad/s, then {t[k + 1]:g} N m at {w[k + 1]:g} rad/s")
+        if t[0] != peak or t[-1] <= 0.0:
+            raise ValueError(f"curve_torques must start at peak_torque = {peak:g} N m and stay > 0, got {list(t)}")
 
     def peak_torque_at(self, speed) -> np.ndarray:
         """The envelope: the motor's peak torque (N m) at motor speeds `speed` (rad/s, either sign);
         0 above max_speed."""
         s = np.abs(np.asarray(speed, dtype=float))
         peak = np.full(s.shape, self.peak_torque)
+        if self.curve_speeds:
+            peak = np.interp(s, self.curve_speeds, self.curve_torques)
         if self.power_limit is not None:
             peak = np.minimum(peak, self.power_limit / np.maximum(s, 1e-300))
         return np.where(s <= self.max_speed, peak, 0.0)
@@ -97,8 +133,9 @@ class Drive:
         return crank_torque / (i * eta) + rotor, crank_torque * (eta / i) + rotor
 
     def to_dict(self) -> dict:
-        """Plain data (None values left out)."""
-        return {k: v for k, v in asdict(self).items() if v is not None}
+        """Plain data (None values and an empty curve left out)."""
+        return {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(self).items()
+                if v is not None and v != ()}
 
 
 @dataclass(frozen=True)

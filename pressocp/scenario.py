@@ -201,7 +201,8 @@ class Scenario:
         try:
             mechanism = _mechanism(data.get("mechanism", {"name": "slider_crank"}), where)
             press = _press(_drive_lengths(data.get("press", {}), mechanism), where)
-            drive = _typed(Drive, data["drive"], "drive", where) if "drive" in data else None
+            drive = _typed(Drive, data["drive"], "drive", where, lists={"curve_speeds": 1, "curve_torques": 1}) \
+                if "drive" in data else None
             problem = _problem(data.get("problem", {}), press, mechanism, drive, where)
             model = _typed(ModelSpec, data.get("model", {}), "model", where, {"clearance": (list, tuple)},
                            exclude=("mechanism",))

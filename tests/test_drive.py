@@ -96,7 +96,26 @@ def test_the_envelope_is_flat_to_the_corner_then_constant_power_and_zero_past_ma
     assert np.allclose(DRIVE.peak_torque_at(-speeds), expected, rtol=1e-12)
 
 
+def test_the_envelope_of_data_sheet_points_is_linear_between_them():
+    d = Drive(gear_ratio=10.0, peak_torque=15.0, continuous_torque=10.0, max_speed=300.0,
+              curve_speeds=(0.0, 200.0, 300.0), curve_torques=(15.0, 15.0, 9.0))
+    speeds = np.array([0.0, 150.0, 200.0, 250.0, 300.0, 301.0])
+    assert np.allclose(d.peak_torque_at(speeds), [15.0, 15.0, 15.0, 12.0, 9.0, 0.0], rtol=1e-12)
+    assert np.allclose(d.peak_torque_at(-speeds), d.peak_torque_at(speeds))
+
+
+CURVE = {"curve_speeds": (0.0, 200.0, 314.0), "curve_torques": (25.0, 25.0, 12.0), "max_speed": 314.0,
+         "power_limit": None}
+
+
 @pytest.mark.parametrize("changes, match", [
+    ({**CURVE, "curve_torques": (25.0, 12.0, 15.0)}, r"curve_torques must not rise with speed .* 12 N m at 200 rad/s, "
+                                                     r"then 15 N m at 314 rad/s"),
+    ({**CURVE, "curve_speeds": (0.0, 2000.0, 3000.0)}, r"curve_speeds must run from 0 to max_speed = 314 rad/s.*in rpm\? "
+                                                       r"3000 rpm is 314.2 rad/s"),
+    ({**CURVE, "curve_torques": (20.0, 20.0, 12.0)}, r"curve_torques must start at peak_torque = 25 N m"),
+    ({**CURVE, "power_limit": 2000.0}, r"power_limit must be None with a peak-torque curve"),
+    ({**CURVE, "curve_torques": (25.0, 12.0)}, "same length"),
     ({"gear_ratio": -5.0}, r"gear_ratio must be in \(0, inf\)"),
     ({"max_speed": 3000 * 2 * math.pi / 60 * 60 / (2 * math.pi) * 2}, r"max_speed must be in \(0, 3200\] rad/s.*in rpm"),
     ({"continuous_torque": 30.0}, r"continuous_torque must be in \(0, peak_torque = 25\] N m"),
@@ -152,6 +171,10 @@ def test_a_scenario_with_a_drive_reports_the_motor(tmp_path):
     ("max_speed = 30000.0", r"drive: max_speed must be in \(0, 3200\] rad/s, got 30000.0: a value in rpm"),
     ("gear_eficiency = 0.9", r"unknown key drive\.gear_eficiency \(did you mean 'gear_efficiency'\?\)"),
     ("peak_torque = \"high\"", r"drive\.peak_torque must be a number"),
+    ("max_speed = 314.0\npower_limit = 0.0\ncurve_speeds = [0.0, 314.0]\ncurve_torques = [10.0, 12.0]",
+     r"drive: power_limit must be in \(0, inf\)"),
+    ("peak_torque = 20.0\nmax_speed = 314.0\ncurve_speeds = [0.0, 200.0, 314.0]\ncurve_torques = [20.0, 9.0, 12.0]",
+     r"drive: curve_torques must not rise with speed"),
 ])
 def test_bad_drive_tables_are_refused_naming_the_key(line, match):
     from pressocp import Scenario, ScenarioError
@@ -159,6 +182,47 @@ def test_bad_drive_tables_are_refused_naming_the_key(line, match):
     text = Scenario.load("press75").to_toml() + "\n[drive]\n" + line + "\n"
     with pytest.raises(ScenarioError, match=match):
         Scenario.from_toml(text, source="my.toml")
+
+
+def test_a_scenario_round_trips_a_data_sheet_curve_and_a_bad_one_exits_2(tmp_path, capsys):
+    from pressocp import Scenario
+    from pressocp.cli import main
+
+    data = Scenario.load("press75").to_dict()
+    data["drive"] = Drive(gear_ratio=10.0, peak_torque=15.0, continuous_torque=10.0, max_speed=314.0,
+                          curve_speeds=(0.0, 200.0, 314.0), curve_torques=(15.0, 15.0, 9.0)).to_dict()
+    scenario = Scenario.from_dict(data)
+    path = tmp_path / "curve.toml"
+    path.write_text(scenario.to_toml())
+    assert Scenario.load(path).problem.drive == scenario.problem.drive
+    code = main(["design", str(path), "--set", "drive.curve_torques=[15.0, 9.0, 12.0]", "-q",
+                 "--out", str(tmp_path / "o")])
+    assert code == 2 and "curve_torques must not rise with speed" in capsys.readouterr().err
+
+
+def test_a_data_sheet_curve_holds_on_the_optimum():
+    """The ideal press's optimum under a curve that falls above 100 rad/s at the motor: the torque
+    where the motor turns fast is held under the falling line (the flat-curve optimum is not)."""
+    from pressocp import Rigid, Strategy, build_model, optimize_speed
+    from pressocp.verify import motor_cycle_of
+
+    press = PressParams()
+    base = SpeedProblem(press, period=0.8, ram_speed=-0.1, n_harmonics=8)
+    model = build_model(press, clearance=(), n_harmonics=8)
+    strategy = Strategy(rigid=Rigid(samples=300, window_samples=50, jit=False))
+    flat = Drive(gear_ratio=10.0, peak_torque=30.0, continuous_torque=20.0, max_speed=314.0, motor_inertia=8e-4)
+    free = optimize_speed(base.replace(drive=flat), model, strategy=strategy, progress=False)
+    c = motor_cycle_of(base.replace(drive=flat), free.speed, free.simulation)
+    falling = Drive(**{**flat.to_dict(), "curve_speeds": (0.0, 100.0, 250.0, 314.0),
+                       "curve_torques": (30.0, 30.0, 8.0, 5.0)})
+    over = np.abs(c.torque) - np.interp(np.abs(c.speed), falling.curve_speeds, falling.curve_torques)
+    assert np.max(over) > 0.1  # the flat-curve optimum is over the falling line somewhere
+    problem = base.replace(drive=falling)
+    r = optimize_speed(problem, model, strategy=strategy, progress=False)
+    assert r.success and r.verified
+    held = motor_cycle_of(problem, r.speed, r.simulation)
+    line = np.interp(np.abs(held.speed), falling.curve_speeds, falling.curve_torques)
+    assert np.all(np.abs(held.torque) <= line * (1 + 1e-3))
 
 
 def test_the_drive_limits_hold_on_the_optimum_and_a_weak_motor_is_named():

@@ -245,8 +245,16 @@ def add_drive_limits(cons: Constraints, problem: SpeedProblem, torque, omega, al
     if d is None:
         return
     speed = d.gear_ratio * omega
+    curve = None
+    if d.curve_speeds:  # the data sheet's points: |motor| <= the linear interpolant at the speed
+        table = ca.interpolant("peak_curve", "linear", [list(d.curve_speeds)], list(d.curve_torques))
+        curve = table.map(speed.numel())(ca.fabs(speed))
     for motor in d.motor_torques(torque, alpha):
-        cons.add(motor / d.peak_torque, -DRIVE_BACKOFF, DRIVE_BACKOFF, "drive_peak_torque")
+        if curve is None:
+            cons.add(motor / d.peak_torque, -DRIVE_BACKOFF, DRIVE_BACKOFF, "drive_peak_torque")
+        else:
+            cons.add(ca.vertcat(DRIVE_BACKOFF * curve - motor, DRIVE_BACKOFF * curve + motor) / d.peak_torque,
+                     0.0, np.inf, "drive_peak_torque")
         if d.power_limit is not None:
             cons.add(motor * speed / d.power_limit, -DRIVE_BACKOFF, DRIVE_BACKOFF, "drive_power")
     cons.add(speed / d.max_speed, -np.inf, DRIVE_BACKOFF, "drive_speed")
