@@ -94,7 +94,7 @@ def test_report_shows_forces_of_10_kN_and_more_in_kN(sim75):
         key = f"peak_{joint.replace('-', '_')}_force_N"
         assert s[key] > 1e4
         cells = rows[f"peak {joint} force"].split()
-        assert f"force, kN" in rows[f"peak {joint} force"]
+        assert "force, kN" in rows[f"peak {joint} force"]
         assert float(cells[-1].replace(",", "")) == pytest.approx(s[key] / 1e3, abs=0.006)
     assert s["peak_slider_normal_force_N"] < 1e4
     normal = rows["peak slider normal force"]

@@ -101,6 +101,9 @@ class Rigid(Transcription):
             The model the answer is meant for. Its ram hangs lower by its clearances
             (`PressModel.ram_drop`), so it enters the height window earlier: the rigid window is
             widened upward by that drop, so that the ram speed holds on that model's window too.
+            When the rod's load is held in compression (`SpeedProblem.reversal_side`: a
+            counterbalance lifts more than ram and rod weigh) the journals rest on the other side
+            and the ram rides higher by as much: the window is widened downward instead.
             Press parameters it carries (`PressModel.symbols`) become the NLP's p, and the stage holds
             the NLP at its solution (``StageResult.point``); a bearing's parameters do not enter.
         start : WarmStart, optional
@@ -120,9 +123,10 @@ class Rigid(Transcription):
         P, T, n, N = problem, problem.period, problem.n_harmonics, self.samples
         objective = get_objective(P.objective)
         drop = 0.0 if model is None else model.ram_drop
-        h_start = P.window_heights[0] + drop
+        up = 0.0 if P.reversal_side() == "compression" else drop  # a rod in compression lifts the ram
+        h_start = P.window_heights[0] + up
         duration = P.window_duration + drop / abs(P.ram_speed)
-        initial, t1_0 = start_speed(P, start, h_start, drop)
+        initial, t1_0 = start_speed(P, start, h_start, up)
         t1_0 = float(np.clip(t1_0, 0.0, T - duration))
 
         point = start.point if start is not None and start.point is not None \
@@ -175,7 +179,7 @@ class Rigid(Transcription):
             speed=speed, last_speed=FourierSpeed.from_coefficients(T, out.last_w[: 2 * n]),
             t1=float(out.w[2 * n + 1]), history=out.history, barrier=out.barrier, iteration_log=out.iteration_log,
             violations_start=out.violations_start, violations=out.violations,
-            details={"window_extension_m": drop, "min_tension_N": P.min_tension,
+            details={"window_extension_m": drop, "window_extended": "up" if up else "down", "min_tension_N": P.min_tension,
                      "max_tension_N": P.max_tension,
                      **({"free": chosen} if free else {}), "samples": N,
                      "window_samples": self.window_samples, "backoff": self.backoff, "warm": point is not None},
