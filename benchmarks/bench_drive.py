@@ -4,7 +4,7 @@ motor get?
     python -m benchmarks.bench_drive [--peak-torque 15.0] [--weak-peak-torque 8.0] [--no-counterbalance]
 
 The bundled press75 scenario (both clearances, rigid rod, the default chain, the drive's limits
-constrained in every stage) with a drive of gear ratio 10, efficiency 0.95, 8e-4 kg m^2 rotor,
+constrained in every stage) with a drive of gear ratio 10, efficiency 0.95, 2e-4 kg m^2 rotor (low inertia),
 3000 rpm top speed and a peak torque whose crank equivalent (peak x ratio x efficiency, 142.5 N m)
 lies between the rigid press's floor (108.5 N m) and the optimum without a drive (145.1 N m). No
 speed alone gets press75's verified peak under that (its no-reversal optimum is about 145 N m), so
@@ -36,7 +36,7 @@ OUT = Path(__file__).parent / "results"
 def drive_for(peak: float) -> Drive:
     """The benchmark's drive with peak torque `peak` (N m at the motor)."""
     return Drive(gear_ratio=10.0, peak_torque=peak, continuous_torque=0.7 * peak, max_speed=314.0,
-                 gear_efficiency=0.95, motor_inertia=8e-4)
+                 gear_efficiency=0.95, motor_inertia=2e-4)
 
 
 def one(peak: float, counterbalance: bool) -> tuple[dict, object, object]:

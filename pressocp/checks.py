@@ -114,6 +114,18 @@ def finite_array(name: str, value: Any, ndim: int | None = 1) -> np.ndarray:
     return arr
 
 
+def point_table(obj: Any, x_name: str, y_name: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """The frozen dataclass `obj`'s two fields `x_name` and `y_name`, a table of points, stored as
+    tuples of finite floats; ValueError unless both have the same length. Returns them."""
+    x = tuple(float(v) for v in finite_array(x_name, getattr(obj, x_name)))
+    y = tuple(float(v) for v in finite_array(y_name, getattr(obj, y_name)))
+    object.__setattr__(obj, x_name, x)
+    object.__setattr__(obj, y_name, y)
+    if len(x) != len(y):
+        raise ValueError(f"{x_name} and {y_name} must have the same length, got {len(x)} and {len(y)}")
+    return x, y
+
+
 def integer(name: str, value: Any, lo: int, hi: int) -> int:
     """An integer in the closed range [lo, hi]."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):

@@ -86,12 +86,7 @@ class Drive:
         self._check_curve(peak, speed)
 
     def _check_curve(self, peak: float, top: float) -> None:
-        w = tuple(float(v) for v in chk.finite_array("curve_speeds", self.curve_speeds))
-        t = tuple(float(v) for v in chk.finite_array("curve_torques", self.curve_torques))
-        object.__setattr__(self, "curve_speeds", w)
-        object.__setattr__(self, "curve_torques", t)
-        if len(w) != len(t):
-            raise ValueError(f"curve_speeds and curve_torques must have the same length, got {len(w)} and {len(t)}")
+        w, t = chk.point_table(self, "curve_speeds", "curve_torques")
         if not w:
             return
         if self.power_limit is not None:

@@ -293,12 +293,7 @@ class ProcessForce:
             raise ValueError(f"h_bottom must be in (-inf, h_top={top:g}) m, got {bottom!r}")
         edge = chk.positive("edge", self.edge, "m")
         chk.positive("speed_edge", self.speed_edge, "m/s")
-        h = tuple(float(x) for x in chk.finite_array("heights", self.heights))
-        f = tuple(float(x) for x in chk.finite_array("forces", self.forces))
-        object.__setattr__(self, "heights", h)
-        object.__setattr__(self, "forces", f)
-        if len(h) != len(f):
-            raise ValueError(f"heights and forces must have the same length, got {len(h)} and {len(f)}")
+        h, f = chk.point_table(self, "heights", "forces")
         if not h:
             return
         if len(h) < 2:
