@@ -331,7 +331,10 @@ def drive_row(res: Results) -> Row:
             f"motor peak {m['peak_torque']:.3g} N·m (margin {m['peak_torque_margin']:+.1%}), top speed margin "
             f"{m['speed_margin']:+.1%}, {held['wall_time_s']:.0f} s; a {weak['drive']['peak_torque']:g} N·m motor: "
             + ("named in the status" if named else f"status {weak['status'][:80]!r}"))
-    return Row(32, goal, text, verdict(bool(d["envelope_held"]) and named), f"drive.json, {d['date_run']['date']}")
+    if not held["success"]:
+        text += f"; the answer is not a converged optimum ({held['status']})"
+    return Row(32, goal, text, verdict(bool(d["envelope_held"]) and named and held["success"]),
+               f"drive.json, {d['date_run']['date']}")
 
 
 def counterbalance_rows(res: Results) -> list[Row]:
