@@ -16,6 +16,7 @@ contact losses on the verifying simulation. Single run. Writes ``results/forming
 
 from __future__ import annotations
 
+import argparse
 import json
 import time
 import warnings
@@ -29,12 +30,13 @@ from pressocp.ocp.optimize import checked_request
 from pressocp.plots import save
 from pressocp.report import stamp
 
-from benchmarks.bench_counterbalance import contact_losses, reversals
+from bench_counterbalance import contact_losses, reversals  # a sibling script: this folder is the script's path
 
 OUT = Path(__file__).parent / "results"
 
 
 def main() -> None:
+    argparse.ArgumentParser(description=__doc__.split("\n")[0]).parse_args()
     OUT.mkdir(exist_ok=True)
     scenario = po.Scenario.load("forming40")
     bare = scenario.problem.replace(counterbalance_range=None)
