@@ -259,3 +259,73 @@ def test_the_drive_limits_hold_on_the_optimum_and_a_weak_motor_is_named():
     assert asked == pytest.approx(needs.peak_torque, rel=1e-3) and "drive.peak_torque = 5 N m" in r.status
     with pytest.raises(ValueError, match=r"drive.max_speed must be in \[.*\) rad/s at gear_ratio 10, got 50.0"):
         base.replace(drive=Drive(**{**slow.to_dict(), "max_speed": 50.0}))
+
+
+def test_periodic_weights_give_the_mean_on_uneven_samples_in_any_order():
+    """The weights of `periodic_weights` against means known in closed form: 1 for a constant, 0
+    for cos over the period, 1/2 for cos^2 (periodic trapezoid rule on uneven samples: exact
+    for a constant, close for a smooth function), whatever order the samples come in."""
+    from pressocp.ocp.nlp import periodic_weights
+
+    T = 0.8
+    rng = np.random.default_rng(3)
+    t = np.sort(rng.uniform(0.0, T, 400))
+    shuffled = rng.permutation(t.size)
+    w = periodic_weights(t[shuffled], T)
+    phase = 2 * np.pi * t[shuffled] / T
+    assert w.sum() == pytest.approx(1.0, abs=1e-12)
+    assert w @ np.cos(phase) == pytest.approx(0.0, abs=1e-3)
+    assert w @ np.cos(phase) ** 2 == pytest.approx(0.5, abs=1e-3)
+
+
+def test_the_running_sum_equals_the_weighted_sum_and_starts_consistent():
+    """`rms_running_sum` on symbols: its rows vanish at the start values it gives its variables, and
+    its last entry there equals weights @ terms computed with numpy."""
+    import casadi as ca
+
+    from pressocp.ocp.nlp import Constraints, rms_running_sum
+
+    x = ca.MX.sym("x", 5)
+    weights = np.array([0.1, 0.3, 0.2, 0.25, 0.15])
+    cons = Constraints()
+    last = rms_running_sum(cons, (x**2).T, weights)
+    (r, start, _, _), = cons.lifted
+    x0 = np.array([1.0, -2.0, 0.5, 3.0, -1.5])
+    f = ca.Function("f", [x, r], [cons.g, last])
+    r0 = np.asarray(ca.Function("s", [x], [start])(x0)).ravel()
+    g, end = (np.asarray(v).ravel() for v in f(x0, r0))
+    assert np.max(np.abs(g)) < 1e-14
+    assert end[0] == pytest.approx(float(weights @ x0**2), rel=1e-14)
+
+
+def test_the_rms_limit_holds_on_the_optimum_and_a_motor_too_weak_for_it_is_named():
+    """The ideal press with a motor whose continuous rating lies between the RMS motor torque of
+    the peak-torque optimum and that of the RMS optimum: the optimum under the rating is verified,
+    its RMS motor torque (recomputed by motor_cycle on the verifying simulation) is under the
+    rating and under the unlimited optimum's, and its peak no lower. A rating below what the RMS
+    optimum needs is named in the status."""
+    from pressocp import Rigid, Strategy, build_model, optimize_speed
+    from pressocp.verify import motor_cycle_of
+
+    press = PressParams()
+    base = SpeedProblem(press, period=0.8, ram_speed=-0.1, n_harmonics=8)
+    model = build_model(press, clearance=(), n_harmonics=8)
+    strategy = Strategy(rigid=Rigid(samples=300, window_samples=50, jit=False))
+    big = Drive(gear_ratio=10.0, peak_torque=60.0, continuous_torque=60.0, max_speed=314.0, motor_inertia=8e-4)
+    free = optimize_speed(base.replace(drive=big), model, strategy=strategy, progress=False)
+    needs = motor_cycle_of(base.replace(drive=big), free.speed, free.simulation).rms_torque
+    low = optimize_speed(base.replace(drive=big, objective="rms_torque"), model, strategy=strategy, progress=False)
+    least = motor_cycle_of(base.replace(drive=big), low.speed, low.simulation).rms_torque
+    assert least < 0.98 * needs  # room for a rating between them
+    rating = 0.5 * (least + needs)
+    problem = base.replace(drive=Drive(**{**big.to_dict(), "continuous_torque": rating}))
+    r = optimize_speed(problem, model, strategy=strategy, progress=False)
+    assert r.success and r.verified
+    held = motor_cycle_of(problem, r.speed, r.simulation)
+    assert held.rms_torque <= rating * (1 + 1e-3) and held.rms_torque < needs
+    assert r.peak_torque >= free.peak_torque * (1 - 1e-6)
+
+    weak = base.replace(drive=Drive(**{**big.to_dict(), "continuous_torque": 0.8 * least}))
+    short = Strategy(rigid=Rigid(samples=300, window_samples=50, jit=False, ipopt={"ipopt.max_iter": 40}))
+    r = optimize_speed(weak, model, strategy=short, progress=False)
+    assert not r.success and "drive.continuous_torque" in r.status

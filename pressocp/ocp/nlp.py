@@ -29,7 +29,11 @@ def violation(g: np.ndarray, lbg: np.ndarray, ubg: np.ndarray) -> np.ndarray:
 
 
 class Constraints:
-    """lbg <= g <= ubg built group by group; ``groups`` keeps (name, first index, size)."""
+    """lbg <= g <= ubg built group by group; ``groups`` keeps (name, first index, size).
+
+    A constraint may need variables of its own (a running sum that keeps a mean over every sample
+    sparse): `variables` makes them, and `solve_nlp` appends them to the transcription's variables
+    and starts them at their start expressions (``lifted`` keeps symbol, start, lower, upper)."""
 
     def __init__(self) -> None:
         self._g: list = []
@@ -37,6 +41,14 @@ class Constraints:
         self._ub: list[np.ndarray] = []
         self.groups: list[tuple[str, int, int]] = []
         self.size = 0
+        self.lifted: list[tuple[Any, Any, np.ndarray, np.ndarray]] = []
+
+    def variables(self, name: str, start, lo=-np.inf, hi=np.inf):
+        """New NLP variables, one per entry of the expression `start` (of the transcription's
+        variables and parameters), which gives their start value; bounds `lo`, `hi`."""
+        v = ca.MX.sym(name, start.numel())
+        self.lifted.append((v, ca.vec(start), np.broadcast_to(lo, (v.numel(),)), np.broadcast_to(hi, (v.numel(),))))
+        return v
 
     def add(self, expr, lo, hi, name: str = "") -> None:
         """Append ``vec(expr)`` with bounds ``lo``, ``hi`` (scalars or arrays)."""
@@ -238,8 +250,10 @@ def add_drive_limits(cons: Constraints, problem: SpeedProblem, torque, omega, al
     the peak curve (`pressocp.drive.Drive.peak_torque_at`: the peak torque, and |torque| x speed
     under the power limit) and the motor speed under its top speed. The motor torque is the driving
     or the regenerating one (`pressocp.drive.motor_cycle`); a bound on both is a bound on whichever
-    acts. The RMS torque is reported, not bounded: its mean over the samples is one constraint row on
-    every sample's variables, whose Jacobian took 1.5 s per iteration instead of 0.01 s
+    acts. The RMS motor torque under the continuous rating: the mean of its square over the period
+    (periodic trapezoidal weights on `times`) is a running sum in variables of its own, one per
+    sample (`rms_running_sum`), so that each row holds one sample's variables: one dense row made
+    the constraint Jacobian take 1.5 s per iteration instead of 0.01 s
     (docs/decisions/2026-11-26-drive-limits.md). Nothing without a drive."""
     d = problem.drive
     if d is None:
@@ -258,18 +272,64 @@ def add_drive_limits(cons: Constraints, problem: SpeedProblem, torque, omega, al
         if d.power_limit is not None:
             cons.add(motor * speed / d.power_limit, -DRIVE_BACKOFF, DRIVE_BACKOFF, "drive_power")
     cons.add(speed / d.max_speed, -np.inf, DRIVE_BACKOFF, "drive_speed")
+    motor = acting_motor_torque(d, torque, alpha)
+    mean_square = rms_running_sum(cons, (motor / d.continuous_torque) ** 2, periodic_weights(times, problem.period))
+    cons.add(mean_square, -np.inf, DRIVE_BACKOFF**2, "drive_rms")
+
+
+#: Width of the blend between the driving and the regenerating gear factor in `acting_motor_torque`,
+#: as a share of the motor's peak torque brought to the crank.
+GEAR_BLEND = 1e-3
+
+
+def acting_motor_torque(drive, torque, alpha):
+    """The motor torque that acts (N m; `pressocp.drive.motor_cycle`: crank torque / (i eta) while the
+    crank's power is positive, crank torque x eta / i while it is negative, plus the rotor's inertia
+    torque) as one smooth expression: the two gear factors blended by a tanh of the crank torque
+    over `GEAR_BLEND` of the motor's peak torque at the crank. Near zero crank torque, where the
+    blend acts, both terms are near zero."""
+    i, eta = drive.gear_ratio, drive.gear_efficiency
+    width = GEAR_BLEND * drive.peak_torque * i
+    factor = eta + (1.0 / eta - eta) * 0.5 * (1.0 + ca.tanh(torque / width))
+    return torque * factor / i + (drive.motor_inertia + drive.gear_inertia) * i * alpha
+
+
+def periodic_weights(times: np.ndarray, period: float) -> np.ndarray:
+    """Trapezoidal weights of samples at `times` (s, within one period, any order) of a periodic
+    function, divided by the period: ``weights @ f(times)`` is f's mean."""
+    t = np.asarray(times, float)
+    order = np.argsort(t)
+    ts = t[order]
+    gaps = np.diff(np.concatenate([ts, [ts[0] + period]]))
+    w = np.empty_like(t)
+    w[order] = 0.5 * (gaps + np.roll(gaps, 1)) / period
+    return w
+
+
+def rms_running_sum(cons: Constraints, terms, weights: np.ndarray):
+    """``weights @ terms`` (a row of expressions, one per sample) as the last of the running sums
+    r_k = r_(k-1) + weights_k terms_k, which are NLP variables of their own (`Constraints.variables`)
+    tied by one row per sample (group "running_sum"). Returns r's last entry."""
+    q = ca.vec(terms) * ca.DM(weights)
+    r = cons.variables("running_sum", ca.cumsum(q))
+    cons.add(r - ca.vertcat(0.0, r[:-1]) - q, 0.0, 0.0, "running_sum")
+    return r[-1]
 
 
 #: The drive's constraint groups (`add_drive_limits`) and the rating each holds.
-DRIVE_GROUPS = {"drive_peak_torque": "peak_torque", "drive_power": "power_limit", "drive_speed": "max_speed"}
+DRIVE_GROUPS = {"drive_peak_torque": "peak_torque", "drive_power": "power_limit", "drive_speed": "max_speed",
+                "drive_rms": "continuous_torque"}
 
 
 def drive_shortfall(violations: dict[str, float]) -> str:
     """What a stage's least-infeasible point says of the drive: each limit it could not hold, by how
     much of its rating (`violations` by constraint group, `StageResult.violations`); empty when it
-    held them all."""
-    short = [f"drive.{field} exceeded by {100 * violations[group]:.3g} % of its rating"
-             for group, field in DRIVE_GROUPS.items() if violations.get(group, 0.0) > 1e-6]
+    held them all. The RMS row holds a mean square: its violation is turned into one of the RMS."""
+    over = dict(violations)
+    if "drive_rms" in over:
+        over["drive_rms"] = float(np.sqrt(DRIVE_BACKOFF**2 + over["drive_rms"]) - DRIVE_BACKOFF)
+    short = [f"drive.{field} exceeded by {100 * over[group]:.3g} % of its rating"
+             for group, field in DRIVE_GROUPS.items() if over.get(group, 0.0) > 1e-6]
     return "" if not short else ("; the drive is too weak for this problem: " + ", ".join(short)
                                  + " (raise the rating or the gear ratio, or ask less of the press)")
 
@@ -379,9 +439,10 @@ class NlpOutcome:
     Attributes
     ----------
     w : ndarray
-        The solution, or (when IPOPT did not succeed) the least-infeasible iterate.
+        The solution, or (when IPOPT did not succeed) the least-infeasible iterate: the
+        transcription's variables (the constraints' own, `Constraints.variables`, left out).
     last_w : ndarray
-        IPOPT's final iterate either way.
+        IPOPT's final iterate either way (the same variables).
     success : bool
     status : str
     iterations : int
@@ -401,7 +462,8 @@ class NlpOutcome:
     timing : dict
         Where the wall time went (`timing_split`), s.
     lam_x, lam_g : ndarray or None
-        IPOPT's multipliers at its final iterate (None when IPOPT raised).
+        IPOPT's multipliers at its final iterate (None when IPOPT raised); ``lam_x`` covers the
+        constraints' own variables too (a warm start passes it back with ``w`` alone).
     """
 
     w: np.ndarray
@@ -496,6 +558,15 @@ def solve_nlp(nlp: NlpData, run: NlpRun) -> NlpOutcome:
 
         bar = tqdm(desc=desc or name, unit="it", leave=True)
     q, q0 = parameter_symbols(parameters)
+    nw = w.numel()
+    if cons.lifted:  # the constraints' own variables, after the transcription's
+        extra = ca.vertcat(*[v for v, _, _, _ in cons.lifted])
+        if np.size(w0) == nw:
+            start = ca.Function("lifted_start", [w, q], [ca.vertcat(*[e for _, e, _, _ in cons.lifted])])
+            w0 = np.concatenate([np.asarray(w0, float).ravel(), np.asarray(start(w0, q0), float).ravel()])
+        w = ca.vertcat(w, extra)
+        lbw = np.concatenate([np.asarray(lbw, float)] + [lo for _, _, lo, _ in cons.lifted])
+        ubw = np.concatenate([np.asarray(ubw, float)] + [hi for _, _, _, hi in cons.lifted])
     stats: dict = {}
     cb = IterationRecord(w.numel(), cons, objective, scale, bar, q0.size)
     gall = cons.g
@@ -549,7 +620,7 @@ def solve_nlp(nlp: NlpData, run: NlpRun) -> NlpOutcome:
         viol_end = cons.by_group(g_fun(wo, q0))
     except RuntimeError:  # an integrator failing at the returned iterate: the caller locates it
         viol_end = {}
-    return NlpOutcome(w=wo, last_w=last, success=success, status=status, iterations=iters, history=list(cb.history),
+    return NlpOutcome(w=wo[:nw], last_w=last[:nw], success=success, status=status, iterations=iters, history=list(cb.history),
                       barrier=barrier, violations_start=viol_start, violations=viol_end,
                       iteration_log={"time_s": [t - t0 for t in cb.times], **log},
                       wall_time=time.perf_counter() - t0, point=point,
