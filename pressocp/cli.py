@@ -103,7 +103,8 @@ TEMPLATE_NOTES = {
     "downstroke switch", "period_s": "s per stroke (or stroke_rate_spm = strokes per minute)",
     "ram_speed": "m/s in the working window (negative: down)",
     "window": "h/H at entry and exit of the working window (h above bottom dead centre)",
-    "objective": "peak_torque, peak_slider_normal_force, peak_pin_force, rms_torque or peak_power",
+    "objective": "peak_torque, peak_slider_normal_force, peak_pin_force, rms_torque, peak_power; with a "
+                 "[drive]: rms_motor_torque, energy_per_stroke or bus_energy_swing",
     "n_harmonics": "Fourier harmonics of the crank speed", "rod": "rigid or flexible",
     "n_elements": "beam elements of the flexible rod",
     "n_modes": "bending modes the flexible rod is reduced to (unset: every element DOF)", "transcription": "auto, collocation, shooting-idas or "
@@ -151,7 +152,8 @@ TEMPLATE_OPTIONAL = {
                       "# power_limit = 5000.0                  # W: above the corner speed, peak torque = power / speed",
                       "# gear_efficiency = 0.95",
                       "# motor_inertia = 0.004                 # kg m^2, rotor",
-                      "# gear_inertia = 0.0                    # kg m^2 at the motor shaft"],
+                      "# gear_inertia = 0.0                    # kg m^2 at the motor shaft",
+                      "# regeneration_efficiency = 0.0         # share of regenerated energy the supply gets back"],
     "journal_radius": ["# stiffness = 6.2e11                   # N/m^1.5 (default: Hertz, steel on steel)",
                        "# damping = 3.0                       # s/m, Hunt-Crossley hysteresis (default 3.0: e = 0.9 at 0.05 m/s)"],
 }

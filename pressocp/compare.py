@@ -58,6 +58,7 @@ DRIVE_FIGURES = {
     "peak_power": ("peak power", "W"),
     "energy_driving": ("energy per stroke out", "J"),
     "energy_regenerated": ("energy per stroke back", "J"),
+    "energy_drawn": ("energy drawn per stroke", "J"),
     "bus_energy_swing": ("DC-bus energy swing", "J"),
     "gear_losses": ("gear losses per stroke", "J"),
 }

@@ -51,6 +51,10 @@ class Drive:
         speeds (rad/s, increasing from 0 to max_speed) and the peak torque at each (N m, never
         rising with speed, the first equal to peak_torque); linear between them. Empty: the
         corner-speed form above.
+    regeneration_efficiency : float
+        Share of the energy the motor regenerates that the supply gets back, in [0, 1] (0: a brake
+        resistor burns it; near 1: a regenerative supply or a capacitor bank), for the energy drawn
+        per stroke.
     """
 
     gear_ratio: float = 20.0
@@ -63,6 +67,7 @@ class Drive:
     gear_inertia: float = 0.0
     curve_speeds: tuple[float, ...] = ()
     curve_torques: tuple[float, ...] = ()
+    regeneration_efficiency: float = 0.0
 
     def __post_init__(self) -> None:
         chk.convert_reals(self)
@@ -83,6 +88,10 @@ class Drive:
                 f": a value in %? {eta:g} % is {eta / 100:g}" if eta <= 100 else ""))
         chk.positive("motor_inertia", self.motor_inertia, "kg m^2")
         chk.nonnegative("gear_inertia", self.gear_inertia, "kg m^2")
+        regen = chk.nonnegative("regeneration_efficiency", self.regeneration_efficiency, "-")
+        if regen > 1.0:
+            raise ValueError(f"regeneration_efficiency must be in [0, 1], got {regen!r}" + (
+                f": a value in %? {regen:g} % is {regen / 100:g}" if regen <= 100 else ""))
         self._check_curve(peak, speed)
 
     def _check_curve(self, peak: float, top: float) -> None:
@@ -154,6 +163,9 @@ class MotorCycle:
         1 - rms_torque / continuous_torque and 1 - max_speed / Drive.max_speed, - (< 0: over).
     energy_driving, energy_regenerated : float
         The motor's energy out (J) and back (J, >= 0) per cycle.
+    energy_drawn : float
+        The supply's energy per cycle, J: energy_driving - Drive.regeneration_efficiency x
+        energy_regenerated.
     bus_energy_swing : float
         Range of the integral of (power - its mean) over the cycle, J: what a DC-bus capacitor must
         buffer for the supply to deliver the mean power only.
@@ -175,6 +187,7 @@ class MotorCycle:
     speed_margin: float
     energy_driving: float
     energy_regenerated: float
+    energy_drawn: float
     bus_energy_swing: float
     gear_losses: float
 
@@ -182,7 +195,7 @@ class MotorCycle:
         """The cycle's figures as plain data (SI)."""
         return {k: float(getattr(self, k)) for k in (
             "peak_torque", "rms_torque", "max_speed", "peak_power", "inertia_ratio", "peak_torque_margin", "rms_margin",
-            "speed_margin", "energy_driving", "energy_regenerated", "bus_energy_swing", "gear_losses")}
+            "speed_margin", "energy_driving", "energy_regenerated", "energy_drawn", "bus_energy_swing", "gear_losses")}
 
 
 def motor_cycle(drive: Drive, t, omega, alpha, crank_torque, load_inertia) -> MotorCycle:
@@ -211,6 +224,7 @@ def motor_cycle(drive: Drive, t, omega, alpha, crank_torque, load_inertia) -> Mo
         rms_margin=1.0 - rms / drive.continuous_torque, speed_margin=1.0 - top / drive.max_speed,
         energy_driving=float(trapezoid(np.maximum(power, 0.0), t)),
         energy_regenerated=float(trapezoid(np.maximum(-power, 0.0), t)),
+        energy_drawn=float(trapezoid(np.maximum(power, 0.0) - drive.regeneration_efficiency * np.maximum(-power, 0.0), t)),
         bus_energy_swing=float(np.max(stored) - np.min(stored)),
         gear_losses=float(trapezoid(np.abs(power - rotor - tau * omega), t)))
 

@@ -3,9 +3,16 @@
 An objective names the response outputs it needs and gives its *terms*: expressions of those
 outputs that work on numpy arrays and on CasADi symbols alike. A ``peak`` objective is the largest
 |term| over the cycle (solved as an epigraph: -s <= term <= s at every sample); an ``rms``
-objective is the root mean square of its term. The same definition gives the value on a
-simulated response, the scale of the NLP and its constraints, so adding an objective is one
-`register` call.
+objective is the root mean square of its term; an ``integral`` one the integral of its term over
+the period (an energy per stroke, from a power); a ``swing`` one the range of the integral of its
+term minus its mean (the energy a store must buffer for the supply to deliver the mean power
+only). The same definition gives the value on a simulated response, the scale of the NLP and its
+constraints, so adding an objective is one `register` call.
+
+A drive objective (``drive=True``) reads the motor's figures, which `motor_entries` adds to the
+outputs from the problem's `pressocp.drive.Drive`: ``motor_torque`` (the torque that acts, driving
+or regenerating, N m), ``motor_power`` (W) and ``supply_power`` (W: the motor's power while it
+drives, minus `Drive.regeneration_efficiency` of it while it regenerates).
 """
 
 from __future__ import annotations
@@ -15,10 +22,41 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from scipy.integrate import cumulative_trapezoid
 
 from .series import PIN_FORCES
 
-KINDS = ("peak", "rms")
+KINDS = ("peak", "rms", "integral", "swing")
+
+
+def trapezoid_weights(t: np.ndarray, period: float | None = None) -> np.ndarray:
+    """Integration weights (s) of samples at times `t`: ``weights @ f(t)`` is the integral of f.
+    Without `period` the samples span the interval they cover (sorted, both ends included); with
+    it they are samples of a periodic function, one period, in any order (the weights sum to the
+    period)."""
+    t = np.asarray(t, float).ravel()
+    if period is None:
+        gaps = np.diff(t)
+        return 0.5 * (np.concatenate([gaps, [0.0]]) + np.concatenate([[0.0], gaps]))
+    order = np.argsort(t)
+    ts = t[order]
+    gaps = np.diff(np.concatenate([ts, [ts[0] + period]]))
+    w = np.empty_like(t)
+    w[order] = 0.5 * (gaps + np.roll(gaps, 1))
+    return w
+
+
+def motor_entries(drive: Any, torque, omega, alpha) -> dict[str, Any]:
+    """The motor's figures the drive objectives read, from the crank torque (N m), speed (rad/s,
+    > 0) and acceleration (rad/s^2), numpy arrays: the acting torque as in
+    `pressocp.drive.motor_cycle` (which of driving and regenerating follows the sign of the crank
+    torque), its power and the power drawn from the supply."""
+    tau = np.asarray(torque, float)
+    driving, regenerating = drive.motor_torques(tau, np.asarray(alpha, float))
+    motor = np.where(tau >= 0.0, driving, regenerating)
+    power = motor * drive.gear_ratio * np.asarray(omega, float)
+    supply = np.maximum(power, 0.0) - drive.regeneration_efficiency * np.maximum(-power, 0.0)
+    return {"motor_torque": motor, "motor_power": power, "supply_power": supply}
 
 
 @dataclass(frozen=True)
@@ -31,15 +69,18 @@ class Objective:
         Registry key (e.g. ``"peak_torque"``).
     outputs : tuple of str
         Response outputs the terms use (names of `pressocp.model.OUTPUT_NAMES` /
-        `pressocp.SimResult` fields).
+        `pressocp.SimResult` fields); a drive objective lists the crank's torque and speed.
     terms : callable
         ``terms(y) -> list`` of expressions of ``y[name]`` (numpy arrays or CasADi rows).
     unit : str
         Unit of the value, e.g. ``"N m"``.
-    kind : {"peak", "rms"}
-        Largest |term| over all terms and samples, or the RMS of the (single) term.
+    kind : {"peak", "rms", "integral", "swing"}
+        Largest |term| over all terms and samples, the RMS of the (single) term, its integral over
+        the period, or the range of the integral of (term - its mean).
     description : str
         One line for tables and plots.
+    drive : bool
+        The terms read `motor_entries` (the problem needs a drive).
     """
 
     name: str
@@ -48,14 +89,51 @@ class Objective:
     unit: str
     kind: str = "peak"
     description: str = ""
+    drive: bool = False
 
-    def value(self, response: Any) -> float:
-        """The objective on a response: a `SimResult` or a mapping of output arrays."""
-        y = response if isinstance(response, Mapping) else {n: getattr(response, n) for n in self.outputs}
-        terms = [np.asarray(t, float) for t in self.terms(y)]
+    def value(self, response: Any, drive: Any = None, *, period: float | None = None, alpha: Any = None) -> float:
+        """The objective on a response: a `SimResult` or a mapping of output arrays (with ``t``, s,
+        for the integral and swing kinds and the drive objectives).
+
+        Parameters
+        ----------
+        drive : pressocp.drive.Drive, optional
+            The problem's drive; a drive objective needs it.
+        period : float, optional
+            The samples are one period of a periodic response, in any order (s); otherwise they
+            span the interval they cover, sorted, both ends included.
+        alpha : array, optional
+            The crank acceleration at the samples, rad/s^2 (drive objectives); default: the
+            derivative of the crank speed over the samples.
+        """
+        names = self.outputs + (("t",) if self.kind in ("integral", "swing") or self.drive else ())
+        y = dict(response) if isinstance(response, Mapping) else {n: getattr(response, n) for n in names}
+        if self.drive:
+            if drive is None:
+                raise ValueError(f"objective {self.name!r} reads the motor: the problem needs a drive (SpeedProblem.drive)")
+            t, omega = np.asarray(y["t"], float).ravel(), np.asarray(y["omega"], float).ravel()
+            if alpha is None:
+                order = np.argsort(t)
+                alpha = np.empty_like(t)
+                alpha[order] = np.gradient(omega[order], t[order], edge_order=2)
+            y.update(motor_entries(drive, np.ravel(y["torque"]), omega, np.ravel(alpha)))
+        terms = [np.asarray(t, float).ravel() for t in self.terms(y)]
         if self.kind == "rms":
             return float(np.sqrt(np.mean(terms[0] ** 2)))
-        return float(max(np.max(np.abs(t)) for t in terms))
+        if self.kind == "peak":
+            return float(max(np.max(np.abs(t)) for t in terms))
+        t = np.asarray(y["t"], float).ravel()
+        w = trapezoid_weights(t, period)
+        total = float(w @ terms[0])
+        if self.kind == "integral":
+            return total
+        span = float(np.sum(w))
+        if period is None:
+            stored = cumulative_trapezoid(terms[0] - total / span, t, initial=0.0)
+        else:
+            order = np.argsort(t)
+            stored = np.cumsum((w * (terms[0] - total / span))[order])
+        return float(np.max(stored) - np.min(stored))
 
 
 OBJECTIVES: dict[str, Objective] = {}
@@ -89,3 +167,11 @@ register(Objective("rms_torque", ("torque",), lambda y: [y["torque"]], "N m", ki
                    description="RMS motor torque"))
 register(Objective("peak_power", ("torque", "omega"), lambda y: [y["torque"] * y["omega"]], "W",
                    description="peak |motor power| = peak |torque x crank speed| (the motor's power rating)"))
+register(Objective("rms_motor_torque", ("torque", "omega"), lambda y: [y["motor_torque"]], "N m", kind="rms",
+                   description="RMS motor torque behind the gear (heat: the continuous rating)", drive=True))
+register(Objective("energy_per_stroke", ("torque", "omega"), lambda y: [y["supply_power"]], "J", kind="integral",
+                   description="energy drawn from the supply per stroke, less what regeneration gives back",
+                   drive=True))
+register(Objective("bus_energy_swing", ("torque", "omega"), lambda y: [y["motor_power"]], "J", kind="swing",
+                   description="DC-bus energy swing: the range of the motor's energy about its mean power",
+                   drive=True))

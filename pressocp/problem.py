@@ -239,6 +239,9 @@ class SpeedProblem:
         object.__setattr__(self, "period", T)
         object.__setattr__(self, "window", (w0, w1))
         chk.choice("objective", self.objective, tuple(OBJECTIVES))
+        if OBJECTIVES[self.objective].drive and self.drive is None:
+            raise ValueError(f"objective {self.objective!r} reads the motor: it needs a drive (SpeedProblem.drive, "
+                             "a [drive] table in a scenario)")
         chk.integer("n_harmonics", self.n_harmonics, 1, 50)
         check_ram_speed(self.press, T, v, (w0, w1), self.mechanism)
         if self.ram_speed_tol is not None:
@@ -266,6 +269,11 @@ class SpeedProblem:
         if self.max_pin_force is not None:
             chk.in_open_interval("max_pin_force", self.max_pin_force, self.hanging_weight, np.inf, "N")
         check_speed_limits(self)
+
+    def objective_value(self, response: Any) -> float:
+        """The problem's objective on a response (a `SimResult` over one period, both ends included,
+        or a mapping of output arrays with ``t``), with the problem's drive."""
+        return OBJECTIVES[self.objective].value(response, self.drive)
 
     # Derived values ------------------------------------------------------------------------------
     @property

@@ -82,7 +82,7 @@ def simulation_summary(scenario: Scenario, sim: SimResult, ideal: SimResult, sou
     return {"job": "simulate", "scenario": scenario.name, "model": scenario.model.describe(), "speed": source,
             **problem_summary(problem), "periodic": is_periodic(sim), **peak_summary(sim),
             **peak_summary(ideal, "ideal_joints_"), **ecc, "max_ram_speed_error": ram_speed_error(sim, problem),
-            "objective_value": get_objective(problem.objective).value(sim), "rtol": scenario.solver.verify_rtol}
+            "objective_value": problem.objective_value(sim), "rtol": scenario.solver.verify_rtol}
 
 
 def simulate_speed(scenario: Scenario, speed: FourierSpeed) -> tuple[SimResult, SimResult]:
@@ -113,5 +113,7 @@ def drive_text(problem: SpeedProblem, cycles: dict[str, MotorCycle]) -> str:
             ["peak power, kW", *(f"{c.peak_power / 1e3:.3g}" for c in cycles.values())],
             ["energy per stroke out / back, J", *(f"{c.energy_driving:.4g} / {c.energy_regenerated:.4g}"
                                                    for c in cycles.values())],
+            [f"energy drawn per stroke, J (regeneration {d.regeneration_efficiency:g})",
+             *(f"{c.energy_drawn:.4g}" for c in cycles.values())],
             ["DC-bus energy swing, J", *(f"{c.bus_energy_swing:.4g}" for c in cycles.values())]]
     return format_table(rows)

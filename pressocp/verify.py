@@ -9,7 +9,7 @@ from .model import PressModel
 from .objectives import get as get_objective
 from .problem import SpeedProblem, in_window
 from .result import SimResult
-from .drive import MotorCycle, motor_cycle
+from .drive import Drive, MotorCycle, motor_cycle
 from .mechanism.ideal import ideal_inverse_dynamics, ideal_response
 from .simulate import Integrator, SimulationError, simulate
 from .speed import FourierSpeed
@@ -88,15 +88,18 @@ def is_periodic(sim: SimResult) -> bool | str:
 
 
 def screen(model: PressModel, speed: FourierSpeed, reference: float, objective: str,
-           rtol: float = 1e-7) -> tuple[SimResult, float]:
+           rtol: float = 1e-7, drive: Drive | None = None) -> tuple[SimResult, float]:
     """Response of `speed` on `model` and its objective over `reference` (the rigid model's value).
 
     A screen first: the 4th cycle from rest. If that impacts (ratio > `IMPACT_RATIO`), it is the
     answer and no periodic state is searched for (there is often none: the journals' free flight is
     chaotic, and the failing search took ~25 s at T = 0.8 s on the rigid rod, minutes on the flexible
     one). Otherwise the periodic response (`verify_speed`) from the screen's state.
-    Returns (sim, ratio); `is_periodic(sim)` tells which."""
-    value = get_objective(objective).value
+    Returns (sim, ratio); `is_periodic(sim)` tells which. `drive`: the problem's, for an objective
+    that reads the motor."""
+    def value(sim: SimResult) -> float:
+        return get_objective(objective).value(sim, drive)
+
     if model.is_rigid:  # closed form, nothing to settle
         sim = verify_speed(model, speed, rtol)
         return sim, value(sim) / reference

@@ -19,7 +19,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..model import ModelSpec
-from ..objectives import get as get_objective
 from ..problem import SpeedProblem
 from ..workers import parallel_workers, process_pool
 from .stage import StageResult, Transcription
@@ -50,7 +49,7 @@ def verified_value(stage: StageResult, problem: SpeedProblem) -> float:
     sim = stage.simulation
     if not stage.success or sim is None or is_periodic(sim) is not True or ram_speed_violation(sim, problem) > 0.0:
         return float("inf")
-    return float(get_objective(problem.objective).value(sim))
+    return problem.objective_value(sim)
 
 
 def run_candidates(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec, rigid: StageResult,

@@ -16,7 +16,7 @@ import numpy as np
 from ..compile_cache import compile_seconds, function_options
 from ..interrupt import compiling, interruptible
 from ..ipopt_options import IPOPT_WARM_START
-from ..objectives import Objective
+from ..objectives import Objective, trapezoid_weights
 from ..problem import SpeedProblem
 from ..series import PIN_FORCES
 from ..simulate import first_line
@@ -194,16 +194,38 @@ def add_kinematic_window(cons: Constraints, problem: SpeedProblem, c, t1, durati
 
 
 # Objective, bounds and caps ----------------------------------------------------------------------
-def add_objective(cons: Constraints, objective: Objective, y: Mapping, s, scale: float):
-    """The objective on the sample rows ``y[name]``: the epigraph -s <= term <= s of every term
-    (returns s/scale), or the mean square of the RMS term (returns mean(term^2)/scale^2)."""
+def add_objective(cons: Constraints, objective: Objective, y: Mapping, s, scale: float,
+                  times: np.ndarray, period: float):
+    """The objective on the sample rows ``y[name]`` at `times` (s, one period of `period`; a drive
+    objective's rows from `with_motor`): the epigraph -s <= term <= s of every term (returns
+    s/scale), the mean square of the RMS term (returns mean(term^2)/scale^2), the integral of the
+    term (periodic trapezoidal weights; returns it/scale), or the swing: the running integral of
+    (term - its mean) in time order (`running_sum`) between two variables of its own, lo <=
+    stored_k <= hi (returns (hi - lo)/scale)."""
     terms = objective.terms(y)
     if objective.kind == "rms":
         return ca.sumsqr(terms[0]) / terms[0].numel() / scale**2
+    if objective.kind in ("integral", "swing"):
+        weights = trapezoid_weights(times, period)
+        if objective.kind == "integral":
+            return ca.dot(ca.vec(terms[0]), ca.DM(weights)) / scale
+        order = np.argsort(np.asarray(times, float))
+        energy = running_sum(cons, ca.vec(terms[0])[order.tolist()] / scale, weights[order])
+        stored = energy - energy[-1] * ca.DM(np.cumsum(weights[order]) / period)
+        hi, lo = cons.variables("swing_high", ca.mmax(stored)), cons.variables("swing_low", ca.mmin(stored))
+        cons.add(stored - hi, -np.inf, 0.0, "swing")
+        cons.add(lo - stored, -np.inf, 0.0, "swing")
+        return hi - lo
     for q in terms:
         cons.add((q - s) / scale, -np.inf, 0.0, "epigraph")
         cons.add((-q - s) / scale, -np.inf, 0.0, "epigraph")
     return s / scale
+
+
+def objective_scale(value: float) -> float:
+    """The NLP's objective scale from the objective's value at the start: its magnitude, or 1 where
+    it is zero (an energy of a press without losses or process force)."""
+    return abs(value) if abs(value) > 1e-12 else 1.0
 
 
 def unscaled(objective: Objective, f: float, scale: float) -> float:
@@ -252,7 +274,7 @@ def add_drive_limits(cons: Constraints, problem: SpeedProblem, torque, omega, al
     or the regenerating one (`pressocp.drive.motor_cycle`); a bound on both is a bound on whichever
     acts. The RMS motor torque under the continuous rating: the mean of its square over the period
     (periodic trapezoidal weights on `times`) is a running sum in variables of its own, one per
-    sample (`rms_running_sum`), so that each row holds one sample's variables: one dense row made
+    sample (`running_sum`), so that each row holds one sample's variables: one dense row made
     the constraint Jacobian take 1.5 s per iteration instead of 0.01 s
     (docs/decisions/2026-11-26-drive-limits.md). Nothing without a drive."""
     d = problem.drive
@@ -273,7 +295,8 @@ def add_drive_limits(cons: Constraints, problem: SpeedProblem, torque, omega, al
             cons.add(motor * speed / d.power_limit, -DRIVE_BACKOFF, DRIVE_BACKOFF, "drive_power")
     cons.add(speed / d.max_speed, -np.inf, DRIVE_BACKOFF, "drive_speed")
     motor = acting_motor_torque(d, torque, alpha)
-    mean_square = rms_running_sum(cons, (motor / d.continuous_torque) ** 2, periodic_weights(times, problem.period))
+    weights = trapezoid_weights(times, problem.period) / problem.period
+    mean_square = running_sum(cons, (motor / d.continuous_torque) ** 2, weights)[-1]
     cons.add(mean_square, -np.inf, DRIVE_BACKOFF**2, "drive_rms")
 
 
@@ -294,26 +317,34 @@ def acting_motor_torque(drive, torque, alpha):
     return torque * factor / i + (drive.motor_inertia + drive.gear_inertia) * i * alpha
 
 
-def periodic_weights(times: np.ndarray, period: float) -> np.ndarray:
-    """Trapezoidal weights of samples at `times` (s, within one period, any order) of a periodic
-    function, divided by the period: ``weights @ f(times)`` is f's mean."""
-    t = np.asarray(times, float)
-    order = np.argsort(t)
-    ts = t[order]
-    gaps = np.diff(np.concatenate([ts, [ts[0] + period]]))
-    w = np.empty_like(t)
-    w[order] = 0.5 * (gaps + np.roll(gaps, 1)) / period
-    return w
-
-
-def rms_running_sum(cons: Constraints, terms, weights: np.ndarray):
-    """``weights @ terms`` (a row of expressions, one per sample) as the last of the running sums
-    r_k = r_(k-1) + weights_k terms_k, which are NLP variables of their own (`Constraints.variables`)
-    tied by one row per sample (group "running_sum"). Returns r's last entry."""
+def running_sum(cons: Constraints, terms, weights: np.ndarray):
+    """The running sums r_k = r_(k-1) + weights_k terms_k of a row of expressions (one per sample,
+    in the order the running sum takes them), as NLP variables of their own
+    (`Constraints.variables`) tied by one row per sample (group "running_sum"), so that no row
+    holds every sample's variables. Returns r (a column)."""
     q = ca.vec(terms) * ca.DM(weights)
     r = cons.variables("running_sum", ca.cumsum(q))
     cons.add(r - ca.vertcat(0.0, r[:-1]) - q, 0.0, 0.0, "running_sum")
-    return r[-1]
+    return r
+
+
+def motor_rows(drive, torque, omega, alpha) -> dict:
+    """The motor's figures of `pressocp.objectives.motor_entries` as smooth CasADi rows:
+    ``motor_torque`` (`acting_motor_torque`), ``motor_power`` and ``supply_power``, whose positive
+    part is 0.5 (P + sqrt(P^2 + eps^2)) with eps `GEAR_BLEND` of the motor's peak torque times its
+    top speed (W)."""
+    motor = acting_motor_torque(drive, torque, alpha)
+    power = motor * drive.gear_ratio * omega
+    eps2 = (GEAR_BLEND * drive.peak_torque * drive.max_speed) ** 2
+    positive, negative = 0.5 * (power + ca.sqrt(power**2 + eps2)), 0.5 * (-power + ca.sqrt(power**2 + eps2))
+    return {"motor_torque": motor, "motor_power": power,
+            "supply_power": positive - drive.regeneration_efficiency * negative}
+
+
+def with_motor(problem: SpeedProblem, objective: Objective, y: dict, omega, alpha) -> dict:
+    """`y` with `motor_rows` added when `objective` reads the motor (crank speed and acceleration
+    rows at the samples), else `y` itself."""
+    return {**y, **motor_rows(problem.drive, y["torque"], omega, alpha)} if objective.drive else y
 
 
 #: The drive's constraint groups (`add_drive_limits`) and the rating each holds.
@@ -561,9 +592,13 @@ def solve_nlp(nlp: NlpData, run: NlpRun) -> NlpOutcome:
     nw = w.numel()
     if cons.lifted:  # the constraints' own variables, after the transcription's
         extra = ca.vertcat(*[v for v, _, _, _ in cons.lifted])
-        if np.size(w0) == nw:
-            start = ca.Function("lifted_start", [w, q], [ca.vertcat(*[e for _, e, _, _ in cons.lifted])])
-            w0 = np.concatenate([np.asarray(w0, float).ravel(), np.asarray(start(w0, q0), float).ravel()])
+        if np.size(w0) == nw:  # each group's start may read the groups made before it
+            w0 = np.asarray(w0, float).ravel()
+            done = ca.MX(0, 1)
+            for v, e, _, _ in cons.lifted:
+                start = ca.Function("lifted_start", [w, q, done], [e])
+                w0 = np.concatenate([w0, np.asarray(start(w0[:nw], q0, w0[nw:]), float).ravel()])
+                done = ca.vertcat(done, v)
         w = ca.vertcat(w, extra)
         lbw = np.concatenate([np.asarray(lbw, float)] + [lo for _, _, lo, _ in cons.lifted])
         ubw = np.concatenate([np.asarray(ubw, float)] + [hi for _, _, _, hi in cons.lifted])

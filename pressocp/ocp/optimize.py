@@ -14,7 +14,6 @@ from .. import checks as chk
 from ..compile_cache import compile_seconds, prepared_record, write_prepared_record
 from ..design import design_speed
 from ..model import ModelSpec, PressModel, build_model
-from ..objectives import get as get_objective
 from ..problem import ReversalWarning, SpeedProblem
 from ..speed import FourierSpeed
 from ..workers import parallel_workers, process_pool
@@ -87,7 +86,6 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     # that a later stage improved on) is recorded, not inherited
     found = standing_stage(stages) or stages[0]
     earlier = [s for s in stages if not s.success and not s.superseded and s is not found]
-    objective = get_objective(problem.objective)
     # the last stage's own verification (same model, same tolerance) when the strategy ran one
     reuse = answer.simulation is not None and answer.model == model.spec.describe()
     sim = answer.simulation if reuse else verify_speed(model, answer.speed, strat.verify_rtol)
@@ -97,7 +95,7 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
                   verification_compile=compile_seconds() - c_verify)
     return OcpResult(
         problem=problem, model=model.spec, transcription=repr(tr), strategy=repr(strat), speed=answer.speed,
-        initial_speed=initial, objective_value=found.objective, verified_objective=objective.value(sim),
+        initial_speed=initial, objective_value=found.objective, verified_objective=problem.objective_value(sim),
         peaks=peaks_of(sim), initial_peaks=peaks_of(init_sim), rigid_peak_torque=_rigid_peak(chain[0], problem),
         t1=t1, t2=t2, success=found.success,
         status=outcome_status(answer, found, earlier) + (drive_floor(problem, strat, initial, found)
@@ -243,5 +241,5 @@ def initial_response(model: PressModel | ModelSpec, problem: SpeedProblem, initi
         model = model.build(problem.press, problem.n_harmonics)
     if model.is_rigid:
         return verify_speed(model, initial, rtol)
-    reference = get_objective(problem.objective).value(rigid_reference(problem, initial))
-    return screen(model, initial, reference, problem.objective, max(INITIAL_RTOL, 10 * rtol))[0]
+    reference = problem.objective_value(rigid_reference(problem, initial))
+    return screen(model, initial, reference, problem.objective, max(INITIAL_RTOL, 10 * rtol), drive=problem.drive)[0]

@@ -23,7 +23,7 @@ from ..mechanism.ideal import ideal_response
 from ..speed import FourierSpeed
 from ..ipopt_options import IPOPT_RIGID
 from .nlp import (Constraints, NlpData, NlpRun, add_drive_limits, add_kinematic_window, add_objective, add_pin_cap,
-                  add_speed_bounds, lifted_crank, scaled_crank_start, solve_nlp)
+                  add_speed_bounds, lifted_crank, objective_scale, scaled_crank_start, solve_nlp, with_motor)
 from .stage import NlpPoint, StageResult, Transcription, WarmStart, settings_repr
 
 #: Outputs of the ideal press at one sample, besides the crank motion.
@@ -145,8 +145,9 @@ class Rigid(Transcription):
         jit = use_jit(self.jit, "the rigid stage")
         y = dict(zip(LOAD_OUTPUTS, loads_function(P, names, jit).map(N)(W[0, :], W[1, :], W[2, :], q)))
         y.update(theta=W[0, :], omega=W[1, :])
-        scale = objective.value(ideal_response(P.press, P.mechanism, initial, ts)) if point is None else point.scale
-        f = add_objective(cons, objective, y, s, scale)
+        scale = objective_scale(objective.value(ideal_response(P.press, P.mechanism, initial, ts), P.drive, period=T,
+                                                alpha=initial.evaluate(ts)[2])) if point is None else point.scale
+        f = add_objective(cons, objective, with_motor(P, objective, y, W[1, :], W[2, :]), s, scale, ts, T)
         add_kinematic_window(cons, P, c, t1, duration, self.window_samples, self.backoff, h_start, jit)
         add_speed_bounds(cons, P, W[1, :], W[2, :])
         tension = ca.vertcat(y["crank_pin_tension"], y["wrist_pin_tension"])
@@ -175,7 +176,7 @@ class Rigid(Transcription):
         sampled = ideal_response(press, P.mechanism, speed, ts)
         return StageResult(
             name=name, transcription=repr(self), model=ModelSpec("rigid", (), mechanism=P.mechanism).describe(), success=out.success,
-            status=out.status, iterations=out.iterations, wall_time=out.wall_time, objective=objective.value(sampled),
+            status=out.status, iterations=out.iterations, wall_time=out.wall_time, objective=objective.value(sampled, P.drive, period=T, alpha=speed.evaluate(ts)[2]),
             speed=speed, last_speed=FourierSpeed.from_coefficients(T, out.last_w[: 2 * n]),
             t1=float(out.w[2 * n + 1]), history=out.history, barrier=out.barrier, iteration_log=out.iteration_log,
             violations_start=out.violations_start, violations=out.violations,

@@ -20,8 +20,8 @@ from ..simulate import Integrator, SimulationError, integrate, periodic_orbit
 from ..speed import FourierSpeed
 from ..verify import settled_state
 from ..ipopt_options import IPOPT_WARM
-from .nlp import (Constraints, NlpData, NlpRun, add_dense_speed_bounds, add_drive_limits, add_objective, crank_rows, add_pin_cap,
-                  needed_outputs, parameter_symbols, solve_nlp)
+from .nlp import (Constraints, NlpData, NlpRun, add_dense_speed_bounds, add_drive_limits, add_objective, add_pin_cap,
+                  crank_motion, crank_rows, needed_outputs, objective_scale, parameter_symbols, solve_nlp, with_motor)
 from .stage import NlpPoint, StageResult, Transcription, WarmStart, settings_repr
 
 #: Outputs every state transcription samples besides the objective's: the ram's own motion.
@@ -242,14 +242,16 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
     P, T, n = problem, problem.period, problem.n_harmonics
     objective = get_objective(P.objective)
     s = ca.MX.sym("s")
-    scale = objective.value(y0) if warm is None else warm.scale
-    f = add_objective(cons, objective, y, s, scale)
+    motion = crank_rows(P, c, times) if nlp.motion is None else nlp.motion
+    alpha0 = crank_motion(start.padded(n), times)[2]
+    scale = objective_scale(objective.value({**y0, "t": times}, P.drive, period=T, alpha=alpha0)) \
+        if warm is None else warm.scale
+    f = add_objective(cons, objective, with_motor(P, objective, y, motion[1, :], motion[2, :]), s, scale, times, T)
     inside = window_band(P, start, y0["ram_height"].ravel(), times) if warm is None else warm.band
     add_window_samples(cons, P, y, inside, backoff)
     add_dense_speed_bounds(cons, P, c, omega_samples)
     add_pin_cap(cons, P, y)
     if P.drive is not None:
-        motion = crank_rows(P, c, times) if nlp.motion is None else nlp.motion
         add_drive_limits(cons, P, y["torque"], motion[1, :], motion[2, :], times)
     w = ca.vertcat(c, s, X)
     s0 = scale if objective.kind == "peak" else 0.0  # the epigraph starts at the warm start's peak
@@ -268,9 +270,10 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
     speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
     q, q0 = parameter_symbols(parameters)
     try:
-        y_fun = ca.Function("y_at", [w, q], [ca.vertcat(*[y[k] for k in objective.outputs])])
+        y_fun = ca.Function("y_at", [w, q], [ca.vertcat(*[y[k] for k in objective.outputs], motion[2, :])])
         rows = np.asarray(y_fun(out.w, q0))
-        value = objective.value({k: rows[i] for i, k in enumerate(objective.outputs)})
+        value = objective.value({"t": times, **{k: rows[i] for i, k in enumerate(objective.outputs)}}, P.drive,
+                                period=T, alpha=rows[-1])
     except RuntimeError:  # an integrator failing at the returned iterate: the caller locates it
         value = float("nan")
     return StageResult(

@@ -41,7 +41,6 @@ import numpy as np
 
 from .. import checks as chk
 from ..model import ModelSpec, PressModel, build_model
-from ..objectives import get as get_objective
 from ..params import PressParams
 from ..problem import SpeedProblem
 from ..result import SimResult
@@ -256,7 +255,7 @@ class Strategy:
         with the ram speed in tolerance and its objective within `verified_ratio` of the rigid rod's,
         the flexible stage is skipped (its record holds that re-simulation, which the final
         verification reuses); otherwise the flexible stage starts from it, then the polish rounds."""
-        value = get_objective(problem.objective).value
+        value = problem.objective_value
         t0 = time.perf_counter()
         on_base = self.verify_stage(base, last)
         x0 = rod_undeformed(model, base, on_base.states[:, 0]) if is_periodic(on_base) is True else None
@@ -379,7 +378,8 @@ class Strategy:
         """`screen` of `speed` on `model` against its rigid-press objective: (sim, ratio, dense rigid
         response)."""
         dense = rigid_reference(problem, speed)
-        sim, ratio = screen(model, speed, get_objective(problem.objective).value(dense), problem.objective, rtol)
+        sim, ratio = screen(model, speed, problem.objective_value(dense), problem.objective, rtol,
+                            drive=problem.drive)
         return sim, float(ratio), dense
 
     def verify_stage(self, model: PressModel, stage: StageResult) -> SimResult:
@@ -410,7 +410,7 @@ class Strategy:
         periodic = is_periodic(sim)
         if periodic is not True:
             return f"its re-simulation is not periodic ({periodic})", 0.0
-        value = get_objective(problem.objective).value(sim)
+        value = problem.objective_value(sim)
         if abs(value - stage.objective) > self.grid_tol * abs(value):
             return f"re-simulated {value:.6g} against the NLP's {stage.objective:.6g}", 0.0
         viol = ram_speed_violation(sim, problem)
@@ -473,7 +473,7 @@ class Strategy:
         periodic = is_periodic(sim)
         ne = ideal_inverse_dynamics(problem.press, problem.mechanism, *stage.speed.evaluate(dense.t))
         add_time(stage, "checks", time.perf_counter() - t0)
-        return Check(model=model.spec.describe(), objective=get_objective(problem.objective).value(sim), ratio=ratio,
+        return Check(model=model.spec.describe(), objective=problem.objective_value(sim), ratio=ratio,
                      periodic=periodic, ram_speed_violation=viol, peak_torque=sim.peak("torque"),
                      verified=bool(periodic is True and ratio <= self.verified_ratio and viol <= 0.0),
                      min_rod_tension=float(min(ne["crank_pin_tension"].min(), ne["wrist_pin_tension"].min())))
@@ -486,7 +486,7 @@ class Strategy:
         ram speed out of tolerance, is recorded as not kept, its answer being `last`'s, and ends the
         polishing; so does a kept round that gained no more than `polish_gain`. When the first round
         is not kept, `last`'s own follow-ups (`followed`, deferred by `clearance_chain`) run then."""
-        value = get_objective(problem.objective).value
+        value = problem.objective_value
         # both re-simulated alike, at the final verification's tolerance: an optimum holds the ram
         # speed to within a few 1e-5 m/s of its tolerance, about the error of a check at rtol 1e-7
         first = self.verify_stage(model, last)
@@ -545,7 +545,7 @@ class Strategy:
         tr = None if last is None or not last.success else transcription.relaxed(last)
         if tr is None:
             return [], None
-        value = get_objective(problem.objective).value
+        value = problem.objective_value
         t0 = time.perf_counter()
         before = self.verify_stage(model, last)
         if is_periodic(before) is not True or ram_speed_violation(before, problem) > 0.0:
@@ -575,10 +575,9 @@ class Strategy:
         objective with the ram speed in tolerance; otherwise the region shrinks. Each round's node
         states come from the verifying re-simulation of the current speed."""
         shooting = transcription.shooting() or MultipleShooting("cvodes")
-        objective = get_objective(problem.objective)
         speed, step, rounds = last.speed, self.refine_step, []
         sim = verify_speed(model, speed, CHECK_RTOL)
-        best = objective.value(sim)
+        best = problem.objective_value(sim)
         for k in range(self.refine_rounds):
             t0 = time.perf_counter()
             settings = replace(shooting, coefficient_step=step,
@@ -590,7 +589,7 @@ class Strategy:
                 rounds.append(StageResult.skipped(name, f"stopped: {str(err).splitlines()[0]}",
                                                   model.spec.describe(), last))
                 break
-            cand, ratio = screen(model, st.last_speed, best, problem.objective, CHECK_RTOL)
+            cand, ratio = screen(model, st.last_speed, best, problem.objective, CHECK_RTOL, drive=problem.drive)
             viol = max(ram_speed_violation(cand, problem), 0.0)
             accepted = bool(is_periodic(cand) is True and ratio < 1.0 and viol <= 0.0)
             value = ratio * best
