@@ -36,7 +36,11 @@ OUT = Path(__file__).parent / "results"
 
 
 def main() -> None:
-    argparse.ArgumentParser(description=__doc__.split("\n")[0]).parse_args()
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--max-iter", type=int, default=None,
+                        help="IPOPT iteration limit of the collocation stages (default: the package's)")
+    args = parser.parse_args()
+    transcription = None if args.max_iter is None else po.Collocation(ipopt={"ipopt.max_iter": args.max_iter})
     OUT.mkdir(exist_ok=True)
     scenario = po.Scenario.load("forming40")
     bare = scenario.problem.replace(counterbalance_range=None)
@@ -50,12 +54,12 @@ def main() -> None:
     floor = po.optimize_speed(bare, po.build_model(bare.press, clearance=()), progress=False)
     floor_time = time.perf_counter() - t0
     t0 = time.perf_counter()
-    result = po.optimize_speed(scenario.problem, scenario.build_model(), progress=False)
+    result = po.optimize_speed(scenario.problem, scenario.build_model(), transcription, progress=False)
     wall = time.perf_counter() - t0
     final = result.problem
     record = {
         "date_run": stamp(), "versions": versions(), "warning_without_counterbalance": said,
-        "warning_seconds": said_in,
+        "warning_seconds": said_in, "max_iter": args.max_iter,
         "rigid_floor_without_counterbalance_N_m": floor.peak_torque, "rigid_floor_time_s": floor_time,
         "success": result.success, "verified": result.verified, "status": result.status,
         "peak_torque_N_m": result.peak_torque, "rigid_peak_torque_N_m": result.rigid_peak_torque,

@@ -376,13 +376,16 @@ def forming_row(res: Results) -> Row:
     if d is None:
         return missing(32, goal, "forming.json")
     losses = sum(d["contact_losses"].values())
+    converged = d.get("success", True)
     text = (f"{'verified' if d['verified'] else 'NOT verified'} {d['peak_torque_N_m'] / 1e3:.2f} kN·m with a "
             f"{d['counterbalance_N'] / 1e3:.1f} kN counterbalance, {d['ratio_to_floor']:.2f} x the rigid floor "
             f"({d['rigid_floor_without_counterbalance_N_m'] / 1e3:.2f} kN·m), {d['rod_load_reversals']} rod-load "
             f"reversals, {losses} contact losses, {d['wall_time_s']:.0f} s; without a counterbalance: "
-            + ("warned before any solve" if d["warning_without_counterbalance"] else "no warning"))
+            + ("warned before any solve" if d["warning_without_counterbalance"] else "no warning")
+            + ("" if converged else f"; IPOPT did not converge ({d['status']}, iteration limit "
+               f"{d.get('max_iter') or 'the default'}): the answer is the best verified iterate, not an optimum"))
     ok = d["verified"] and losses == 0 and d["ratio_to_floor"] <= 1.5 and bool(d["warning_without_counterbalance"])
-    return Row(32, goal, text, verdict(ok), f"forming.json, {d['date_run']['date']}")
+    return Row(32, goal, text, verdict(ok and converged), f"forming.json, {d['date_run']['date']}")
 
 
 def stroke_rate_row(res: Results) -> Row:
