@@ -68,9 +68,10 @@ def main() -> None:
         "rod_load_reversals": reversals(final, result.speed),
         "contact_losses": contact_losses(result.simulation, final.press),
         "max_ram_speed_violation_m_s": result.max_ram_speed_violation, "wall_time_s": wall,
+        "speed": result.speed.to_dict(),
         "stages": [{"name": s.name, "status": s.status, "iterations": s.iterations, "objective": s.objective,
                     "wall_time_s": s.wall_time} for s in result.stages]}
-    print(json.dumps({k: v for k, v in record.items() if k not in ("stages", "versions")}, default=str), flush=True)
+    print(json.dumps({k: v for k, v in record.items() if k not in ("stages", "versions", "speed")}, default=str), flush=True)
     (OUT / "forming.json").write_text(json.dumps(record, indent=1, default=float))
 
     import matplotlib.pyplot as plt
@@ -83,11 +84,12 @@ def main() -> None:
             f"counterbalance: {result.peak_torque / 1e3:.2f} kN·m")
     ax.axhline(floor.peak_torque / 1e3, color="k", ls="--", lw=1, label="rigid floor without counterbalance")
     ax.axhline(-floor.peak_torque / 1e3, color="k", ls="--", lw=1)
-    ax.set(xlabel="crank angle, deg", ylabel="motor torque at the crank, kN·m", title="forming40: verified optimum")
+    title = ("forming40: " + ("verified" if result.verified else "NOT verified") + " "
+             + ("optimum" if result.success else "best iterate (IPOPT did not converge)"))
+    ax.set(xlabel="crank angle, deg", ylabel="motor torque at the crank, kN·m", title=title)
     ax.legend(fontsize=8)
-    for joint in ("crank_pin", "wrist_pin"):
-        c = getattr(final.press, joint).clearance
-        bx.plot(deg[order], np.asarray(getattr(sim, f"{joint}_eccentricity"))[order] / c, lw=1, label=joint)
+    for joint in ("crank_pin", "wrist_pin"):  # the response's eccentricity is the ratio |e|/c
+        bx.plot(deg[order], np.asarray(getattr(sim, f"{joint}_eccentricity"))[order], lw=1, label=joint)
     bx.axhline(1.0, color="k", lw=0.8)
     bx.set(xlabel="crank angle, deg", ylabel="|e| / clearance", title="journals: > 1 on the wall, < 1 in flight")
     bx.legend(fontsize=8)

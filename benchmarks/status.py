@@ -328,7 +328,8 @@ def drive_row(res: Results) -> Row:
     text = (f"motor {held['drive']['peak_torque']:g} N·m (crank equivalent {held['crank_equivalent_peak_N_m']:.0f} N·m)"
             + (f", press75 with a {cb:.0f} N counterbalance chosen with the speed" if cb else "") + ": "
             f"{'verified' if held['verified'] else 'NOT verified'} at {held['peak_torque_N_m']:.2f} N·m crank torque, "
-            f"motor peak {m['peak_torque']:.3g} N·m (margin {m['peak_torque_margin']:+.1%}), top speed margin "
+            f"motor peak {m['peak_torque']:.3g} N·m (margin {m['peak_torque_margin']:+.1%}), RMS {m['rms_torque']:.3g} "
+            f"N·m (margin {m['rms_margin']:+.1%}), top speed margin "
             f"{m['speed_margin']:+.1%}, {held['wall_time_s']:.0f} s; a {weak['drive']['peak_torque']:g} N·m motor: "
             + ("named in the status" if named else f"status {weak['status'][:80]!r}"))
     if not held["success"]:

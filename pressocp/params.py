@@ -316,6 +316,11 @@ class ProcessForce:
         """Whether any force acts."""
         return self.force > 0.0 or any(f > 0.0 for f in self.forces)
 
+    @property
+    def peak(self) -> float:
+        """The largest force of the curve (or the constant), N; 0 when none acts."""
+        return max(self.knots()[1]) if self.active else 0.0
+
     def knots(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
         """(heights m, forces N) of the piecewise-linear curve the force follows: the curve's points,
         or the constant's two."""
@@ -502,7 +507,7 @@ class PressParams:
                 chk.suspect(f"{name} = {v:g} kg is {v / m:.3g} x slider_mass ({m:g} kg): a value in g? {v:g} g is "
                             f"{v / 1000:g} kg")
         W = m * max(self.gravity, 9.81)
-        for name, F in (("process_force.force", max(self.process_force.knots()[1])),
+        for name, F in (("process_force.force", self.process_force.peak),
                         ("counterbalance.force", self.counterbalance.force)):
             if F > MAX_FORCE_RATIO * W:
                 chk.suspect(f"{name} = {F:g} N is {F / W:.3g} x the slider's weight ({W:.4g} N): a value in mN? "

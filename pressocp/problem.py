@@ -18,6 +18,7 @@ from .drive import Drive
 from .mechanism import SLIDER_CRANK, Mechanism, mechanism_from_dict, mechanism_to_dict
 from .mechanism.ideal import ideal_kinematics
 from .params import PressParams
+from .units import format_force
 from .speed import DEFAULT_HARMONICS
 
 #: The working window may take at most this share of the period.
@@ -294,7 +295,7 @@ class SpeedProblem:
         where the ram moves at constant speed)."""
         H, cb, pf = self.stroke, self.press.counterbalance, self.press.process_force
         W = self.hanging_weight
-        forming = max(pf.knots()[1]) if pf.active else 0.0
+        forming = pf.peak
         return W - cb.force_at(0.0) - forming, W - cb.force_at(H)
 
     def free_parameters(self) -> dict[str, tuple[float, float]]:
@@ -339,19 +340,19 @@ class SpeedProblem:
         if self.reversal_side() is not None:
             return ""
         W, cb, pf = self.hanging_weight, self.press.counterbalance, self.press.process_force
-        forming = max(pf.knots()[1]) if pf.active else 0.0
+        forming = pf.peak
         low, high = self.static_tension
-        parts = [f"ram and rod hang from the rod with {newtons(W)}"]
+        parts = [f"ram and rod hang from the rod with {format_force(W, 4)}"]
         if cb.force > 0.0:
-            parts.append(f"the counterbalance lifts {newtons(cb.force_at(self.stroke))} to {newtons(cb.force)} over "
+            parts.append(f"the counterbalance lifts {format_force(cb.force_at(self.stroke), 4)} to {format_force(cb.force, 4)} over "
                          "the stroke")
         if forming > 0.0:
-            parts.append(f"the process force reaches {newtons(forming)}")
+            parts.append(f"the process force reaches {format_force(forming, 4)}")
         need = 1.2 * W * (1.0 + self.stroke / cb.gas_length) ** cb.exponent
-        return (f"the rod's load must change sign every stroke ({'; '.join(parts)}: at rest it is {newtons(low)} at "
-                f"least and {newtons(high)} at most), so the joint forces reverse and the journals cross their "
+        return (f"the rod's load must change sign every stroke ({'; '.join(parts)}: at rest it is {format_force(low, 4)} at "
+                f"least and {format_force(high, 4)} at most), so the joint forces reverse and the journals cross their "
                 f"clearances whatever the crank speed. A counterbalance that lifts more than ram and rod weigh at "
-                f"every height keeps the joints loaded one way: press.counterbalance.force of about {newtons(need)} "
+                f"every height keeps the joints loaded one way: press.counterbalance.force of about {format_force(need, 4)} "
                 f"or more (at bottom dead centre, with its gas_length and exponent)")
 
     @property
@@ -411,11 +412,6 @@ class SpeedProblem:
         return cls(press, **d)
 
 
-def newtons(force: float) -> str:
-    """A force for a message: N below 10 kN, kN above."""
-    return f"{force:.4g} N" if abs(force) < 1e4 else f"{force / 1e3:.4g} kN"
-
-
 #: A counterbalance range reaching above this many hanging weights is suspected of a unit slip (kN).
 MAX_COUNTERBALANCE_RATIO = 1000.0
 
@@ -441,3 +437,4 @@ def in_window(problem: SpeedProblem, theta: np.ndarray, ram_height: np.ndarray) 
     down = np.mod(np.asarray(theta), 2 * np.pi) < problem.mechanism.bottom_dead_centre(problem.press)
     h = np.asarray(ram_height)
     return down & (h >= h2) & (h <= h1)
+

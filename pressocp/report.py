@@ -113,7 +113,7 @@ def describe_problem(problem: SpeedProblem) -> str:
     counterbalance's force at bottom dead centre when the press has them (`format_force`)."""
     h1, h2 = problem.window
     process, balance = problem.press.process_force, problem.press.counterbalance
-    largest = max(process.knots()[1]) if process.active else 0.0
+    largest = process.peak
     forces = ((f", process force up to {format_force(largest)}" if largest > 0 else "")
               + (f", counterbalance {format_force(balance.force)} at bottom dead centre" if balance.force > 0 else ""))
     return (f"T = {problem.period:g} s ({problem.stroke_rate_spm:g} strokes/min), ram speed "

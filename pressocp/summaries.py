@@ -26,7 +26,7 @@ def problem_summary(problem: SpeedProblem) -> dict:
         cb = press.counterbalance
         forces["counterbalance"] = {"force_N": cb.force, "gas_length_m": cb.gas_length, "exponent": cb.exponent}
     if press.process_force.active:
-        forces["process_force_max_N"] = max(press.process_force.knots()[1])
+        forces["process_force_max_N"] = press.process_force.peak
     return {"period_s": problem.period, "stroke_rate_spm": problem.stroke_rate_spm,
             "ram_speed_m_s": problem.ram_speed, "ram_speed_tol_m_s": problem.tol,
             "window_h_over_H": list(problem.window), "objective": problem.objective, **forces}

@@ -22,9 +22,12 @@ def force_unit(*values: float | Iterable[float]) -> tuple[str, float]:
     return ("kN", 1e-3) if largest >= KILONEWTONS_FROM else ("N", 1.0)
 
 
-def format_force(value: float) -> str:
-    """A force (N) with its unit: ``"584.2 N"``, ``"22.93 kN"``."""
+def format_force(value: float, significant: int | None = None) -> str:
+    """A force (N) with its unit: ``"584.2 N"``, ``"22.93 kN"`` (tables: fixed decimals), or with
+    `significant` digits and no trailing zeros for a message (``"60 kN"``, ``"18.13 kN"``)."""
     unit, factor = force_unit(value)
+    if significant is not None:
+        return f"{value * factor:.{significant}g} {unit}"
     return f"{value * factor:,.1f} {unit}" if unit == "N" else f"{value * factor:,.2f} {unit}"
 
 
