@@ -24,6 +24,17 @@ DRIVE = Drive(gear_ratio=12.0, peak_torque=25.0, continuous_torque=9.0, max_spee
               gear_efficiency=0.93, motor_inertia=3e-3, gear_inertia=1e-3)
 
 
+def small_ideal_press(window_samples: int = 50):
+    """The default press on ideal joints at 0.8 s, 8 harmonics, -0.1 m/s: its problem, model and a
+    quick rigid-stage strategy (300 samples, `window_samples` in the window, no compiling)."""
+    from pressocp import Rigid, Strategy, build_model
+
+    press = PressParams()
+    return (SpeedProblem(press, period=0.8, ram_speed=-0.1, n_harmonics=8),
+            build_model(press, clearance=(), n_harmonics=8),
+            Strategy(rigid=Rigid(samples=300, window_samples=window_samples, jit=False)))
+
+
 def load_inertia(press, theta):
     """Twice the ideal press's kinetic energy at 1 rad/s, kg m^2."""
     return 2 * ideal_inverse_dynamics(press, SLIDER_CRANK, theta, 1.0, 0.0)["kinetic_energy"]
@@ -203,13 +214,10 @@ def test_a_scenario_round_trips_a_data_sheet_curve_and_a_bad_one_exits_2(tmp_pat
 def test_a_data_sheet_curve_holds_on_the_optimum():
     """The ideal press's optimum under a curve that falls above 100 rad/s at the motor: the torque
     where the motor turns fast is held under the falling line (the flat-curve optimum is not)."""
-    from pressocp import Rigid, Strategy, build_model, optimize_speed
+    from pressocp import optimize_speed
     from pressocp.verify import motor_cycle_of
 
-    press = PressParams()
-    base = SpeedProblem(press, period=0.8, ram_speed=-0.1, n_harmonics=8)
-    model = build_model(press, clearance=(), n_harmonics=8)
-    strategy = Strategy(rigid=Rigid(samples=300, window_samples=50, jit=False))
+    base, model, strategy = small_ideal_press()
     flat = Drive(gear_ratio=10.0, peak_torque=30.0, continuous_torque=20.0, max_speed=314.0, motor_inertia=8e-4)
     free = optimize_speed(base.replace(drive=flat), model, strategy=strategy, progress=False)
     c = motor_cycle_of(base.replace(drive=flat), free.speed, free.simulation)
@@ -305,13 +313,10 @@ def test_the_rms_limit_holds_on_the_optimum_and_a_motor_too_weak_for_it_is_named
     its RMS motor torque (recomputed by motor_cycle on the verifying simulation) is under the
     rating and under the unlimited optimum's, and its peak no lower. A rating below what the RMS
     optimum needs is named in the status."""
-    from pressocp import Rigid, Strategy, build_model, optimize_speed
+    from pressocp import Rigid, Strategy, optimize_speed
     from pressocp.verify import motor_cycle_of
 
-    press = PressParams()
-    base = SpeedProblem(press, period=0.8, ram_speed=-0.1, n_harmonics=8)
-    model = build_model(press, clearance=(), n_harmonics=8)
-    strategy = Strategy(rigid=Rigid(samples=300, window_samples=50, jit=False))
+    base, model, strategy = small_ideal_press()
     big = Drive(gear_ratio=10.0, peak_torque=60.0, continuous_torque=60.0, max_speed=314.0, motor_inertia=8e-4)
     free = optimize_speed(base.replace(drive=big), model, strategy=strategy, progress=False)
     needs = motor_cycle_of(base.replace(drive=big), free.speed, free.simulation).rms_torque
@@ -370,14 +375,12 @@ def test_each_drive_objective_beats_the_peak_optimum_at_its_own_figure():
     """The ideal press with a drive, each drive objective optimised: verified, the NLP's value equal to
     the verifying simulation's (0.5 %), and the motor figure it minimises (recomputed by
     motor_cycle) lower than at the peak-torque optimum, whose peak torque is in turn the lowest."""
-    from pressocp import Rigid, Strategy, build_model, optimize_speed
+    from pressocp import optimize_speed
     from pressocp.verify import motor_cycle_of
 
-    press = PressParams()
     drive = Drive(gear_ratio=10.0, peak_torque=60.0, continuous_torque=60.0, max_speed=314.0, motor_inertia=8e-4)
-    base = SpeedProblem(press, period=0.8, ram_speed=-0.1, n_harmonics=8, drive=drive)
-    model = build_model(press, clearance=(), n_harmonics=8)
-    strategy = Strategy(rigid=Rigid(samples=300, jit=False))
+    plain, model, strategy = small_ideal_press(window_samples=200)
+    base = plain.replace(drive=drive)
     peak = optimize_speed(base, model, strategy=strategy, progress=False)
     at_peak = motor_cycle_of(base, peak.speed, peak.simulation)
     figure = {"rms_motor_torque": "rms_torque", "energy_per_stroke": "energy_drawn",
