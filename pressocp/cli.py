@@ -115,6 +115,7 @@ TEMPLATE_NOTES = {
 #: Notes of keys whose meaning depends on their table.
 TEMPLATE_TABLE_NOTES = {
     ("model", "clearance"): "joints with clearance (crank_pin, wrist_pin; [] for ideal joints)",
+    ("press.process_force", "window"): "h/H where the force starts and ends on the downstroke",
     ("press.counterbalance", "force"): "N, slide counterbalance: up on the ram at bottom dead centre (0: none)",
     ("press.counterbalance", "gas_length"): "m, gas volume at bottom dead centre over the piston area",
     ("press.counterbalance", "exponent"): "- polytropic: 0 constant force, 1 isothermal, 1.4 adiabatic",
@@ -126,7 +127,8 @@ TEMPLATE_OPTIONAL = {
                   "# omega_min = 0.5                     # rad/s (default 5 % of the mean crank speed)",
                   "# omega_max = 40.0                    # rad/s, motor speed limit at the crank",
                   "# alpha_max = 2000.0                  # rad/s^2, motor acceleration limit at the crank"],
-    "speed_edge": ["# heights = [0.005, 0.03, 0.04]          # m above bottom dead centre, increasing: a curve",
+    "speed_edge": ["# window = [0.1, 0.0]                 # h/H where the force starts and ends (instead of h_top, h_bottom)",
+                   "# heights = [0.005, 0.03, 0.04]          # m above bottom dead centre, increasing: a curve",
                    "# forces = [0.0, 8000.0, 0.0]            # N at those heights (instead of force)"],
     "n_elements": ["# n_modes = 2                         # reduce the flexible rod to its first bending modes"],
     "gravity": ["",

@@ -274,6 +274,11 @@ class ProcessForce:
         Not together with ``force``.
     forces : tuple of float
         The force at each height, N, >= 0.
+    window : tuple of float
+        Where the constant force starts and ends as h/H (ram height over the stroke, like
+        `SpeedProblem.window`), start above end, each in [-1, 2]; empty: ``h_top`` and
+        ``h_bottom`` in metres. Given, it sets them for the press's stroke (`PressParams`), so a
+        press with another stroke keeps the force at the same share of its stroke.
     """
 
     force: float = 0.0
@@ -283,10 +288,12 @@ class ProcessForce:
     speed_edge: float = 1e-3
     heights: tuple[float, ...] = ()
     forces: tuple[float, ...] = ()
+    window: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
         chk.convert_reals(self)
         chk.nonnegative("force", self.force, "N")
+        self._check_window()
         top = chk.finite("h_top", self.h_top)
         bottom = chk.finite("h_bottom", self.h_bottom)
         if bottom >= top:
@@ -310,6 +317,25 @@ class ProcessForce:
         if steps.min() < edge:
             chk.suspect(f"process_force.heights are {steps.min():g} m apart somewhere, less than edge = {edge:g} m: "
                         "the smoothing rounds such detail away")
+
+    def _check_window(self) -> None:
+        w = tuple(float(v) for v in chk.finite_array("window", self.window))
+        object.__setattr__(self, "window", w)
+        if not w:
+            return
+        if len(w) != 2 or not -1.0 <= w[1] < w[0] <= 2.0:
+            slip = f": values in %? {w[0]:g} % is {w[0] / 100:g}" if len(w) == 2 and 1.0 < w[0] <= 100.0 else ""
+            raise ValueError(f"window must be (start, end) as h/H with -1 <= end < start <= 2 (the force starts "
+                             f"higher on the downstroke), got {list(w)}{slip}")
+        if self.heights:
+            raise ValueError("window sets where a constant force acts; a curve (heights, forces) gives its own heights")
+
+    def for_stroke(self, stroke: float) -> "ProcessForce":
+        """The force with ``h_top`` and ``h_bottom`` set from its `window` for a press of `stroke` m;
+        itself without a window."""
+        if not self.window:
+            return self
+        return replace(self, h_top=self.window[0] * stroke, h_bottom=self.window[1] * stroke)
 
     @property
     def active(self) -> bool:
@@ -483,6 +509,8 @@ class PressParams:
             raise ValueError("process_force must be a ProcessForce")
         if not isinstance(self.counterbalance, Counterbalance):
             raise ValueError("counterbalance must be a Counterbalance")
+        if self.process_force.window:  # symbolic copies (`with_symbols`) bypass this: theirs is resolved
+            object.__setattr__(self, "process_force", self.process_force.for_stroke(self.stroke))
         self._suspect_units()
         H, pf = self.stroke, self.process_force
         heights, forces = pf.knots()
@@ -597,6 +625,11 @@ class PressParams:
         pf.update(heights=list(pf["heights"]), forces=list(pf["forces"]))
         if not pf["heights"]:
             del pf["heights"], pf["forces"]
+        if pf["window"]:
+            pf.update(window=list(pf["window"]))
+            del pf["h_top"], pf["h_bottom"]  # the window gives them
+        else:
+            del pf["window"]
         return d
 
     @classmethod

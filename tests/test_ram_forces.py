@@ -148,3 +148,31 @@ def test_scenario_round_trips_curve_and_counterbalance(tmp_path):
 def test_scenario_with_bad_counterbalance_names_the_key():
     with pytest.raises(po.ScenarioError, match="counterbalance.exponent"):
         po.Scenario.load("press75").with_overrides({"press.counterbalance.exponent": 5.0})
+
+
+def test_a_window_in_h_over_stroke_sets_the_heights_for_the_stroke():
+    """`ProcessForce(window=(a, b))` on a press: h_top = a x 2 r and h_bottom = b x 2 r (H = 2 r for
+    the slider-crank), again for another crank radius; the force then equals the one given in
+    metres at the same heights."""
+    r = 0.06
+    press = po.PressParams(crank_radius=r, process_force=po.ProcessForce(force=4000.0, window=(0.3, 0.05)))
+    assert press.process_force.h_top == pytest.approx(0.3 * 2 * r, rel=1e-15)
+    assert press.process_force.h_bottom == pytest.approx(0.05 * 2 * r, rel=1e-15)
+    longer = press.with_value("crank_radius", 0.08)
+    assert longer.process_force.h_top == pytest.approx(0.3 * 0.16, rel=1e-15)
+    metres = po.PressParams(crank_radius=r, process_force=po.ProcessForce(force=4000.0, h_top=0.036, h_bottom=0.006))
+    np.testing.assert_allclose(torque(press, THETA, OMEGA, ALPHA), torque(metres, THETA, OMEGA, ALPHA),
+                               rtol=1e-12, atol=1e-9)
+
+
+def test_scenario_round_trips_a_window_and_refuses_a_bad_one():
+    sc = po.Scenario.load("forming40")
+    assert sc.press.process_force.window == (0.5, 0.15)
+    back = po.Scenario.from_toml(sc.to_toml())
+    assert back.press == sc.press and "window = [0.5, 0.15]" in sc.to_toml()
+    with pytest.raises(po.ScenarioError, match=r"window must be .*got \[15.0, 50.0\]"):
+        sc.with_overrides({"press.process_force.window": [15.0, 50.0]})
+    with pytest.raises(po.ScenarioError, match=r"values in %\? 50 % is 0.5"):
+        sc.with_overrides({"press.process_force.window": [50.0, 15.0]})
+    with pytest.raises(ValueError, match="a curve .* gives its own heights"):
+        po.ProcessForce(heights=(0.0, 0.01), forces=(1.0, 2.0), window=(0.1, 0.0))
