@@ -356,7 +356,7 @@ def counterbalance_rows(res: Results) -> list[Row]:
         losses = "/".join(str(v) for v in c["contact_losses"].values())
         return (f"{c['case']}: {'verified' if c['verified'] else 'NOT verified'} {c['peak_torque_N_m']:.1f} N·m"
                 + (f" with {cb['force']:.0f} N" if cb["force"] else "")
-                + f", {c['rod_load_reversals']} rod-load reversals, contact losses {losses}, {c['wall_time_s']:.0f} s")
+                + f", {c['rod_load_reversals']} rod-load reversals, contact losses (crank/wrist pin) {losses}, {c['wall_time_s']:.0f} s")
 
     first = "; ".join(line(by[k]) for k in ("none", "constant", "gas") if k in by)
     rows = [Row(32, goals[0], first, verdict(bool(d["counterbalance_lowers_peak"])), when)]
