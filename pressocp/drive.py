@@ -136,6 +136,19 @@ class Drive:
         rotor = (self.motor_inertia + self.gear_inertia) * i * crank_alpha
         return crank_torque / (i * eta) + rotor, crank_torque * (eta / i) + rotor
 
+    def acting_torque(self, crank_torque, crank_alpha) -> np.ndarray:
+        """The motor torque that acts (N m): `motor_torques`' driving one where the crank torque is
+        >= 0 (a crank turning forward takes power), the regenerating one elsewhere (numpy arrays)."""
+        tau = np.asarray(crank_torque, dtype=float)
+        driving, regenerating = self.motor_torques(tau, np.asarray(crank_alpha, dtype=float))
+        return np.where(tau >= 0.0, driving, regenerating)
+
+    def supply_power(self, motor_power) -> np.ndarray:
+        """The power drawn from the supply (W) at the motor's power `motor_power` (W): all of it while
+        the motor drives, less `regeneration_efficiency` of it back while it regenerates."""
+        p = np.asarray(motor_power, dtype=float)
+        return np.maximum(p, 0.0) - self.regeneration_efficiency * np.maximum(-p, 0.0)
+
     def to_dict(self) -> dict:
         """Plain data (None values and an empty curve left out)."""
         return {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(self).items()
@@ -208,23 +221,22 @@ def motor_cycle(drive: Drive, t, omega, alpha, crank_torque, load_inertia) -> Mo
         raise ValueError(f"omega must be in (0, inf) rad/s throughout, got a least value {float(np.min(omega)):g}: "
                          "the drive's figures need a crank that keeps turning forward")
     i = drive.gear_ratio
-    driving, regenerating = drive.motor_torques(tau, alpha)
-    torque = np.where(tau >= 0.0, driving, regenerating)  # omega > 0: the crank's power has tau's sign
+    torque = drive.acting_torque(tau, alpha)  # omega > 0: the crank's power has tau's sign
     speed = i * omega
     power = torque * speed
     rotor = (drive.motor_inertia + drive.gear_inertia) * i * alpha * speed
     period = t[-1] - t[0]
     stored = cumulative_trapezoid(power - trapezoid(power, t) / period, t, initial=0.0)
     rms, top = float(np.sqrt(trapezoid(torque**2, t) / period)), float(np.max(np.abs(speed)))
+    driving, regenerated = float(trapezoid(np.maximum(power, 0.0), t)), float(trapezoid(np.maximum(-power, 0.0), t))
     return MotorCycle(
         t=t, speed=speed, torque=torque, power=power, peak_torque=float(np.max(np.abs(torque))), rms_torque=rms,
         max_speed=top, peak_power=float(np.max(power)),
         inertia_ratio=float(np.max((np.asarray(load_inertia) / i**2 + drive.gear_inertia) / drive.motor_inertia)),
         peak_torque_margin=float(np.min(drive.peak_torque_at(speed) - np.abs(torque)) / drive.peak_torque),
         rms_margin=1.0 - rms / drive.continuous_torque, speed_margin=1.0 - top / drive.max_speed,
-        energy_driving=float(trapezoid(np.maximum(power, 0.0), t)),
-        energy_regenerated=float(trapezoid(np.maximum(-power, 0.0), t)),
-        energy_drawn=float(trapezoid(np.maximum(power, 0.0) - drive.regeneration_efficiency * np.maximum(-power, 0.0), t)),
+        energy_driving=driving, energy_regenerated=regenerated,
+        energy_drawn=driving - drive.regeneration_efficiency * regenerated,
         bus_energy_swing=float(np.max(stored) - np.min(stored)),
         gear_losses=float(trapezoid(np.abs(power - rotor - tau * omega), t)))
 

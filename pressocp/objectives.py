@@ -48,15 +48,12 @@ def trapezoid_weights(t: np.ndarray, period: float | None = None) -> np.ndarray:
 
 def motor_entries(drive: Any, torque, omega, alpha) -> dict[str, Any]:
     """The motor's figures the drive objectives read, from the crank torque (N m), speed (rad/s,
-    > 0) and acceleration (rad/s^2), numpy arrays: the acting torque as in
-    `pressocp.drive.motor_cycle` (which of driving and regenerating follows the sign of the crank
-    torque), its power and the power drawn from the supply."""
-    tau = np.asarray(torque, float)
-    driving, regenerating = drive.motor_torques(tau, np.asarray(alpha, float))
-    motor = np.where(tau >= 0.0, driving, regenerating)
+    > 0) and acceleration (rad/s^2), numpy arrays: the acting torque
+    (`pressocp.drive.Drive.acting_torque`), its power and the power drawn from the supply
+    (`pressocp.drive.Drive.supply_power`)."""
+    motor = drive.acting_torque(torque, alpha)
     power = motor * drive.gear_ratio * np.asarray(omega, float)
-    supply = np.maximum(power, 0.0) - drive.regeneration_efficiency * np.maximum(-power, 0.0)
-    return {"motor_torque": motor, "motor_power": power, "supply_power": supply}
+    return {"motor_torque": motor, "motor_power": power, "supply_power": drive.supply_power(power)}
 
 
 @dataclass(frozen=True)

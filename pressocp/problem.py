@@ -437,4 +437,3 @@ def in_window(problem: SpeedProblem, theta: np.ndarray, ram_height: np.ndarray) 
     down = np.mod(np.asarray(theta), 2 * np.pi) < problem.mechanism.bottom_dead_centre(problem.press)
     h = np.asarray(ram_height)
     return down & (h >= h2) & (h <= h1)
-

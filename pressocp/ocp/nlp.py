@@ -311,10 +311,9 @@ def acting_motor_torque(drive, torque, alpha):
     torque) as one smooth expression: the two gear factors blended by a tanh of the crank torque
     over `GEAR_BLEND` of the motor's peak torque at the crank. Near zero crank torque, where the
     blend acts, both terms are near zero."""
-    i, eta = drive.gear_ratio, drive.gear_efficiency
-    width = GEAR_BLEND * drive.peak_torque * i
-    factor = eta + (1.0 / eta - eta) * 0.5 * (1.0 + ca.tanh(torque / width))
-    return torque * factor / i + (drive.motor_inertia + drive.gear_inertia) * i * alpha
+    driving, regenerating = drive.motor_torques(torque, alpha)
+    share = 0.5 * (1.0 + ca.tanh(torque / (GEAR_BLEND * drive.peak_torque * drive.gear_ratio)))
+    return regenerating + share * (driving - regenerating)
 
 
 def running_sum(cons: Constraints, terms, weights: np.ndarray):

@@ -242,11 +242,12 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
     P, T, n = problem, problem.period, problem.n_harmonics
     objective = get_objective(P.objective)
     s = ca.MX.sym("s")
-    motion = crank_rows(P, c, times) if nlp.motion is None else nlp.motion
-    alpha0 = crank_motion(start.padded(n), times)[2]
+    motion = None if P.drive is None else crank_rows(P, c, times) if nlp.motion is None else nlp.motion
+    alpha0 = crank_motion(start.padded(n), times)[2] if objective.drive else None
     scale = objective_scale(objective.value({**y0, "t": times}, P.drive, period=T, alpha=alpha0)) \
         if warm is None else warm.scale
-    f = add_objective(cons, objective, with_motor(P, objective, y, motion[1, :], motion[2, :]), s, scale, times, T)
+    y_objective = y if motion is None else with_motor(P, objective, y, motion[1, :], motion[2, :])
+    f = add_objective(cons, objective, y_objective, s, scale, times, T)
     inside = window_band(P, start, y0["ram_height"].ravel(), times) if warm is None else warm.band
     add_window_samples(cons, P, y, inside, backoff)
     add_dense_speed_bounds(cons, P, c, omega_samples)
@@ -270,10 +271,11 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
     speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
     q, q0 = parameter_symbols(parameters)
     try:
-        y_fun = ca.Function("y_at", [w, q], [ca.vertcat(*[y[k] for k in objective.outputs], motion[2, :])])
+        alpha = [motion[2, :]] if objective.drive else []
+        y_fun = ca.Function("y_at", [w, q], [ca.vertcat(*[y[k] for k in objective.outputs], *alpha)])
         rows = np.asarray(y_fun(out.w, q0))
         value = objective.value({"t": times, **{k: rows[i] for i, k in enumerate(objective.outputs)}}, P.drive,
-                                period=T, alpha=rows[-1])
+                                period=T, alpha=rows[-1] if objective.drive else None)
     except RuntimeError:  # an integrator failing at the returned iterate: the caller locates it
         value = float("nan")
     return StageResult(
