@@ -1,11 +1,20 @@
+import os
 from concurrent.futures import Executor, Future
 
 import matplotlib
 import pytest
+from hypothesis import settings
 
 from pressocp import PressParams, SpeedProblem, design_speed
 
 matplotlib.use("Agg")
+
+#: Hypothesis profiles, for the property tests that leave ``max_examples`` to them (each example a
+#: design and a response, seconds): "default", the default run, draws a few; "thorough" many, chosen
+#: with HYPOTHESIS_PROFILE=thorough (benchmarks/bench_slow_tests.py, the `slow_tests` job).
+settings.register_profile("default", max_examples=12)
+settings.register_profile("thorough", max_examples=200)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "default"))
 
 
 class Serial(Executor):

@@ -39,7 +39,9 @@ def names_a_field(err: Exception, given: list[str]) -> bool:
     return any(name in text for name in given) or any(name.split(".")[-1] in text for name in given)
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+# the number of examples is the profile's (tests/conftest.py): a few in the default run (each designed
+# press costs a design and a response, about 5 s), many with HYPOTHESIS_PROFILE=thorough (the slow_tests job)
+@settings(deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(press=some_of(PRESS), pin=some_of(BEARING), problem=some_of(PROBLEM))
 def test_a_generated_press_and_problem_is_refused_by_name_or_gives_finite_results(press, pin, problem):
     given_names = [*press, *(f"wrist_pin.{k}" for k in pin), *problem]
