@@ -30,8 +30,10 @@ def execute_and_check_figures(self):
 
 NotebookRun.execute = execute_and_check_figures
 
-#: Notebooks that solve optima or sensitivities (45 s to minutes): run with ``pytest -m slow``.
-SLOW_NOTEBOOKS = {"04_speed_optimisation.ipynb", "05_your_press.ipynb", "06_sensitivity.ipynb",
+#: Notebooks that solve optima, sensitivities or impact studies (45 s to minutes): run with ``pytest -m slow``
+#: (and by the benchmark job `slow_tests`).
+SLOW_NOTEBOOKS = {"02_clearance_impacts.ipynb",  # 146 s (impact studies; by default: tests/test_status.py)
+                  "04_speed_optimisation.ipynb", "05_your_press.ipynb", "06_sensitivity.ipynb",
                   "07_drive_sizing.ipynb"}
 
 

@@ -112,6 +112,7 @@ def test_main_job_on_the_75_spm_scenario(tmp_path, capsys, monkeypatch):
     assert "peak motor torque" in capsys.readouterr().out
 
 
+@pytest.mark.slow  # 20 s; sweeps by default: tests/test_sweep.py
 def test_sweep_command_writes_table_and_figure(tmp_path, capsys):
     """``pressocp sweep`` on the ideal press: a 2 x 2 grid of simulations, the table and the figure."""
     out = tmp_path / "sweep"

@@ -156,6 +156,7 @@ PREPARE = textwrap.dedent("""
 
 
 @needs_cc
+@pytest.mark.slow  # 34 s; by default: test_a_second_process_with_the_same_function_compiles_nothing
 def test_a_solve_after_prepare_in_another_process_compiles_nothing(tmp_path):
     """`Collocation.prepare` compiles what a solve compiles, from the model at rest and without solving:
     a solve in another process then runs the compiler for no source (the compiler's own log), while

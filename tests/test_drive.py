@@ -74,6 +74,7 @@ def test_motor_figures_equal_a_hand_calculation_at_constant_speed():
         (np.max(inertia) / i**2 + DRIVE.gear_inertia) / DRIVE.motor_inertia, rel=1e-5)
 
 
+@pytest.mark.slow  # 15 s (200 001 samples); motor_cycle by default: the hand calculations
 def test_a_cycle_balances_the_motor_work_against_the_process_work_and_the_losses():
     """Over one period of a varying speed with a forming force: the motor's net work equals the
     work done against the process force (the ideal press's energy returns to its start) plus the
@@ -143,6 +144,7 @@ def test_a_crank_that_stops_has_no_motor_figures():
         motor_cycle(DRIVE, [0.0, 1.0], [1.0, 0.0], [0.0, 0.0], [1.0, 1.0], 1.0)
 
 
+@pytest.mark.slow  # 26 s (press75 simulated)
 def test_a_scenario_with_a_drive_reports_the_motor(tmp_path):
     """[drive] in a scenario: it round-trips through TOML, and a simulation job writes the motor's
     figures into summary.json, its speed and torque into results.csv (the torque equal to
@@ -233,6 +235,7 @@ def test_a_data_sheet_curve_holds_on_the_optimum():
     assert np.all(np.abs(held.torque) <= line * (1 + 1e-3))
 
 
+@pytest.mark.slow  # 71 s; the drive's limits in the NLP by default: test_a_data_sheet_curve_holds_on_the_optimum
 def test_the_drive_limits_hold_on_the_optimum_and_a_weak_motor_is_named():
     """optimize_speed on the ideal press with a drive whose peak torque lies between what the
     unconstrained optimum needs and what the problem needs at least: verified, the motor's figures
@@ -307,6 +310,7 @@ def test_the_running_sum_equals_the_weighted_sum_and_starts_consistent():
     assert end[0] == pytest.approx(float(weights @ x0**2), rel=1e-14)
 
 
+@pytest.mark.slow  # 21 s (four solves)
 def test_the_rms_limit_holds_on_the_optimum_and_a_motor_too_weak_for_it_is_named():
     """The ideal press with a motor whose continuous rating lies between the RMS motor torque of
     the peak-torque optimum and that of the RMS optimum: the optimum under the rating is verified,
@@ -371,6 +375,7 @@ def test_the_drive_objectives_equal_a_hand_calculation_at_constant_speed():
         SpeedProblem(press, period=period, ram_speed=-0.1, objective="energy_per_stroke")
 
 
+@pytest.mark.slow  # 23 s (four solves); the objectives by default: the hand calculation
 def test_each_drive_objective_beats_the_peak_optimum_at_its_own_figure():
     """The ideal press with a drive, each drive objective optimised: verified, the NLP's value equal to
     the verifying simulation's (0.5 %), and the motor figure it minimises (recomputed by

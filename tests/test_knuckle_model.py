@@ -142,6 +142,7 @@ def test_input_angles_at_heights_invert_the_ram_height():
         mech.input_angle_at_height(p, 0.05)
 
 
+@pytest.mark.slow  # 29 s; the knuckle's kinematics and dynamics by default
 def test_the_knuckle_press_is_designed_optimised_and_simulated_like_the_four_bar():
     """design_speed, optimize_speed (ideal joints) and simulate with both clearances, as for the
     slider-crank: the design holds the ram speed in the window by the reference geometry, the

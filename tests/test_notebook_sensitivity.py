@@ -5,12 +5,14 @@ forced matplotlib backend). The full notebook runs with ``pytest -m slow`` (nbma
 from pathlib import Path
 
 import papermill
+import pytest
 
 NOTEBOOK = Path(__file__).resolve().parents[1] / "notebooks" / "06_sensitivity.ipynb"
 REDUCED = {"wear_clearances": [1e-4, 4e-4], "press_parameters": ["slider_mass", "crank_pin.stiffness"],
            "rtol": 1e-8, "optimum_parameters": ["slider_mass"]}
 
 
+@pytest.mark.slow  # 82 s (papermill: optima and sensitivities in a kernel)
 def test_reduced_sensitivity_notebook_runs_and_shows_its_figures(tmp_path, monkeypatch):
     monkeypatch.delenv("MPLBACKEND", raising=False)  # the kernel's default (inline) backend
     nb = papermill.execute_notebook(str(NOTEBOOK), str(tmp_path / "06_reduced.ipynb"), parameters=REDUCED,

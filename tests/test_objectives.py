@@ -33,6 +33,7 @@ def test_registry_rejects_duplicates_and_unknown_kinds():
         register(Objective("median_torque", ("torque",), lambda y: [y["torque"]], "N m", kind="median"))
 
 
+@pytest.mark.slow  # 15 s
 def test_peak_power_optimum():
     """peak |tau omega| minimised on the rigid press: lower than the kinematic design's, equal to the
     reported value (Newton-Euler torque times the crank speed, 20 000 samples), and not the same speed

@@ -132,6 +132,7 @@ def test_compiled_hessian_with_few_directions_agrees_with_the_virtual_machine():
     np.testing.assert_allclose(hessians[1], hessians[0], rtol=1e-9, atol=1e-9 * np.abs(hessians[0]).max())
 
 
+@pytest.mark.slow  # 19 s; a warm start by default: tests/test_ocp_rigid.py
 def test_primal_dual_warm_start_stays_at_the_optimum_and_follows_tightened_bounds():
     """The same NLP started from its solution with its multipliers (`StageResult.nlp`) stays there in a
     few iterations; with the ram-speed share lowered (`tightened`) it moves to meet the new bounds.

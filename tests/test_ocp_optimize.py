@@ -145,6 +145,7 @@ class Replay(Transcription):
         return dataclasses.replace(self.stages[self.calls - 1], name=name)
 
 
+@pytest.mark.slow  # 13 s
 def test_polish_keeps_only_a_verified_improvement(smooth):
     """From a detuned copy of the optimum, a round that returns the optimum is kept (its periodic
     re-simulation is lower); the next, which returns the detuned copy, is recorded as not kept, the
@@ -235,6 +236,7 @@ def test_flexible_rod_between_ideal_joints_skips_or_runs_only_the_flexible_stage
     assert not stages[0].was_skipped and stages[1].status.startswith("not kept")
 
 
+@pytest.mark.slow  # 24 s
 def test_flexible_rod_with_clearances_checks_the_rigid_rod_answer_first(smooth):
     """Flexible rod and clearances: the clearance stages run on the rigid rod, and their answer is then
     re-simulated on the flexible rod. "auto": it holds there (60 spm, stiff rod), so the flexible stage
@@ -317,6 +319,7 @@ def test_candidates_keep_the_lowest_verified_answer_and_record_every_one(smooth,
         Strategy(workers=0)
 
 
+@pytest.mark.slow  # 53 s (a clearance-model solve)
 def test_an_earlier_stage_stopping_short_does_not_condemn_a_verified_answer(tmp_path, monkeypatch):
     """The rigid stage stops at its iteration cap; the clearance stage, started from its iterate,
     converges and its answer verifies. The result is judged by that answer: converged, its status

@@ -80,6 +80,7 @@ def test_counterbalance_range_round_trips_through_a_scenario():
         PRESS75.with_overrides({"problem.counterbalance_range": 5.0})
 
 
+@pytest.mark.slow  # 13 s (three solves)
 def test_the_optimised_counterbalance_is_a_local_minimum():
     """The force chosen with the speed (rod in compression) against solves with the force fixed 3 %
     below and above it, each warm-started from the joint answer."""

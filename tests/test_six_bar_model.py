@@ -158,6 +158,7 @@ def test_the_six_bar_kinematic_design_holds_the_ram_speed_in_its_window():
     assert h[1] == pytest.approx(h2, abs=0.5 * problem.tol * problem.window_duration)
 
 
+@pytest.mark.slow  # 26 s
 def test_the_six_bar_rigid_optimum_is_verified_on_its_own_model():
     """optimize_speed on the ideal six-bar: converged and verified, its peak torque that of the six-bar's
     Lagrangian model (`PressModel.ideal_series`, a derivation apart from the closed forms the NLP uses),

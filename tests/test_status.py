@@ -50,6 +50,7 @@ def test_an_impacts_sweep_row_is_not_ok_after_a_failed_periodic_search(study, mo
     assert row["ok"] is False and "not periodic" in row["error"] and "designed" in row["error"]
 
 
+@pytest.mark.slow  # 29 s (two impact studies)
 def test_the_impacts_sweep_figure_has_its_points(tmp_path):
     """``pressocp sweep --task impacts`` on two stroke rates: both rows ok, and every panel of the
     figure drawn from sweep.csv has a line through both points."""

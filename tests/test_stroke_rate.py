@@ -17,6 +17,7 @@ def problem(peak_torque: float) -> po.SpeedProblem:
     return PRESS75.problem.replace(n_harmonics=8, period=60.0 / 66.0, drive=drive)
 
 
+@pytest.mark.slow  # 29 s (a search of optimised rates)
 def test_the_rate_found_holds_and_the_next_step_fails():
     ideal = po.build_model(PRESS75.press, clearance=(), n_harmonics=8)
     search = po.RateSearch(tolerance_spm=2.0, strategy=FAST)

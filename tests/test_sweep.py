@@ -110,6 +110,7 @@ def test_dask_local_cluster_gives_the_same_table(serial):
     assert json.loads(table["speed"].iloc[0])["period"] == 0.8
 
 
+@pytest.mark.slow  # 14 s
 def test_a_path_of_optima_starts_each_from_its_neighbour(monkeypatch, serial):
     """On the ideal press with 6 harmonics (seconds): the second optimum of a path starts from the
     first, rescaled to its period; its answer equals a cold solve of that point."""
