@@ -143,6 +143,9 @@ JOBS = (
         fresh=("sweep_continuation_ram0.15_warm.csv", "sweep_continuation_ram0.15_cold.csv")),
     Job("studies", "bench_studies.py", ("stroke_rate", "clearance", "ram_speed", "slider_mass", "wear", "tornado"),
         25, "optima against stroke rate, clearance, ram speed, mass; wear; tornado", fresh=STUDY_CSVS),
+    Job("slow_tests", "bench_slow_tests.py", (), 45,
+        "the tests marked slow (long solves, the notebooks that solve) and the property tests at 200 examples, "
+        "pytest on 2 workers: ok only when every one passed"),
     # the archive: past findings, an hour or more each (python -m benchmarks --archive)
     Job("work_precision_impacting_2", "bench_work_precision.py",
         ("--models", "flexible-2", "--scenes", "impacting", "--reference-timeout", "1800"), 12,

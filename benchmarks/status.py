@@ -48,9 +48,10 @@ VERIFY_BEFORE = {"median_s": 1.749, "torque": 145.144166, "source": "bd45b21, 20
 
 @dataclass(frozen=True)
 class Row:
-    """One goal: its issue, what it asks, what the files show, the verdict and where it comes from."""
+    """One goal: its issue (None: a rule of the project, not an issue), what it asks, what the files
+    show, the verdict and where it comes from."""
 
-    issue: int
+    issue: int | None
     goal: str
     measured: str
     verdict: str
@@ -406,13 +407,28 @@ def stroke_rate_row(res: Results) -> Row:
     return Row(32, goal, text, verdict(bool(d["above_fails"])), f"stroke_rate.json, {d['date_run']['date']}")
 
 
+def slow_tests_row(res: Results) -> Row:
+    """The tests the default run leaves out (marked slow; the property tests at many examples) all
+    pass (job slow_tests): met only when none failed or errored, and some ran."""
+    goal = "the tests marked slow and the property tests at the thorough profile (`-m \"slow or hypothesis\"`) pass"
+    d = res.json("slow_tests.json")
+    if d is None:
+        return Row(None, goal, "not measured", "not measured", "slow_tests.json")
+    bad = d["failed_tests"]
+    text = (f"{d['passed']} passed, **{d['failed']} failed, {d['errors']} errors**, {d['skipped']} skipped in "
+            f"{d['wall_time_s'] / 60:.1f} min on {d['workers']} workers" + (f": {', '.join(bad[:5])}" if bad else ""))
+    ok = d["failed"] == 0 and d["errors"] == 0 and d["passed"] > 0 and d["exit_status"] == 0
+    return Row(None, goal, text, verdict(ok), f"slow_tests.json, {d['date_run']['date']}")
+
+
 def not_in_suite(issue: int, goal: str, why: str) -> Row:
     return Row(issue, goal, why, "not measured by the suite", "")
 
 
 CHECKS: tuple[Callable[[Results], Row | list[Row]], ...] = (
     speed_rows, flexible_row, sweep_optima_row, suite_row, radau_row, verification_row, optimum_sensitivity_row,
-    sweep_parallel_row, modal_rod_rows, shooting_row, drive_row, counterbalance_rows, forming_row, stroke_rate_row)
+    sweep_parallel_row, modal_rod_rows, shooting_row, drive_row, counterbalance_rows, forming_row, stroke_rate_row,
+    slow_tests_row)
 
 #: Goals no job of the suite measures yet, with the last one-off measurement.
 UNMEASURED = (
@@ -469,7 +485,8 @@ def table(folder: Path = RESULTS) -> str:
     """The markdown table of the goals, read now from `folder`."""
     found = rows(folder) + [layer_row(), size_row()]
     lines = ["| issue | goal | measured | verdict | source, date |", "|---|---|---|---|---|"]
-    lines += [f"| #{r.issue} | {r.goal} | {r.measured} | {r.verdict} | {r.source} |" for r in found]
+    lines += [f"| {'tests' if r.issue is None else f'#{r.issue}'} | {r.goal} | {r.measured} | {r.verdict} | "
+              f"{r.source} |" for r in found]
     return "\n".join(lines)
 
 

@@ -100,3 +100,18 @@ def test_the_size_row_counts_wide_public_and_long_functions(tmp_path):
     assert row.measured.startswith("1 with more parameters: m.wide (11); 1 longer: m.long (86)")
     (tmp_path / "m.py").write_text("def fine(a, b):\n    return a + b\n")
     assert status.size_row(tmp_path).verdict == "met"
+
+
+def test_the_slow_tests_row_is_met_only_when_none_failed(tmp_path):
+    """Job slow_tests: met when every selected test passed; a failure or an error is a miss, named."""
+    run = {"date_run": {"date": "d10"}, "workers": 2, "wall_time_s": 1800.0, "exit_status": 0, "passed": 40,
+           "failed": 0, "errors": 0, "skipped": 1, "failed_tests": [], "seconds": {}}
+    (tmp_path / "slow_tests.json").write_text(json.dumps(run))
+    row = status.slow_tests_row(status.Results(tmp_path))
+    assert row.verdict == "met" and "40 passed" in row.measured and "30.0 min" in row.measured and "d10" in row.source
+    for bad in ({"failed": 1, "failed_tests": ["tests.test_drive::test_x"]}, {"errors": 1}):
+        (tmp_path / "slow_tests.json").write_text(json.dumps({**run, **bad, "exit_status": 1}))
+        row = status.slow_tests_row(status.Results(tmp_path))
+        assert row.verdict == "**not met**" and ("test_x" in row.measured) == ("failed_tests" in bad), bad
+    assert "| tests |" in status.table(tmp_path)
+    assert status.slow_tests_row(status.Results(tmp_path / "none")).verdict == "not measured"

@@ -106,6 +106,7 @@ def test_a_speed_file_is_simulated_on_the_scenario_like_the_folder(folders, tmp_
     np.testing.assert_allclose(table["B/A"].dropna(), 1.0, rtol=1e-6)
 
 
+@pytest.mark.slow  # 12-22 s; a simulated side by default: the speed-file test above
 def test_a_scenario_is_its_rigid_design_simulated(folders, tmp_path, capsys):
     """A scenario file against a folder: the scenario's rigid design is simulated on its model (the
     simulate job, whose summary names the speed) and compared figure by figure."""

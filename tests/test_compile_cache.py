@@ -111,7 +111,7 @@ TIMED = SNIPPET.replace("from pressocp.compile_cache import jit_options",
 
 
 @needs_cc
-@pytest.mark.parametrize("cache", ["on", "off"])
+@pytest.mark.parametrize("cache", ["on", pytest.param("off", marks=pytest.mark.slow)])  # off: 4-12 s
 def test_the_compile_time_a_process_reports_is_the_compilers_and_none_for_a_cached_object(tmp_path, cache):
     """`compile_seconds`: a first process's compiles take time; a second one, whose object files all
     come from the cache, reports exactly 0 s, unless the cache is off."""

@@ -270,7 +270,8 @@ def test_forced_integrator_failure_is_typed_and_readable(method):
     assert info.value.method == method
 
 
-@pytest.mark.parametrize("method, step", [("rk", 1e-5), ("collocation", 2e-5)])
+@pytest.mark.parametrize("method, step", [("rk", 1e-5),
+                                          pytest.param("collocation", 2e-5, marks=pytest.mark.slow)])  # 5-11 s
 def test_fixed_step_methods_agree_with_cvodes(method, step):
     m = build_model(PressParams())
     s = FourierSpeed.constant(1.0)

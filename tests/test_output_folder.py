@@ -48,7 +48,9 @@ def contents(out):
             if p.is_file() and not p.name.startswith(".") and p.name != MANIFEST_NAME}
 
 
-@pytest.mark.parametrize("kill_at", range(5))  # 3 files + the manifest: 4 moves; 4 = not killed
+# 3 files + the manifest: 4 moves; 4 = not killed. The kills between the first and the last move: slow
+# (3-7 s each, a process killed); by default the first move and none
+@pytest.mark.parametrize("kill_at", [0, *(pytest.param(k, marks=pytest.mark.slow) for k in (1, 2, 3)), 4])
 def test_a_run_killed_during_its_commit_is_finished_by_the_next_reader(tmp_path, kill_at):
     out = tmp_path / "out"
     assert write_run(out, OLD) == 0

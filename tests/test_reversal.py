@@ -45,6 +45,7 @@ def test_the_side_the_load_can_keep_and_its_bounds():
                    counterbalance=po.Counterbalance(force=2000.0)).reversal_side() == "compression"
 
 
+@pytest.mark.slow  # 17-34 s (the auto chain's models built); the bounds by default: the tests above
 def test_a_reversal_no_speed_avoids_is_said_before_any_solve():
     forming = problem(process_force=po.ProcessForce(heights=(0.03, 0.07), forces=(20e3, 20e3)))
     with pytest.warns(po.ReversalWarning, match=r"process force reaches 20 kN.*press.counterbalance.force of about"):

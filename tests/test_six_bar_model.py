@@ -139,6 +139,7 @@ def test_a_model_of_another_mechanism_than_the_problem_fails_before_any_solve():
         optimize_speed(problem, build_model(problem.press))
 
 
+@pytest.mark.slow  # 10-19 s; the six-bar's kinematics by default
 def test_the_six_bar_kinematic_design_holds_the_ram_speed_in_its_window():
     """The design's ram speed over the window, from the numpy kinematics of the input speed, within
     the design's band (half the tolerance) of the asked speed."""
@@ -191,6 +192,7 @@ def test_the_six_bar_clearance_optimum_is_verified():
     assert r.max_ram_speed_violation == 0.0
 
 
+@pytest.mark.slow  # 7-12 s
 def test_sensitivities_of_a_six_bar_differentiate_the_six_bar():
     """The peak the sensitivities differentiate is the six-bar's own (its model rebuilt with the
     parameter carried keeps its mechanism), and the derivative matches central differences of its

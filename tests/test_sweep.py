@@ -99,6 +99,7 @@ def test_rescaled_speed_keeps_the_crank_motion_per_cycle():
     assert np.allclose(other.theta(s * 1.0), speed.theta(s * 0.8), atol=1e-12)
 
 
+@pytest.mark.slow  # 8-15 s (a dask cluster started); executors by default: the test above
 def test_dask_local_cluster_gives_the_same_table(serial):
     distributed = pytest.importorskip("distributed")
     vary = {"slider_mass": [100.0, 200.0]}
