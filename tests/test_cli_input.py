@@ -258,6 +258,7 @@ def test_atomic_writes_follow_links_and_never_replace_a_device_or_folder(tmp_pat
     assert sorted(p.name for p in tmp_path.iterdir()) == ["fifo", "folder", "link.txt", "target.txt"]
 
 
+@pytest.mark.slow  # 9-24 s (two processes); also the concurrent case of the benchmark job transaction
 def test_a_second_process_on_a_used_out_is_refused_naming_the_first(tmp_path, capsys):
     """Two real processes: one holds ``--out`` (`output_folder`), the command line run into the same
     folder exits 2 before solving, naming the holder's process; once the holder ends, the folder is

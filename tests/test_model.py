@@ -325,7 +325,7 @@ def test_a_kept_integrator_gives_the_same_bits():
     assert len(m.functions["integrators"]) == 2
 
 
-@pytest.mark.parametrize("method", ["idas", "cvodes", "scipy-radau"])
+@pytest.mark.parametrize("method", ["idas", "cvodes", pytest.param("scipy-radau", marks=pytest.mark.slow)])  # 5-13 s
 def test_a_compiled_model_integrates_the_same_motion(method):
     """``model.jit``: the integrator calls compiled code (kept in ``model.functions``), and the motion
     is the interpreted model's to the integration tolerance (a smooth scene: the periodic state at
