@@ -28,7 +28,7 @@ import numpy as np
 from .. import checks as chk
 from ..compile_cache import check_jit, compile_seconds, function_options, oracle_options, use_jit
 from ..interrupt import compiling
-from ..ipopt_options import IPOPT_COLLOCATION
+from ..ipopt_options import IPOPT_COLLOCATION, IPOPT_RESCALED
 from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
 from ..speed import FourierSpeed
@@ -272,6 +272,15 @@ class Collocation(StateSettings):
             return None
         return replace(self, elements=int(d["elements"]), degree=int(d.get("degree", self.degree)), backoff=1.0,
                        ipopt={**self.ipopt, "ipopt.max_iter": RELAX_ITERATIONS})
+
+    def rescaled(self) -> "Collocation | None":
+        """This transcription with MUMPS scaling the KKT matrix (`IPOPT_RESCALED`); None when its options
+        set a MUMPS scaling already. Off by default (it doubles the back-solves' cost on the 75 spm
+        seed for the same optimum), it is what a stage that did not converge is solved with again."""
+        key = "ipopt.mumps_scaling"
+        if key in self.ipopt or IPOPT_COLLOCATION.get(key) == IPOPT_RESCALED[key]:
+            return None
+        return replace(self, ipopt={**self.ipopt, **IPOPT_RESCALED})
 
     def use_jit(self) -> bool:
         """Whether this solve compiles (``jit``, or "auto" and a C compiler is present)."""

@@ -92,6 +92,9 @@ class Check:
     min_rod_tension : float or None
         Smaller axial rod tension of the two pins on the rigid press, N (negative: the joint forces
         reverse); rigid stages only.
+    min_eccentricity : float or None
+        Smallest journal eccentricity ratio |e|/c of the clearance joints over the re-simulated cycle
+        (< 1: a journal left its bearing wall); None without clearance joints.
     """
 
     model: str
@@ -102,6 +105,7 @@ class Check:
     peak_torque: float
     verified: bool
     min_rod_tension: float | None = None
+    min_eccentricity: float | None = None
 
 
 @dataclass
@@ -256,6 +260,12 @@ class Transcription:
     def relaxed(self, stage: StageResult) -> "Transcription | None":
         """`stage`'s NLP holding more of the ram-speed tolerance (started from its `NlpPoint`), or None
         when there is no such re-solve."""
+        return None
+
+    def rescaled(self) -> "Transcription | None":
+        """The same transcription with its linear solver scaling the KKT system, for a second solve
+        from the same start after a stage that did not converge, or None when it has no such setting
+        or uses it already."""
         return None
 
     def shooting(self) -> "Transcription | None":
