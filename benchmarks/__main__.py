@@ -101,7 +101,7 @@ JOBS = (
     Job("counterbalance", "bench_counterbalance.py", (), 60,
         "press75 with an optimised counterbalance (constant, gas spring) against none; drawing75 (a deep-drawing "
         "curve); a constant process force against its two-point curve"),
-    Job("forming", "bench_forming.py", ("--max-iter", "600"), 40,
+    Job("forming", "bench_forming.py", (), 40,
         "forming40 (60 kN over the window): said before any solve without a counterbalance; verified with an "
         "optimised one, against its rigid floor"),
     Job("stroke_rate", "bench_stroke_rate.py", (), 60,

@@ -274,9 +274,10 @@ class Collocation(StateSettings):
                        ipopt={**self.ipopt, "ipopt.max_iter": RELAX_ITERATIONS})
 
     def rescaled(self) -> "Collocation | None":
-        """This transcription with MUMPS scaling the KKT matrix (`IPOPT_RESCALED`); None when its options
-        set a MUMPS scaling already. Off by default (it doubles the back-solves' cost on the 75 spm
-        seed for the same optimum), it is what a stage that did not converge is solved with again."""
+        """This transcription with MUMPS scaling the KKT matrix and IPOPT's acceptable level at 1e-3
+        (`IPOPT_RESCALED`); None when its options set a MUMPS scaling already. Off by default (the
+        scaling doubles the back-solves' cost on the 75 spm seed for the same optimum), it is what a
+        stage that did not converge is solved with again."""
         key = "ipopt.mumps_scaling"
         if key in self.ipopt or IPOPT_COLLOCATION.get(key) == IPOPT_RESCALED[key]:
             return None
