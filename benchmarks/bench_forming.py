@@ -70,7 +70,10 @@ def main() -> None:
         "max_ram_speed_violation_m_s": result.max_ram_speed_violation, "wall_time_s": wall,
         "speed": result.speed.to_dict(),
         "stages": [{"name": s.name, "status": s.status, "iterations": s.iterations, "objective": s.objective,
-                    "wall_time_s": s.wall_time} for s in result.stages]}
+                    "wall_time_s": s.wall_time, "superseded": s.superseded,
+                    "tension_margin": s.details.get("tension_margin"),
+                    "start_min_eccentricity": None if s.check is None else s.check.min_eccentricity}
+                   for s in result.stages]}
     print(json.dumps({k: v for k, v in record.items() if k not in ("stages", "versions", "speed")}, default=str), flush=True)
     (OUT / "forming.json").write_text(json.dumps(record, indent=1, default=float))
 
