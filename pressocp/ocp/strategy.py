@@ -14,7 +14,11 @@
 4. ``target``: the clearance model (rigid rod) by the given transcription. It is re-simulated
    (`verify_stage`) and, while that does not confirm the NLP, re-solved with the ram-speed bounds
    moved from its primal-dual solution (``_tightened_k``) or on a finer grid (``_refined_k``):
-   `followed`. When a polish round follows, that waits until the round was not kept.
+   `followed`. When a polish round follows, that waits until the round was not kept. A stage that
+   does not converge is solved again from the same start with the KKT matrix scaled (`rescued`,
+   ``{name}_rescaled``); when that fails too and the no-reversal start's journals leave their walls
+   on this model, the no-reversal stage runs again at twice the margin and the chain from there
+   (``no_reversal_raised_k``, at most `MARGIN_RAISES` times).
 5. ``polish_k``: the last stage's NLP solved again from its own answer, without multipliers. IPOPT's
    barrier restarts there and can leave the local optimum the first pass stopped at. A round is kept
    only when its periodic re-simulation lowers the objective with the ram speed in tolerance; the
