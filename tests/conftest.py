@@ -1,4 +1,5 @@
 import os
+import signal
 from concurrent.futures import Executor, Future
 
 import matplotlib
@@ -8,6 +9,13 @@ from hypothesis import settings
 from pressocp import PressParams, SpeedProblem, design_speed
 
 matplotlib.use("Agg")
+
+# A test run started in the background by a shell without job control (``cmd &`` in a script, nohup)
+# starts with SIGINT ignored, so Python installs no KeyboardInterrupt handler and the processes the
+# tests start inherit the ignored signal: the Ctrl-C tests (test_interrupt, test_workers) then fail
+# for the shell's reason. A user's terminal has the default, restored here (a child gets SIG_DFL).
+if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 #: Hypothesis profiles, for the property tests that leave ``max_examples`` to them (each example a
 #: design and a response, seconds): "default", the default run, draws a few; "thorough" many, chosen
