@@ -12,6 +12,7 @@ import pytest
 
 from pressocp import (FourierSpeed, ModelSpec, OcpResult, PressParams, Rigid, SimResult, SpeedProblem, Strategy,
                       Transcription, build_model, optimize_speed, simulate)
+from pressocp.ocp.stage import standing_stage
 from pressocp.problem import in_window
 from pressocp.simulate import Integrator, periodic_state
 
@@ -120,9 +121,9 @@ def test_seed_default_call_reaches_the_clearance_optimum():
     assert r.success, r.status
     names = [s.name for s in r.stages]
     assert names[0] == "rigid" and {"no_reversal@0.05", "no_reversal@0.02", "polish_1@0.05", "polish_1@0.02"} <= set(names)
-    kept = r.stages[-1]
+    kept = standing_stage(r.stages)  # the last stage may be a relaxed re-solve recorded as not kept
     assert kept.name.startswith("polish_1@") and not kept.superseded
-    assert min(kept.details["candidates"].values()) == pytest.approx(r.peak_torque, rel=1e-9)
+    assert min(r.stages[-1].details["candidates"].values()) == pytest.approx(r.peak_torque, rel=1e-9)
     assert r.stages[0].check.ratio > 2.0  # the rigid optimum impacts on the clearance model
     sim = r.simulation
     assert sim.stats["periodic"].get("found", True) is True

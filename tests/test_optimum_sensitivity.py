@@ -17,7 +17,7 @@ import pytest
 import pressocp as po
 from pressocp.ocp.kkt import kkt_sensitivity, resolve_tracking
 from pressocp.ocp.nlp import ParametricPoint
-from pressocp.ocp.stage import WarmStart
+from pressocp.ocp.stage import WarmStart, standing_stage
 
 
 def solved_point(f, g, x, p, pv, lbg, ubg, lbx=None, ubx=None):
@@ -170,7 +170,8 @@ def test_collocation_answer_derivative_matches_re_solved_optima():
     tr = po.Collocation(elements=200, jit=False)
     r = po.optimize_speed(SMALL, transcription=tr, strategy=po.Strategy("all", rigid=RIGID, verify_rtol=1e-8),
                           progress=False)
-    assert r.success and r.stages[-1].name == "polish_1" and not r.stages[-1].was_skipped
+    kept = standing_stage(r.stages)  # the last stage may be a relaxed re-solve recorded as not kept
+    assert r.success and kept.name == "polish_1"
     s = po.optimum_sensitivities(r, ("slider_mass", "wrist_pin.clearance"))
     assert s.stage == "polish_1"
 
