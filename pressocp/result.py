@@ -93,6 +93,11 @@ class SimResult:
         names = RESPONSE_PEAKS
         return {n: self.peak(n) for n in names}
 
+    def min_eccentricities(self, joints) -> dict[str, float]:
+        """Smallest eccentricity ratio |e|/c of each of the clearance `joints` ("crank_pin",
+        "wrist_pin") over the response: below 1 the journal leaves its bearing wall."""
+        return {j: float(np.min(getattr(self, f"{j}_eccentricity"))) for j in joints}
+
     def as_dict(self) -> dict[str, np.ndarray]:
         """The series as a dict of arrays."""
         return {n: getattr(self, n) for n in SERIES_UNITS}

@@ -78,7 +78,7 @@ def simulation_summary(scenario: Scenario, sim: SimResult, ideal: SimResult, sou
     joint (``min_<joint>_eccentricity``: below 1 the journal leaves its bearing wall, a free flight
     that ends in an impact), the ram speed error and the objective's value."""
     problem = scenario.problem
-    ecc = {f"min_{j}_eccentricity": float(np.min(getattr(sim, f"{j}_eccentricity"))) for j in scenario.model.clearance}
+    ecc = {f"min_{j}_eccentricity": v for j, v in sim.min_eccentricities(scenario.model.clearance).items()}
     return {"job": "simulate", "scenario": scenario.name, "model": scenario.model.describe(), "speed": source,
             **problem_summary(problem), "periodic": is_periodic(sim), **peak_summary(sim),
             **peak_summary(ideal, "ideal_joints_"), **ecc, "max_ram_speed_error": ram_speed_error(sim, problem),

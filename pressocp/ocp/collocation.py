@@ -278,8 +278,7 @@ class Collocation(StateSettings):
         (`IPOPT_RESCALED`); None when its options set a MUMPS scaling already. Off by default (the
         scaling doubles the back-solves' cost on the 75 spm seed for the same optimum), it is what a
         stage that did not converge is solved with again."""
-        key = "ipopt.mumps_scaling"
-        if key in self.ipopt or IPOPT_COLLOCATION.get(key) == IPOPT_RESCALED[key]:
+        if "ipopt.mumps_scaling" in self.ipopt:
             return None
         return replace(self, ipopt={**self.ipopt, **IPOPT_RESCALED})
 

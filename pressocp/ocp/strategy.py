@@ -546,7 +546,7 @@ class Strategy:
                      periodic=periodic, ram_speed_violation=viol, peak_torque=sim.peak("torque"),
                      verified=bool(periodic is True and ratio <= self.verified_ratio and viol <= 0.0),
                      min_rod_tension=float(min(ne["crank_pin_tension"].min(), ne["wrist_pin_tension"].min())),
-                     min_eccentricity=min_eccentricity(sim, model))
+                     min_eccentricity=min(sim.min_eccentricities(model.clearance).values(), default=None))
 
     def polish(self, problem: SpeedProblem, model: PressModel, last: StageResult, transcription: Transcription,
                progress: bool) -> list[StageResult]:
@@ -684,12 +684,6 @@ def loses_contact(stage: StageResult, transcription: Transcription) -> bool:
     check = stage.check
     return bool(keep is not None and check is not None and check.min_eccentricity is not None
                 and check.min_eccentricity < keep)
-
-
-def min_eccentricity(sim: SimResult, model: PressModel) -> float | None:
-    """Smallest eccentricity ratio |e|/c of `model`'s clearance joints over `sim` (None without any)."""
-    values = [float(np.min(getattr(sim, f"{j}_eccentricity"))) for j in model.clearance]
-    return min(values) if values else None
 
 
 def rod_undeformed(model: PressModel, base: PressModel, x: np.ndarray) -> np.ndarray:
