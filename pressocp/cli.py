@@ -280,25 +280,10 @@ def check_writable(folder: Path, what: str) -> None:
 def _prepare(args: argparse.Namespace):
     """Check the input and return the job to run (a callable giving its exit code). Every bad value
     raises here, before anything is solved."""
-    from .io import MANIFEST_NAME, NotRegularFile, atomic_write, check_regular, output_folder
+    from .io import MANIFEST_NAME, NotRegularFile, check_regular, output_folder
 
     if args.command == "scenario":
-        if args.action == "new":
-            if args.path.exists() and not args.force:
-                raise InputError(f"{args.path} exists; pass --force to overwrite it")
-            check_writable(args.path.parent, f"scenario new {args.path}")
-            try:
-                check_regular(args.path)
-            except NotRegularFile as err:
-                raise InputError(f"scenario new: {err}") from None
-
-            def write() -> int:
-                atomic_write(args.path, template(str(args.path)))
-                print(f"wrote {args.path}: edit it, then run pressocp optimize {args.path}")
-                return 0
-            return write
-        text = load_scenario(args.scenario, args.set).to_toml()
-        return lambda: print(text, end="") or 0
+        return _prepare_scenario(args)
     if args.command == "compare":
         return _prepare_compare(args)
 
@@ -359,6 +344,28 @@ def _prepare(args: argparse.Namespace):
                   file=sys.stderr)
         return report.exit_code
     return run
+
+
+def _prepare_scenario(args: argparse.Namespace):
+    """`pressocp scenario new|show`: check the input and return the job."""
+    from .io import NotRegularFile, atomic_write, check_regular
+
+    if args.action == "new":
+        if args.path.exists() and not args.force:
+            raise InputError(f"{args.path} exists; pass --force to overwrite it")
+        check_writable(args.path.parent, f"scenario new {args.path}")
+        try:
+            check_regular(args.path)
+        except NotRegularFile as err:
+            raise InputError(f"scenario new: {err}") from None
+
+        def write() -> int:
+            atomic_write(args.path, template(str(args.path)))
+            print(f"wrote {args.path}: edit it, then run pressocp optimize {args.path}")
+            return 0
+        return write
+    text = load_scenario(args.scenario, args.set).to_toml()
+    return lambda: print(text, end="") or 0
 
 
 def _prepare_compare(args: argparse.Namespace):

@@ -14,6 +14,7 @@ All quantities are SI. Conventions used throughout pressocp:
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 
@@ -584,6 +585,13 @@ class PressParams:
             joint, field_name = name.split(".")
             return replace(self, **{joint: replace(getattr(self, joint), **{field_name: value})})
         return replace(self, **{name: value})
+
+    def with_values(self, values: Mapping[str, float]) -> "PressParams":
+        """A copy with every parameter of `values` (dotted name to value, SI) set, as `with_value`."""
+        press = self
+        for name, value in values.items():
+            press = press.with_value(name, value)
+        return press
 
     def _owner(self, name: str):
         if "." in name:

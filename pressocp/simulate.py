@@ -44,6 +44,11 @@ class Integrator:
         Step limit of the adaptive integrators, 1..1e9.
     step : float
         Step of the fixed-step methods, s.
+    periodic_tol : float or None
+        How periodic a ``periodic=True`` run must be: the max-norm of x(T) - x(0) in scaled states
+        (eccentricity / clearance; rates / (1000 clearance)), > 0. None: 1000 `rtol`, at most 1e-4
+        (`periodic_residual`), so a tighter rtol also asks for a more periodic cycle. A residual of
+        1e-5 moved a worn (2 mm) wrist pin's peak torque by 1e-4 of itself; 1e-7 by 1e-6.
     """
 
     method: str = "idas"
@@ -51,6 +56,7 @@ class Integrator:
     atol: float | None = None
     max_steps: int = 10**7
     step: float = FIXED_STEP
+    periodic_tol: float | None = None
 
     def __post_init__(self) -> None:
         chk.choice("method", self.method, METHODS)
@@ -59,11 +65,18 @@ class Integrator:
             chk.positive("atol", self.atol)
         chk.integer("max_steps", self.max_steps, 1, 10**9)
         chk.positive("step", self.step, "s")
+        if self.periodic_tol is not None:
+            chk.positive("periodic_tol", self.periodic_tol)
 
     @property
     def abstol(self) -> float:
         """The absolute tolerance used: `atol`, or `rtol` when it is None."""
         return self.rtol if self.atol is None else self.atol
+
+    @property
+    def periodic_residual(self) -> float:
+        """The periodic search's tolerance used: `periodic_tol`, or min(1e-4, 1000 `rtol`) when it is None."""
+        return min(1e-4, 1000.0 * self.rtol) if self.periodic_tol is None else self.periodic_tol
 
 
 #: The periodic search's shots by default: CVODES at rtol 1e-8.
@@ -512,8 +525,8 @@ def simulate(
         Integrate the work quadratures (motor, contact, process and damping work in ``energy``); they
         cost 30-48 % of an integration, so a run that reads no work should say False. Without them,
         a periodic run of one cycle at rtol <= 1e-8 by IDAS or CVODES (atol = rtol) is the periodic
-        search's own last cycle (`periodic_orbit`, settled to max(1e-5, 1000 rtol) instead of
-        `periodic_state`'s max(1e-4, 100 rtol)), not a cycle integrated again.
+        search's own last cycle (`periodic_orbit`), not a cycle integrated again. Either way the
+        cycle is periodic to `Integrator.periodic_residual`.
 
     Returns
     -------
@@ -562,18 +575,19 @@ def periodic_start(model: PressModel, speed: FourierSpeed, integrator: Integrato
                    from_rest: bool, work: bool, stats: dict) -> tuple[np.ndarray | None, np.ndarray]:
     """The periodic state of a periodic `simulate` run, searched from `x_init`, and the run's states at
     `t` when the search's own last cycle is the answer (no work, one cycle, IDAS or CVODES at rtol
-    <= 1e-8 with atol = rtol: settled 10 x tighter than `periodic_state`), else None. The search's
+    <= 1e-8 with atol = rtol), else None; periodic to `Integrator.periodic_residual` either way. The search's
     statistics go to ``stats["periodic"]`` (and its last cycle's to `stats`)."""
     t0, r = time.perf_counter(), integrator.rtol
     search = "idas" if integrator.method == "idas" else "cvodes"
     X = None
     if not work and integrator.method == search and r <= 1e-8 and integrator.abstol == r and t[-1] == speed.period:
-        X, info = periodic_orbit(model, speed, t, Integrator(search, r), x_start=x_init, tol=max(1e-5, 1000 * r),
-                                 from_rest=from_rest)
+        X, info = periodic_orbit(model, speed, t, Integrator(search, r), x_start=x_init,
+                                 tol=integrator.periodic_residual, from_rest=from_rest)
         x_init = X[:, 0]
         stats.update(info.pop("last_cycle"))
     else:
-        x_init, info = periodic_state(model, speed, Integrator(search, min(r, 1e-8)), x_start=x_init)
+        x_init, info = periodic_state(model, speed, Integrator(search, min(r, 1e-8)), x_start=x_init,
+                                      tol=integrator.periodic_residual)
     stats["periodic"] = {**info, "wall_time": time.perf_counter() - t0}
     return X, x_init
 

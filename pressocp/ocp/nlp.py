@@ -575,6 +575,34 @@ class NlpRun:
     keep: dict | None = None
 
 
+def with_lifted(cons: Constraints, w: ca.MX, q: ca.MX, q0: np.ndarray, w0, lbw, ubw) -> tuple:
+    """The decision vector, start and bounds with the constraints' own (lifted) variables appended after
+    the transcription's. Each lifted group's start may read the groups made before it."""
+    if not cons.lifted:
+        return w, w0, lbw, ubw
+    nw = w.numel()
+    if np.size(w0) == nw:
+        w0 = np.asarray(w0, float).ravel()
+        done = ca.MX(0, 1)
+        for v, e, _, _ in cons.lifted:
+            start = ca.Function("lifted_start", [w, q, done], [e])
+            w0 = np.concatenate([w0, np.asarray(start(w0[:nw], q0, w0[nw:]), float).ravel()])
+            done = ca.vertcat(done, v)
+    w = ca.vertcat(w, *[v for v, _, _, _ in cons.lifted])
+    lbw = np.concatenate([np.asarray(lbw, float)] + [lo for _, _, lo, _ in cons.lifted])
+    ubw = np.concatenate([np.asarray(ubw, float)] + [hi for _, _, _, hi in cons.lifted])
+    return w, w0, lbw, ubw
+
+
+def close_bar(bar, split: dict) -> None:
+    """End a stage's progress bar with its time split (s)."""
+    bar.set_postfix_str(f"{bar.postfix + '; ' if bar.postfix else ''}{split['build']:.1f} s build, "
+                        f"{split['compile']:.1f} s compile, "
+                        f"{sum(split[k] for k in EVALUATIONS):.1f} s functions, "
+                        f"{split['solver']:.1f} s linear solver", refresh=False)
+    bar.close()
+
+
 def solve_nlp(nlp: NlpData, run: NlpRun) -> NlpOutcome:
     """IPOPT on `nlp` as `run` says. Ctrl-C raises `KeyboardInterrupt` (with ``best`` holding the
     least-infeasible iterate)."""
@@ -589,18 +617,7 @@ def solve_nlp(nlp: NlpData, run: NlpRun) -> NlpOutcome:
         bar = tqdm(desc=desc or name, unit="it", leave=True)
     q, q0 = parameter_symbols(parameters)
     nw = w.numel()
-    if cons.lifted:  # the constraints' own variables, after the transcription's
-        extra = ca.vertcat(*[v for v, _, _, _ in cons.lifted])
-        if np.size(w0) == nw:  # each group's start may read the groups made before it
-            w0 = np.asarray(w0, float).ravel()
-            done = ca.MX(0, 1)
-            for v, e, _, _ in cons.lifted:
-                start = ca.Function("lifted_start", [w, q, done], [e])
-                w0 = np.concatenate([w0, np.asarray(start(w0[:nw], q0, w0[nw:]), float).ravel()])
-                done = ca.vertcat(done, v)
-        w = ca.vertcat(w, extra)
-        lbw = np.concatenate([np.asarray(lbw, float)] + [lo for _, _, lo, _ in cons.lifted])
-        ubw = np.concatenate([np.asarray(ubw, float)] + [hi for _, _, _, hi in cons.lifted])
+    w, w0, lbw, ubw = with_lifted(cons, w, q, q0, w0, lbw, ubw)
     stats: dict = {}
     cb = IterationRecord(w.numel(), cons, objective, scale, bar, q0.size)
     gall = cons.g
@@ -641,12 +658,7 @@ def solve_nlp(nlp: NlpData, run: NlpRun) -> NlpOutcome:
         raise
     finally:
         if bar is not None:
-            split = timing_split(stats, build, time.perf_counter() - t0, cb.seconds, compiled)
-            bar.set_postfix_str(f"{bar.postfix + '; ' if bar.postfix else ''}{split['build']:.1f} s build, "
-                                f"{split['compile']:.1f} s compile, "
-                                f"{sum(split[k] for k in EVALUATIONS):.1f} s functions, "
-                                f"{split['solver']:.1f} s linear solver", refresh=False)
-            bar.close()
+            close_bar(bar, timing_split(stats, build, time.perf_counter() - t0, cb.seconds, compiled))
     last = wo
     if not success and cb.best is not None:
         wo = cb.best[2]

@@ -22,7 +22,7 @@ from ..problem import SpeedProblem
 from ..mechanism.ideal import ideal_response
 from ..speed import FourierSpeed
 from ..ipopt_options import IPOPT_RIGID
-from .nlp import (Constraints, NlpData, NlpRun, add_drive_limits, add_kinematic_window, add_objective, add_pin_cap,
+from .nlp import (Constraints, NlpData, NlpOutcome, NlpRun, add_drive_limits, add_kinematic_window, add_objective, add_pin_cap,
                   add_speed_bounds, lifted_crank, objective_scale, scaled_crank_start, solve_nlp, with_motor)
 from .stage import NlpPoint, StageResult, Transcription, WarmStart, settings_repr
 
@@ -150,11 +150,7 @@ class Rigid(Transcription):
         f = add_objective(cons, objective, with_motor(P, objective, y, W[1, :], W[2, :]), s, scale, ts, T)
         add_kinematic_window(cons, P, c, t1, duration, self.window_samples, self.backoff, h_start, jit)
         add_speed_bounds(cons, P, W[1, :], W[2, :])
-        tension = ca.vertcat(y["crank_pin_tension"], y["wrist_pin_tension"])
-        if P.min_tension is not None:  # no joint-force reversal: the rod in tension
-            cons.add((tension - P.min_tension) / P.hanging_weight, 0.0, np.inf, "rod_tension")
-        if P.max_tension is not None:  # no joint-force reversal: the rod in compression
-            cons.add((P.max_tension - tension) / P.hanging_weight, 0.0, np.inf, "rod_compression")
+        add_rod_load_side(cons, P, ca.vertcat(y["crank_pin_tension"], y["wrist_pin_tension"]))
         add_pin_cap(cons, P, y)
         add_drive_limits(cons, P, y["torque"], W[1, :], W[2, :], ts)
         w = ca.vertcat(c, s, t1, ca.vec(Wv), q if free else ca.MX(0, 1))
@@ -168,22 +164,30 @@ class Rigid(Transcription):
                                 multipliers=None if point is None else (point.lam_x, point.lam_g)),
                         NlpRun(f"rigid_{name}", {**IPOPT_RIGID, **oracle_options(jit), **self.ipopt}, objective,
                                scale, f"{name} (rigid press, {N} samples)", progress))
+        return self._result(P, name, out, scale, (drop, up), warm=point is not None)
+
+    def _result(self, P: SpeedProblem, name: str, out: NlpOutcome, scale: float, window: tuple[float, float],
+                warm: bool) -> StageResult:
+        """The stage's record from IPOPT's outcome `out`; the objective re-evaluated on the ideal press
+        at the answer (with any press parameter it chose). `window`: how far (m) the height window was
+        extended, and how far of it upward."""
+        drop, up = window
+        T, n, free = P.period, P.n_harmonics, P.free_parameters()
+        ts = np.linspace(0.0, T, self.samples, endpoint=False)
         speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
         chosen = dict(zip(free, (float(v) for v in out.w[out.w.size - len(free):]))) if free else {}
-        press = P.press
-        for key, value in chosen.items():
-            press = press.with_value(key, value)
-        sampled = ideal_response(press, P.mechanism, speed, ts)
+        sampled = ideal_response(P.press.with_values(chosen), P.mechanism, speed, ts)
         return StageResult(
             name=name, transcription=repr(self), model=ModelSpec("rigid", (), mechanism=P.mechanism).describe(), success=out.success,
-            status=out.status, iterations=out.iterations, wall_time=out.wall_time, objective=objective.value(sampled, P.drive, period=T, alpha=speed.evaluate(ts)[2]),
+            status=out.status, iterations=out.iterations, wall_time=out.wall_time,
+            objective=get_objective(P.objective).value(sampled, P.drive, period=T, alpha=speed.evaluate(ts)[2]),
             speed=speed, last_speed=FourierSpeed.from_coefficients(T, out.last_w[: 2 * n]),
             t1=float(out.w[2 * n + 1]), history=out.history, barrier=out.barrier, iteration_log=out.iteration_log,
             violations_start=out.violations_start, violations=out.violations,
             details={"window_extension_m": drop, "window_extended": "up" if up else "down", "min_tension_N": P.min_tension,
                      "max_tension_N": P.max_tension,
-                     **({"free": chosen} if free else {}), "samples": N,
-                     "window_samples": self.window_samples, "backoff": self.backoff, "warm": point is not None},
+                     **({"free": chosen} if free else {}), "samples": self.samples,
+                     "window_samples": self.window_samples, "backoff": self.backoff, "warm": warm},
             timing=dict(out.timing), point=out.point,
             nlp=None if out.lam_x is None or not out.success else
             NlpPoint(out.w, out.lam_x, out.lam_g, np.arange(self.window_samples), scale, self.grid()),
@@ -219,3 +223,12 @@ def start_speed(problem: SpeedProblem, start: WarmStart | None, h_start: float, 
     th1 = float(problem.mechanism.input_angle_at_height(problem.press, min(h_start, problem.stroke), "down"))
     tg = np.linspace(0, T, 20001)
     return initial, float(np.interp(th1, initial.theta(tg), tg))
+
+
+def add_rod_load_side(cons: Constraints, problem: SpeedProblem, tension: ca.MX) -> None:
+    """Rows that hold the rod's load on one side (no joint-force reversal): the joints' tension (N)
+    above `SpeedProblem.min_tension` or below `SpeedProblem.max_tension`, scaled by the hanging weight."""
+    if problem.min_tension is not None:  # the rod in tension
+        cons.add((tension - problem.min_tension) / problem.hanging_weight, 0.0, np.inf, "rod_tension")
+    if problem.max_tension is not None:  # the rod in compression
+        cons.add((problem.max_tension - tension) / problem.hanging_weight, 0.0, np.inf, "rod_compression")
