@@ -48,6 +48,7 @@ import json
 import statistics
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from pressocp import (Integrator, Collocation, FourierSpeed, MultipleShooting, PressParams, Scenario, SpeedProblem, build_model,
                       design_speed, optimize_speed, simulate)
@@ -55,6 +56,9 @@ from pressocp.ocp.strategy import max_relative_change
 from pressocp.plots import draw_levels, plot_speed_design, rigid_torque_level, save
 
 from goals import GOAL_CASE_WALL_S, GOAL_FLOOR_RATIO, GOAL_PEAK_NM, GOAL_WALL_S
+
+if TYPE_CHECKING:
+    import matplotlib.figure
 
 OUT = Path(__file__).parent / "results"
 OPTIMISATION_CASES = ["default", "default_all", "default_idas", "seed", "seed_idas", "seed_collocation",
@@ -105,7 +109,7 @@ def element_check(r, elements=(2, 4, 8)) -> list[dict]:
     return rows
 
 
-def slender_figure(row: dict) -> "plt.Figure":
+def slender_figure(row: dict) -> "matplotlib.figure.Figure":
     """The slender-rod row's two speeds re-simulated on the flexible rod with 8 elements: motor torque and
     midspan deflection over a cycle (the rigid-press optimum against the answer)."""
     import matplotlib.pyplot as plt

@@ -1,11 +1,13 @@
-"""Candidate chains: the clearance chain from several starts, side by side, the best verified kept.
+"""Candidate chains: a chain from several starts, side by side, the best verified kept.
 
-Where the clearance model's local optimum lands depends on its start, and no one start is best
-everywhere (75 spm seed, `docs/decisions/2026-11-25-candidate-starts.md`). So the chain is run from each
-no-reversal start (`Strategy.tension_margin`, one margin per candidate), each candidate's answer is
-re-simulated at the strategy's tolerance, and the lowest verified objective (periodic, ram speed in
-tolerance) wins. Candidates run in spawned worker processes (`pressocp.workers`), two at a time on
-two cores; IPOPT is not safe in threads.
+Where a model with states' local optimum lands depends on its start, and no one start is best
+everywhere (75 spm seed, `docs/decisions/2026-11-25-candidate-starts.md`; the slender rod,
+`docs/decisions/2026-11-27-flexible-starts.md`). So the clearance chain is run from each
+no-reversal start (`Strategy.tension_margin`, one margin per candidate), and the flexible chain of a
+rod between ideal joints from the rigid optimum at each ram-speed backoff
+(`Strategy.flexible_backoffs`); each candidate's answer is re-simulated at the strategy's tolerance,
+and the lowest verified objective (periodic, ram speed in tolerance) wins. Candidates run in spawned
+worker processes (`pressocp.workers`), two at a time on two cores; IPOPT is not safe in threads.
 """
 
 from __future__ import annotations
@@ -43,6 +45,35 @@ def candidate_chain(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec
     return [replace(s, name=s.name + suffix, point=None) for s in stages]
 
 
+def flexible_candidate(strategy: "Strategy", problem: SpeedProblem, spec: ModelSpec, start: StageResult,
+                       transcription: Transcription, suffix: str, progress: bool = False) -> list[StageResult]:
+    """One candidate on a flexible rod between ideal joints: `Strategy.flexible_chain` on the model
+    `spec` from the rigid optimum `start`, its answer verified, its stages named with `suffix`. Runs in
+    a worker process too (the model is built there)."""
+    model = spec.build(problem.press, problem.n_harmonics)
+    stages = strategy.flexible_chain(problem, model, start, transcription, progress)
+    last = stages[-1]
+    if last.success and not last.was_skipped:
+        strategy.verify_stage(model, last)
+    return [replace(s, name=s.name + suffix, point=None) for s in stages]
+
+
+def run_flexible_candidates(strategy: "Strategy", problem: SpeedProblem, spec: ModelSpec, starts: list[StageResult],
+                            transcription: Transcription, progress: bool,
+                            pool: Executor | None = None) -> list[StageResult]:
+    """`flexible_candidate` from each rigid optimum of `starts` (the rigid stage first, then its
+    re-solves ``rigid@b``), in `pool` or new worker processes as `run_candidates`; their stages, the
+    best candidate's last, each suffixed with its start's backoff."""
+    backoffs = [st.details.get("backoff", strategy.rigid.backoff) for st in starts]
+    suffixes = [f"@{b:g}" for b in backoffs]
+    args = [(strategy, problem, spec, replace(st, point=None, nlp=None), transcription, sfx)
+            for st, sfx in zip(starts, suffixes)]
+    chains = _in_workers(flexible_candidate, args, strategy.workers, progress,
+                         f"candidates (flexible stage from the rigid optima at backoffs {', '.join(f'{b:g}' for b in backoffs)})",
+                         pool)
+    return keep_best(chains, [f"{b:g}" for b in backoffs], problem)
+
+
 def verified_value(stage: StageResult, problem: SpeedProblem) -> float:
     """The objective of a candidate's answer on its re-simulation when that is periodic with the ram
     speed in tolerance and the stage converged; +inf otherwise."""
@@ -68,25 +99,22 @@ def run_candidates(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec,
     suffixes = [f"@{m:g}" for m in margins]
     rigid = replace(rigid, point=None)  # no solver objects into the workers
     args = [(strategy, problem, base, rigid, transcription, m, sfx) for m, sfx in zip(margins, suffixes)]
-    bar = None
-    if progress:
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=len(args), desc=f"candidates (tension margins {', '.join(f'{m:g}' for m in margins)})",
-                   unit="chain", leave=True)
-    try:
-        chains = _run(args, min(parallel_workers(strategy.workers), len(args)), bar, pool)
-    finally:
-        if bar is not None:
-            bar.close()
+    chains = _in_workers(candidate_chain, args, strategy.workers, progress,
+                         f"candidates (tension margins {', '.join(f'{m:g}' for m in margins)})", pool)
     if all(len(c) == 1 and not c[0].success for c in chains):  # no candidate got past its no-reversal stage
         model = base.build(problem.press, problem.n_harmonics)
         note = "candidate ended: its no-reversal stage did not converge, as every candidate's did"
         return [*(replace(c[0], superseded=note) for c in chains),
                 *strategy.clearance_chain(problem, model, rigid, transcription, None, progress, None)]
+    return keep_best(chains, [f"{m:g}" for m in margins], problem)
+
+
+def keep_best(chains: list[list[StageResult]], labels: list[str], problem: SpeedProblem) -> list[StageResult]:
+    """The candidates' stages: those not kept first (marked ``superseded`` with their verified value),
+    the best last. Each candidate's last stage records ``details["candidate_value"]``; the best one's
+    also ``details["candidates"]``, every label's verified value."""
     values = [verified_value(c[-1], problem) for c in chains]
     best = int(np.argmin(values)) if np.isfinite(values).any() else _least_failed(chains)
-    summary = {f"{m:g}": v for m, v in zip(margins, values)}
     out: list[StageResult] = []
     for k, chain in enumerate(chains):
         chain[-1].details["candidate_value"] = values[k]
@@ -95,8 +123,23 @@ def run_candidates(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec,
         note = (f"candidate not kept: its answer re-simulates at {values[k]:.6g} against {values[best]:.6g}"
                 if np.isfinite(values[k]) else "candidate not kept: its answer is not verified")
         out += [replace(s, superseded=s.superseded or note) for s in chain]
-    chains[best][-1].details["candidates"] = summary
+    chains[best][-1].details["candidates"] = dict(zip(labels, values))
     return out + chains[best]
+
+
+def _in_workers(fn, args: list[tuple], workers: int, progress: bool, desc: str,
+                pool: Executor | None) -> list[list[StageResult]]:
+    """`_run` of `fn` over `args` on min(`workers`, candidates) processes, with a tqdm bar of `desc`."""
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=len(args), desc=desc, unit="chain", leave=True)
+    try:
+        return _run(fn, args, min(parallel_workers(workers), len(args)), bar, pool)
+    finally:
+        if bar is not None:
+            bar.close()
 
 
 def _least_failed(chains: list[list[StageResult]]) -> int:
@@ -104,20 +147,20 @@ def _least_failed(chains: list[list[StageResult]]) -> int:
     return int(np.argmax([len(c) for c in chains]))
 
 
-def _run(args: list[tuple], workers: int, bar, pool: Executor | None) -> list[list[StageResult]]:
-    """`candidate_chain` over `args`, in order; in `pool`, or a new process pool when ``workers > 1``
-    (shut down afterwards; a given pool is the caller's)."""
+def _run(fn, args: list[tuple], workers: int, bar, pool: Executor | None) -> list[list[StageResult]]:
+    """`fn` (a candidate chain) over `args`, in order; in `pool`, or a new process pool when
+    ``workers > 1`` (shut down afterwards; a given pool is the caller's)."""
     def done(chain):
         if bar is not None:
             bar.update(1)
         return chain
 
     if pool is not None:
-        return [done(f.result()) for f in [pool.submit(candidate_chain, *a) for a in args]]
+        return [done(f.result()) for f in [pool.submit(fn, *a) for a in args]]
     if workers > 1:
         pool = process_pool(workers)
         try:
-            futures = [pool.submit(candidate_chain, *a) for a in args]
+            futures = [pool.submit(fn, *a) for a in args]
             return [done(f.result()) for f in futures]
         except BrokenProcessPool as err:  # e.g. a script that starts solving on import, with no main guard
             warnings.warn(f"the candidate chains' worker processes stopped ({err}); running them here one after "
@@ -125,4 +168,4 @@ def _run(args: list[tuple], workers: int, bar, pool: Executor | None) -> list[li
                           RuntimeWarning, stacklevel=4)
         finally:
             pool.shutdown(wait=False, cancel_futures=True)
-    return [done(candidate_chain(*a)) for a in args]
+    return [done(fn(*a)) for a in args]

@@ -51,7 +51,7 @@ from ..result import SimResult
 from ..mechanism.ideal import ideal_inverse_dynamics
 from ..simulate import SimulationError
 from ..speed import FourierSpeed
-from .candidates import run_candidates
+from .candidates import run_candidates, run_flexible_candidates
 from .rigid_stage import Rigid
 from .shooting import MultipleShooting
 from .stage import Check, StageResult, Transcription, WarmStart, settings_repr, standing_stage
@@ -107,6 +107,14 @@ class Strategy:
         (`SpeedProblem.reversal_side`). Several margins: each starts
         a candidate chain (no-reversal, target and polish stages, named ``stage@margin``), run side by
         side in `workers` processes, and the lowest verified answer is kept (`pressocp.ocp.candidates`).
+    flexible_backoffs : tuple of float
+        On a flexible rod between ideal joints: further starts of the flexible stage, the rigid
+        optimum re-solved holding each of these shares of the ram-speed tolerance (`Rigid.backoff`,
+        in (0, 1]; warm, from the rigid stage's solution). Each start runs a candidate chain (the
+        flexible stage and its polish rounds) side by side with the rigid optimum's in `workers`
+        processes, and the lowest verified answer is kept (`pressocp.ocp.candidates`). The flexible
+        stage's local optimum depends on its start: on the slender-rod scene the rigid optima at 0.9
+        and 0.95 led to 74.55 and 70.33 N m verified, at 0.8 to 77.10 (2026-11-27). Empty: one chain.
     workers : int
         Processes for the candidate chains, 1..64 (1: one after the other in this process).
     verified_ratio : float
@@ -141,6 +149,7 @@ class Strategy:
     mode: str = "auto"
     rigid: Rigid = field(default_factory=Rigid)
     tension_margin: float | tuple[float, ...] | None = (DEFAULT_MARGIN, 0.02)
+    flexible_backoffs: tuple[float, ...] = (0.95,)
     workers: int = 2
     verified_ratio: float = 1.02
     soft_factor: float | None = 100.0
@@ -159,6 +168,10 @@ class Strategy:
             chk.in_half_open_interval("tension_margin", m, 0.0, 1.0)
         if isinstance(self.tension_margin, tuple) and len(set(self.margins)) != len(self.margins):
             raise ValueError(f"tension_margin lists a margin twice: {self.tension_margin}")
+        for b in self.flexible_backoffs:
+            chk.in_closed_interval("flexible_backoffs", b, 1e-3, 1.0)
+        if len(set(self.flexible_backoffs)) != len(self.flexible_backoffs):
+            raise ValueError(f"flexible_backoffs lists a backoff twice: {self.flexible_backoffs}")
         chk.integer("workers", self.workers, 1, 64)
         chk.in_open_interval("verified_ratio", self.verified_ratio, 1.0, 10.0)
         if self.soft_factor is not None:
@@ -220,7 +233,7 @@ class Strategy:
         if model.is_rigid or (problem.drive is not None and not rigid.success):
             return stages  # a drive the ideal press cannot meet: no clearance model does better
         if not model.clearance:  # a flexible rod between ideal joints: no clearance stages
-            return stages + self.flexible_only(problem, model, rigid, transcription, progress)
+            return stages + self.flexible_only(problem, model, rigid, transcription, progress, pool)
         base = model if model.rod == "rigid" else self.clearance_spec(model.spec).build(model.params,
                                                                                      model.n_harmonics)
         rigid.check = self.check(base, rigid, problem)
@@ -384,15 +397,42 @@ class Strategy:
         return stages, transcription
 
     def flexible_only(self, problem: SpeedProblem, model: PressModel, rigid: StageResult,
-                      transcription: Transcription, progress: bool) -> list[StageResult]:
+                      transcription: Transcription, progress: bool, pool: Executor | None = None) -> list[StageResult]:
         """The stages after ``rigid`` on a flexible rod between ideal joints: the rigid optimum is checked
         on the flexible model itself, and when it is not verified there ("auto") or always ("all"), the
-        flexible stage starts from it, then the polish rounds."""
+        flexible stage starts from it, then the polish rounds; with `flexible_backoffs`, so do
+        candidate chains from the rigid optimum re-solved at those backoffs (`flexible_starts`), and
+        the lowest verified answer is kept (`pool`: their worker processes, as `run`'s)."""
         rigid.check = self.check(model, rigid, problem)
         if self.mode in ("auto", "continue") and rigid.check.verified:
             reason = self.verified_reason
             return [StageResult.skipped("flexible", reason, model.spec.describe(), rigid)]
-        solved, transcription = self.solve_refined(problem, model, transcription, WarmStart(rigid.speed), "flexible",
+        starts = self.flexible_starts(problem, model, rigid, progress)
+        usable = [rigid, *(st for st in starts if st.success)]
+        if len(usable) == 1:
+            return starts + self.flexible_chain(problem, model, rigid, transcription, progress)
+        return starts + run_flexible_candidates(self, problem, model.spec, usable, transcription, progress, pool)
+
+    def flexible_starts(self, problem: SpeedProblem, model: PressModel, rigid: StageResult,
+                        progress: bool) -> list[StageResult]:
+        """`rigid`'s NLP re-solved at each of `flexible_backoffs` other than its own (stages ``rigid@b``,
+        warm from its solution). One that does not converge is marked superseded: it starts nothing."""
+        starts = []
+        for b in self.flexible_backoffs:
+            if b == self.rigid.backoff or rigid.nlp is None:
+                continue
+            st = replace(self.rigid, backoff=b).solve(problem, model, WarmStart(rigid.speed, point=rigid.nlp),
+                                                      "rigid", progress)
+            st.name = f"rigid@{b:g}"  # after the solve: IPOPT's function names take no "@"
+            if not st.success:
+                st.superseded = "not a start: this re-solve of the rigid optimum did not converge"
+            starts.append(st)
+        return starts
+
+    def flexible_chain(self, problem: SpeedProblem, model: PressModel, start: StageResult,
+                       transcription: Transcription, progress: bool) -> list[StageResult]:
+        """The flexible stage on `model` from `start`'s speed, then the polish rounds."""
+        solved, transcription = self.solve_refined(problem, model, transcription, WarmStart(start.speed), "flexible",
                                                    progress)
         if not solved[-1].success:
             return solved
