@@ -307,7 +307,8 @@ def shooting_row(res: Results) -> Row:
         return missing(29, goal, "transcriptions_flexible_shooting.json")
     r, colloc = d["runs"][0], d["collocation_verified"]
     if "error" in r:
-        return Row(29, goal, r["error"], verdict(False), f"transcriptions_flexible_shooting.json, {d['date']}")
+        return Row(29, goal, f"started from collocation's verified {colloc:.3f} N·m: {r['error'].splitlines()[0]}",
+                   verdict(False), f"transcriptions_flexible_shooting.json, {d['date']}")
     rel = r["verified_objective"] / colloc - 1
     text = (f"{r['status']}, {r['iterations']} iterations, {r['wall_time_s']:.0f} s (compile included); verified "
             f"{r['verified_objective']:.3f} N·m against collocation's {colloc:.3f} ({rel:+.1%})")
