@@ -46,8 +46,9 @@ class Integrator:
         Step of the fixed-step methods, s.
     periodic_tol : float or None
         How periodic a ``periodic=True`` run must be: the max-norm of x(T) - x(0) in scaled states
-        (eccentricity / clearance; rates / (1000 clearance)), > 0. None (`periodic_residual`): 1e-4,
-        or max(1e-5, 1000 `rtol`) when the search's own last cycle is the answer (`simulate`'s `work`).
+        (eccentricity / clearance; rates / (1000 clearance)), > 0. None: `periodic_state`'s default
+        (1e-4), or max(1e-5, 1000 `rtol`) when the search's own last cycle is the answer (`simulate`'s
+        `work`).
         That is enough for a check to 1e-3 but not for differences: on a worn (2 mm) wrist pin the
         contact transient dies slowly, and a residual of 1e-4 moved the peak torque by 1e-4 of itself
         (1e-2 N m), 1e-7 by 1e-6. For finite differences at rtol 1e-10 ask for about 1000 `rtol`.
@@ -75,13 +76,6 @@ class Integrator:
     def abstol(self) -> float:
         """The absolute tolerance used: `atol`, or `rtol` when it is None."""
         return self.rtol if self.atol is None else self.atol
-
-    def periodic_residual(self, own_cycle: bool) -> float:
-        """The periodic search's tolerance used: `periodic_tol`, or when it is None max(1e-5, 1000 `rtol`)
-        if the search's own last cycle is the answer (`own_cycle`), else 1e-4 (as `periodic_state`)."""
-        if self.periodic_tol is not None:
-            return self.periodic_tol
-        return max(1e-5, 1000.0 * self.rtol) if own_cycle else 1e-4
 
 
 #: The periodic search's shots by default: CVODES at rtol 1e-8.
@@ -531,7 +525,7 @@ def simulate(
         cost 30-48 % of an integration, so a run that reads no work should say False. Without them,
         a periodic run of one cycle at rtol <= 1e-8 by IDAS or CVODES (atol = rtol) is the periodic
         search's own last cycle (`periodic_orbit`), not a cycle integrated again. Either way the
-        cycle is periodic to `Integrator.periodic_residual`.
+        cycle is periodic to `Integrator.periodic_tol`.
 
     Returns
     -------
@@ -580,19 +574,20 @@ def periodic_start(model: PressModel, speed: FourierSpeed, integrator: Integrato
                    from_rest: bool, work: bool, stats: dict) -> tuple[np.ndarray | None, np.ndarray]:
     """The periodic state of a periodic `simulate` run, searched from `x_init`, and the run's states at
     `t` when the search's own last cycle is the answer (no work, one cycle, IDAS or CVODES at rtol
-    <= 1e-8 with atol = rtol), else None; periodic to `Integrator.periodic_residual` either way. The search's
+    <= 1e-8 with atol = rtol), else None; periodic to `Integrator.periodic_tol` either way. The search's
     statistics go to ``stats["periodic"]`` (and its last cycle's to `stats`)."""
     t0, r = time.perf_counter(), integrator.rtol
     search = "idas" if integrator.method == "idas" else "cvodes"
     X = None
     if not work and integrator.method == search and r <= 1e-8 and integrator.abstol == r and t[-1] == speed.period:
         X, info = periodic_orbit(model, speed, t, Integrator(search, r), x_start=x_init,
-                                 tol=integrator.periodic_residual(own_cycle=True), from_rest=from_rest)
+                                 tol=max(1e-5, 1000 * r) if integrator.periodic_tol is None else integrator.periodic_tol,
+                                 from_rest=from_rest)
         x_init = X[:, 0]
         stats.update(info.pop("last_cycle"))
     else:
         x_init, info = periodic_state(model, speed, Integrator(search, min(r, 1e-8)), x_start=x_init,
-                                      tol=integrator.periodic_residual(own_cycle=False))
+                                      tol=integrator.periodic_tol)  # None: periodic_state's default
     stats["periodic"] = {**info, "wall_time": time.perf_counter() - t0}
     return X, x_init
 

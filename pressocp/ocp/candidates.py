@@ -39,10 +39,7 @@ def candidate_chain(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec
     objects."""
     model = base.build(problem.press, problem.n_harmonics)
     stages = strategy.clearance_chain(problem, model, rigid, transcription, None, progress, margin, candidate=True)
-    last = stages[-1]
-    if last.success and not last.was_skipped:
-        strategy.verify_stage(model, last)
-    return [replace(s, name=s.name + suffix, point=None) for s in stages]
+    return verified_and_named(strategy, model, stages, suffix)
 
 
 def flexible_candidate(strategy: "Strategy", problem: SpeedProblem, spec: ModelSpec, start: StageResult,
@@ -52,10 +49,7 @@ def flexible_candidate(strategy: "Strategy", problem: SpeedProblem, spec: ModelS
     a worker process too (the model is built there)."""
     model = spec.build(problem.press, problem.n_harmonics)
     stages = strategy.flexible_chain(problem, model, start, transcription, progress)
-    last = stages[-1]
-    if last.success and not last.was_skipped:
-        strategy.verify_stage(model, last)
-    return [replace(s, name=s.name + suffix, point=None) for s in stages]
+    return verified_and_named(strategy, model, stages, suffix)
 
 
 def run_flexible_candidates(strategy: "Strategy", problem: SpeedProblem, spec: ModelSpec, starts: list[StageResult],
@@ -64,7 +58,7 @@ def run_flexible_candidates(strategy: "Strategy", problem: SpeedProblem, spec: M
     """`flexible_candidate` from each rigid optimum of `starts` (the rigid stage first, then its
     re-solves ``rigid@b``), in `pool` or new worker processes as `run_candidates`; their stages, the
     best candidate's last, each suffixed with its start's backoff."""
-    backoffs = [st.details.get("backoff", strategy.rigid.backoff) for st in starts]
+    backoffs = [st.details["backoff"] for st in starts]
     suffixes = [f"@{b:g}" for b in backoffs]
     args = [(strategy, problem, spec, replace(st, point=None, nlp=None), transcription, sfx)
             for st, sfx in zip(starts, suffixes)]
@@ -72,6 +66,15 @@ def run_flexible_candidates(strategy: "Strategy", problem: SpeedProblem, spec: M
                          f"candidates (flexible stage from the rigid optima at backoffs {', '.join(f'{b:g}' for b in backoffs)})",
                          pool)
     return keep_best(chains, [f"{b:g}" for b in backoffs], problem)
+
+
+def verified_and_named(strategy: "Strategy", model, stages: list[StageResult], suffix: str) -> list[StageResult]:
+    """A candidate's `stages` with the last one's answer verified on `model` (`Strategy.verify_stage`)
+    when it converged, each named with `suffix` and without solver objects (for the worker's reply)."""
+    last = stages[-1]
+    if last.success and not last.was_skipped:
+        strategy.verify_stage(model, last)
+    return [replace(s, name=s.name + suffix, point=None) for s in stages]
 
 
 def verified_value(stage: StageResult, problem: SpeedProblem) -> float:
