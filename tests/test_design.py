@@ -1,10 +1,11 @@
 """Rigid speed design and the inverse 'speed for a ram motion'."""
 
+import casadi as ca
 import numpy as np
 import pytest
 
-from pressocp import DesignSettings, FourierSpeed, PressParams, SpeedProblem
-from pressocp.design import design_speed, speed_for_ram_motion
+from pressocp import DesignSettings, FourierSpeed, KnuckleJoint, KnucklePress, PressParams, SpeedProblem
+from pressocp.design import design_nlp, design_speed, speed_for_ram_motion
 from pressocp.problem import ram_speed_range
 from tests.references.press import exact_height
 
@@ -99,3 +100,32 @@ def test_speed_for_ram_motion_bad_input():
         speed_for_ram_motion(p, t[::-1], np.zeros(101))
     with pytest.raises(ValueError, match="h must contain only finite"):
         speed_for_ram_motion(p, t, np.full(101, np.nan))
+
+
+@pytest.mark.parametrize("case", ["slider_crank", "knuckle"])
+def test_the_design_nlps_own_derivatives_are_casadis(case):
+    """`design_nlp` hands IPOPT a Jacobian and a Lagrangian Hessian assembled from per-sample kernels;
+    at a random point with random multipliers they equal CasADi's AD of the assembled objective and
+    constraints (a mistake in the assembly, a missing term or sample, would show here, not as a
+    slower or different optimum)."""
+    if case == "knuckle":
+        drive = KnucklePress()
+        press = PressParams(crank_radius=drive.upper_link, rod_length=drive.lower_link, crank_com=0.5 * drive.upper_link)
+        problem = SpeedProblem(press, period=1.5, ram_speed=-0.02, mechanism=KnuckleJoint(drive), n_harmonics=4)
+    else:
+        problem = SpeedProblem(PressParams(), period=0.8, ram_speed=-0.1, n_harmonics=5)
+    nlp = design_nlp(problem, DesignSettings(samples=12))
+    x, g = nlp.problem["x"], nlp.problem["g"]
+    lam_f, lam_g = ca.MX.sym("lf"), ca.MX.sym("lg", g.numel())
+    ad = ca.Function("ad", [x, lam_f, lam_g], [ca.jacobian(g, x), ca.hessian(lam_f * nlp.problem["f"] + ca.dot(lam_g, g), x)[0]])
+    rng = np.random.default_rng(7)
+    n = problem.n_harmonics
+    z = np.concatenate([rng.normal(scale=0.5, size=2 * n), [0.2 * problem.period]])
+    lf, lg = 0.7, rng.normal(size=g.numel())
+    jac_ad, hess_ad = (np.asarray(ca.densify(v)) for v in ad(z, lf, lg))
+    g_own, jac_own = nlp.jac_g(z, [])
+    hess_own = np.asarray(ca.densify(nlp.hess_lag(z, [], lf, lg)))
+    np.testing.assert_allclose(np.asarray(ca.densify(jac_own)), jac_ad, rtol=1e-10, atol=1e-10 * np.abs(jac_ad).max())
+    np.testing.assert_allclose(hess_own, np.triu(hess_ad), rtol=1e-9, atol=1e-10 * np.abs(hess_ad).max())
+    np.testing.assert_allclose(np.asarray(g_own).ravel(), np.asarray(ca.Function("g", [x], [g])(z)).ravel(), rtol=1e-14)
+    assert np.abs(np.triu(hess_ad, 1)).max() > 0  # the Hessian couples the coefficients: a real check
