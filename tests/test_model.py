@@ -337,12 +337,14 @@ def test_a_kept_integrator_gives_the_same_bits():
     same numbers to the bit; other settings build another."""
     m = build_model(PressParams())
     s = FourierSpeed.constant(0.8)
-    a = simulate(m, s, integrator=Integrator(method="cvodes", rtol=1e-7), n_out=201)
+    run = dict(t_end=0.1, n_out=51)  # the journals fall onto their bearings: contact, in a tenth of the time
+    a = simulate(m, s, integrator=Integrator(method="cvodes", rtol=1e-7), **run)
     kept = dict(m.functions["integrators"])
-    b = simulate(m, s, integrator=Integrator(method="cvodes", rtol=1e-7), n_out=201)
+    b = simulate(m, s, integrator=Integrator(method="cvodes", rtol=1e-7), **run)
     assert len(kept) == 1 and all(m.functions["integrators"][k] is f for k, f in kept.items())
     assert np.array_equal(a.states, b.states) and np.array_equal(a.torque, b.torque)
-    simulate(m, s, integrator=Integrator(method="cvodes", rtol=1e-8), n_out=201)
+    assert a.stats["steps"] > 100
+    simulate(m, s, integrator=Integrator(method="cvodes", rtol=1e-8), **run)
     assert len(m.functions["integrators"]) == 2
 
 
