@@ -15,6 +15,7 @@ import casadi as ca
 import numpy as np
 
 from . import checks as chk
+from .buffers import evaluate
 from . import mechanics as mech
 from .params import PressParams
 from .result import SimResult
@@ -43,9 +44,8 @@ def evaluate_elementwise(f: ca.Function, *args: Any) -> dict[str, np.ndarray]:
     arrays = np.broadcast_arrays(*[np.asarray(a, dtype=float) for a in args])
     shape = arrays[0].shape
     flat = [a.reshape(1, -1) for a in arrays]
-    out = f.map(flat[0].shape[1])(*flat) if flat[0].size else [np.zeros((f.size1_out(i), 0)) for i in range(f.n_out())]
-    if not isinstance(out, (list, tuple)):
-        out = [out]
+    out = evaluate(f.map(flat[0].shape[1]), *flat) if flat[0].size else [np.zeros((f.size1_out(i), 0))
+                                                                          for i in range(f.n_out())]
     res = {}
     for i, o in enumerate(out):
         o = np.asarray(o)

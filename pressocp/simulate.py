@@ -12,6 +12,7 @@ import casadi as ca
 import numpy as np
 
 from . import checks as chk
+from .buffers import evaluate
 from .compile_cache import check_jit, function_options, jit_options, use_jit
 from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, QUADRATURE_NAMES, PressModel
@@ -598,8 +599,8 @@ def sim_result(model: PressModel, p: np.ndarray, t: np.ndarray, X: np.ndarray, Q
     (a non-finite one raises `SimulationError`), the energies at both ends and the work integrals
     `Qf` (None or no rows: not integrated)."""
     n = t.size
-    out = output_function(model, n)(t[None, :], X if X.size else np.zeros((0, n)), np.tile(p[:, None], (1, n)))
-    series = {name: np.asarray(v).ravel() for name, v in zip(OUTPUT_NAMES, out)}
+    out = evaluate(output_function(model, n), t, X if X.size else np.zeros((0, n)), np.tile(p[:, None], (1, n)))
+    series = {name: v.ravel() for name, v in zip(OUTPUT_NAMES, out)}
     for name, v in series.items():
         if not np.all(np.isfinite(v)):
             raise SimulationError(f"non-finite {name}", method=method, hint=HINT)
