@@ -169,6 +169,24 @@ def suite_row(res: Results) -> Row:
                f"runs.json (suite), {s['date']}")
 
 
+def idas_1e6_against_radau(rows: list[dict]) -> str:
+    """The issue's own reading, from the rows: IDAS at rtol 1e-6 against scipy Radau at the loosest
+    rtol whose peak-torque error is no larger than IDAS's. On an impacting cycle that error does not
+    fall steadily with rtol, so this ratio moves with it from run to run (the verdict stays on the
+    fixed accuracy targets); "" without the rows."""
+    idas = next((r for r in rows if r["method"] == "idas" and r["rtol"] == 1e-6 and r["ok"]), None)
+    if idas is None:
+        return ""
+    radau = [r for r in rows if r["method"] == "scipy-radau" and r["ok"]
+             and r["peak_torque_rel_error"] <= idas["peak_torque_rel_error"]]
+    if not radau:
+        return f"IDAS at 1e-6 ({idas['peak_torque_rel_error']:.1e} peak error): no Radau run as accurate"
+    loosest = max(radau, key=lambda r: r["rtol"])
+    return (f"IDAS at 1e-6 ({idas['peak_torque_rel_error']:.1e} peak error, {idas['time_per_cycle_s']:.2f} s) against "
+            f"Radau at {loosest['rtol']:g} ({loosest['peak_torque_rel_error']:.1e}, {loosest['time_per_cycle_s']:.2f} s): "
+            f"{loosest['time_per_cycle_s'] / idas['time_per_cycle_s']:.1f} ×")
+
+
 def radau_row(res: Results) -> Row:
     goal = f"seed clearance model, one cycle: IDAS at rtol 1e-6 against scipy Radau at equal peak accuracy ≥ {GOAL_RADAU_RATIO:g} ×"
     r = res.json("simulation.json")
@@ -182,6 +200,9 @@ def radau_row(res: Results) -> Row:
              f"(IDAS {v['idas']['time_per_cycle_s']:.2f} s at rtol {v['idas']['rtol']:g}, Radau "
              f"{v['scipy-radau']['time_per_cycle_s']:.2f} s at {v['scipy-radau']['rtol']:g})" for k, v in sorted(cells.items())]
     ok = min(v["radau_over_idas"] for v in cells.values()) >= GOAL_RADAU_RATIO
+    literal = idas_1e6_against_radau(r.get("results", {}).get("clearance", {}).get("rows", []))
+    if literal:
+        parts.append(literal)
     if "radau_over_idas_interpreted" in next(iter(cells.values())):
         parts.append("IDAS interpreted: " + ", ".join(f"{v['radau_over_idas_interpreted']:.1f} ×"
                                                        for _, v in sorted(cells.items())))

@@ -12,9 +12,11 @@ import casadi as ca
 import numpy as np
 
 
-def evaluate(f: ca.Function, *args: np.ndarray | float) -> list[np.ndarray]:
+def evaluate(f: ca.Function, *args: np.ndarray | float, stats: dict | None = None) -> list[np.ndarray]:
     """The outputs of `f` at `args`, its inputs in order (numbers or arrays with the input's number of
-    entries, read in column-major order), as numpy arrays of the outputs' shapes.
+    entries, read in column-major order), as numpy arrays of the outputs' shapes. `stats`, when given,
+    receives the evaluation's statistics (what ``f.stats()`` holds after a plain call; an integrator's
+    steps, for instance), also when `f` raises.
 
     Raises
     ------
@@ -41,5 +43,25 @@ def evaluate(f: ca.Function, *args: np.ndarray | float) -> list[np.ndarray]:
         out = np.empty(f.size_out(i), order="F")
         buf.set_res(i, memoryview(out.reshape(-1, order="F")))
         outputs.append(out)
-    run()
+    try:
+        run()
+    finally:
+        if stats is not None:
+            stats.update(buf.stats())
     return outputs
+
+
+def call(f: ca.Function, stats: dict | None = None, **args: np.ndarray | float) -> dict[str, np.ndarray]:
+    """`evaluate` with the inputs by name, like ``f(**args)``: an input not given takes its default
+    value (``f.default_in``; zero for an integrator's). Returns every output by name.
+
+    Raises
+    ------
+    ValueError
+        An unknown input name, or as `evaluate`.
+    """
+    unknown = set(args) - set(f.name_in())
+    if unknown:
+        raise ValueError(f"{f.name()} has no input {', '.join(sorted(unknown))}; its inputs: {', '.join(f.name_in())}")
+    values = [args[k] if k in args else np.full(f.nnz_in(i), f.default_in(i)) for i, k in enumerate(f.name_in())]
+    return dict(zip(f.name_out(), evaluate(f, *values, stats=stats)))

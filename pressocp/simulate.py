@@ -12,7 +12,7 @@ import casadi as ca
 import numpy as np
 
 from . import checks as chk
-from .buffers import evaluate
+from .buffers import call, evaluate
 from .compile_cache import check_jit, function_options, jit_options, use_jit
 from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, QUADRATURE_NAMES, PressModel
@@ -213,17 +213,14 @@ def integrate(model: PressModel, integ: Integrator, x0: np.ndarray, p: np.ndarra
     args = {"x0": x0, "p": p}
     if method == "idas":
         args["z0"] = model.z0(x0, p)
-    t0 = time.perf_counter()
+    t0, raw = time.perf_counter(), {}
     try:
         with interruptible():
-            res = F(**args)
+            res = call(F, stats=raw, **args)
     except RuntimeError as err:
-        raw = F.stats()
-        raise SimulationError(first_line(err), time=float(raw.get("tcur", np.nan)) if isinstance(raw, dict) else np.nan,
-                              method=method, hint=HINT) from None
+        raise SimulationError(first_line(err), time=float(raw.get("tcur", np.nan)), method=method, hint=HINT) from None
     wall = time.perf_counter() - t0
-    raw = F.stats()
-    X, Qf = np.asarray(res["xf"]), np.asarray(res["qf"])
+    X, Qf = res["xf"], res["qf"]
     if not (np.all(np.isfinite(X)) and np.all(np.isfinite(Qf))):
         raise SimulationError("non-finite state", method=method, hint=HINT)
     return X, Qf, _stats(raw, wall)
@@ -421,17 +418,17 @@ class PeriodicShots:
         self.ends_at_T = bool(times[-1] >= T * (1 - 1e-12))
         grid = np.append(times[1:-1], T) if self.ends_at_T else np.append(times[1:], T)
         self.F = _integrator(model, shots, grid, work=False)
-        self.started, self.last = time.perf_counter(), self.F
+        self.started, self.last = time.perf_counter(), {}  # the last shot's statistics
         self.end = self.F if grid.size == 1 else None
 
     def shoot(self, xs: np.ndarray, F: ca.Function | None = None) -> np.ndarray:
         """The states at `F`'s grid (default `F`) of the shots from the columns of `xs` (or from `xs`)."""
         F = self.F if F is None else F
-        self.started, self.last = time.perf_counter(), F
+        self.started, self.last = time.perf_counter(), {}
         p = np.tile(self.p[:, None], (1, xs.shape[1])) if xs.ndim > 1 else self.p
         try:
             with interruptible():
-                return np.asarray(F(x0=xs, p=p)["xf"])
+                return call(F, stats=self.last, x0=xs, p=p)["xf"]
         except RuntimeError as err:
             raise SimulationError(first_line(err), method=self.shots.method + " (periodic shooting)",
                                   hint=HINT) from None
@@ -448,7 +445,7 @@ class PeriodicShots:
 
     def last_cycle(self) -> dict:
         """The statistics of the last shot (as in ``SimResult.stats``)."""
-        return _stats(self.last.stats(), time.perf_counter() - self.started)
+        return _stats(self.last, time.perf_counter() - self.started)
 
 
 def newton_periodic(sh: PeriodicShots, x: np.ndarray, res: float, tol: float,
