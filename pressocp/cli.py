@@ -111,6 +111,7 @@ TEMPLATE_NOTES = {
     "shooting-cvodes", "jit": "\"auto\", true or false: compile collocation with the C compiler",
     "verify_rtol": "tolerance of the verifying re-simulation",
     "polish_rounds": "most re-solves of the last stage from its answer, each restarting the barrier (0: the first pass only)",
+    "flexible_backoffs": "a flexible rod between ideal joints: extra starts at these shares of the ram-speed tolerance ([]: none)",
 }
 #: Notes of keys whose meaning depends on their table.
 TEMPLATE_TABLE_NOTES = {
@@ -144,7 +145,7 @@ TEMPLATE_OPTIONAL = {
                 "# upper_link = 0.16                     # m, pivot to knee (the press's crank_radius)",
                 "# lower_link = 0.25                     # m, knee to slide (the press's rod_length)",
                 "# drive_angle = 1.5707963267948966      # rad, clock angle from the straight knee to the input axis"],
-    "polish_rounds": ["",
+    "flexible_backoffs": ["",
                       "# The servo drive: every result then reports the motor's figures (motor.png, summary.json).",
                       "# [drive]",
                       "# gear_ratio = 10.0                     # motor speed / crank speed",

@@ -61,7 +61,7 @@ PROBLEM_KEYS = tuple(f.name for f in fields(SpeedProblem) if f.name not in ("pre
 #: Tables a scenario may leave out, which `--set` may still name.
 OPTIONAL_TABLES = ("mechanism", "drive")
 #: Keys of the [solver] table.
-SOLVER_KEYS = ("transcription", "elements", "jit", "verify_rtol", "polish_rounds")
+SOLVER_KEYS = ("transcription", "elements", "jit", "verify_rtol", "polish_rounds", "flexible_backoffs")
 
 
 class ScenarioError(ValueError):
@@ -84,6 +84,9 @@ class SolverChoice:
         Tolerance of the final re-simulation.
     polish_rounds : int
         Most re-solves of the last stage from its own answer (`Strategy.polish_rounds`), 0..10.
+    flexible_backoffs : tuple of float
+        Ram-speed backoffs of the extra starts of a flexible rod between ideal joints
+        (`Strategy.flexible_backoffs`; empty: the rigid optimum only).
     """
 
     transcription: str = "auto"
@@ -91,6 +94,7 @@ class SolverChoice:
     jit: bool | str = "auto"
     verify_rtol: float = 1e-9
     polish_rounds: int = 3
+    flexible_backoffs: tuple[float, ...] = Strategy.flexible_backoffs
 
     def __post_init__(self) -> None:
         # every key is checked here, when the scenario loads, not when a solve starts (the
@@ -104,6 +108,8 @@ class SolverChoice:
                              "re-simulation's relative tolerance; 1e-9 by default)")
         object.__setattr__(self, "verify_rtol", r)
         chk.integer("polish_rounds", self.polish_rounds, 0, 10)
+        object.__setattr__(self, "flexible_backoffs", tuple(self.flexible_backoffs))
+        self.make_strategy()  # checks the backoffs, as the strategy does
 
     def make_transcription(self) -> Collocation | MultipleShooting:
         """The transcription object this choice names (`optimize_speed`'s ``transcription``)."""
@@ -112,8 +118,10 @@ class SolverChoice:
         return Collocation(elements=self.elements, jit=self.jit)
 
     def make_strategy(self) -> Strategy:
-        """The default stage chain with this choice's verification tolerance and polish rounds."""
-        return Strategy(verify_rtol=self.verify_rtol, polish_rounds=self.polish_rounds)
+        """The default stage chain with this choice's verification tolerance, polish rounds and flexible
+        starts."""
+        return Strategy(verify_rtol=self.verify_rtol, polish_rounds=self.polish_rounds,
+                        flexible_backoffs=self.flexible_backoffs)
 
 
 @dataclass(frozen=True)
@@ -207,7 +215,7 @@ class Scenario:
             model = _typed(ModelSpec, data.get("model", {}), "model", where, {"clearance": (list, tuple)},
                            exclude=("mechanism",))
             model = dataclasses.replace(model, mechanism=mechanism)
-            solver = _typed(SolverChoice, data.get("solver", {}), "solver", where)
+            solver = _typed(SolverChoice, data.get("solver", {}), "solver", where, lists={"flexible_backoffs": 1})
             if solver.transcription not in TRANSCRIPTIONS:
                 raise ScenarioError(f"{where}solver.transcription must be one of {', '.join(TRANSCRIPTIONS)}; got "
                                     f"{solver.transcription!r}{_suggest(solver.transcription, TRANSCRIPTIONS)}")
@@ -316,7 +324,7 @@ def _typed(cls, table: Any, prefix: str, where: str, lists: dict | None = None, 
     values = {}
     for key, value in table.items():
         if lists and key in lists:
-            if not isinstance(value, list):
+            if not isinstance(value, (list, tuple)):  # a tuple: from `Scenario.to_dict`
                 raise ScenarioError(f"{where}{prefix}.{key} must be a list, got {value!r}")
             value = tuple(value)
         else:

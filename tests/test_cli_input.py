@@ -52,6 +52,8 @@ BAD_FILES = [
     ("solver tolerance zero", GOOD + '[solver]\nverify_rtol = 0.0\n', ["verify_rtol", "[1e-14, 1e-05]"]),
     ("negative elements", GOOD + '[solver]\nelements = -5\n', ["elements", "-5"]),
     ("jit as a word", GOOD + '[solver]\njit = "yes"\n', ["jit", "'yes'"]),
+    ("flexible backoff over 1", GOOD + '[solver]\nflexible_backoffs = [0.9, 1.2]\n', ["flexible_backoffs", "[0.001, 1]", "1.2"]),
+    ("flexible backoffs as a number", GOOD + '[solver]\nflexible_backoffs = 0.9\n', ["flexible_backoffs", "list"]),
     ("malformed TOML", GOOD.replace("slider_mass = 600.0", "slider_mass = 600.0 kg"), ["TOML", "line"]),
     ("a table given a value", GOOD.replace("[press.wrist_pin]\nclearance = 1.5e-4", "").replace(
         "[problem]", "[problem]") + "", None),  # placeholder replaced below

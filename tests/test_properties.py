@@ -71,7 +71,7 @@ TOML_VALUES = st.one_of(st.floats(allow_nan=False, allow_infinity=False, width=3
                                                                                 "inf", "-0.0", '""']))
 TOML_KEYS = st.sampled_from([f"press.{k}" for k in PRESS] + [f"press.wrist_pin.{k}" for k in BEARING]
                             + ["problem.stroke_rate_spm", "problem.ram_speed", "problem.window", "problem.n_harmonics",
-                               "problem.objective", "solver.elements", "solver.verify_rtol", "solver.jit",
+                               "problem.objective", "solver.elements", "solver.verify_rtol", "solver.jit", "solver.flexible_backoffs",
                                "model.rod", "model.clearance", "press.no_such_key"])
 
 

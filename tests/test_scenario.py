@@ -108,3 +108,15 @@ def knuckle_edit(old, new):
 def test_bad_mechanisms_are_refused_naming_the_key(text, match):
     with pytest.raises(ScenarioError, match=match):
         Scenario.from_toml(text, source="my.toml")
+
+
+def test_the_flexible_starts_are_a_solver_key(tmp_path):
+    """[solver] flexible_backoffs reaches the strategy, round-trips through a file, and [] means none."""
+    s = Scenario.load("slender_rod").with_overrides({"solver.flexible_backoffs": [0.9, 0.8]})
+    assert s.solver.make_strategy().flexible_backoffs == (0.9, 0.8)
+    path = tmp_path / "s.toml"
+    path.write_text(s.to_toml())
+    assert "flexible_backoffs = [0.9, 0.8]" in path.read_text()
+    assert Scenario.load(path).solver.make_strategy().flexible_backoffs == (0.9, 0.8)
+    assert Scenario.load("slender_rod").with_overrides({"solver.flexible_backoffs": []}).solver.make_strategy() \
+        .flexible_backoffs == ()
