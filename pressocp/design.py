@@ -188,10 +188,10 @@ def design_nlp(problem: SpeedProblem, settings: DesignSettings) -> DesignNlp:
     the window's samples, crank speeds over the period, h(t1)/H - w0, theta(t1)).
 
     Every sample is the same small SX function of z mapped over the samples, and so are its gradient
-    and Hessian: the Jacobian and the exact Lagrangian Hessian are sums and stacks of per-sample
-    kernels instead of one SX expression over all samples, whose Hessian took 7 s to build for 1000
-    samples (1.1 M nodes) and evaluates slower (2026-11-27: the whole design 11.7 s -> 1.3 s, the
-    same optimum to 1e-13).
+    and Hessian: the Jacobian and the exact Lagrangian Hessian are stacks and sums of per-sample
+    kernels. CasADi's own Hessian of one SX expression over all 1000 samples is the same matrix, but
+    took 7 s to build (1.1 M nodes): with it the seed design took 11.7 s, with the kernels 1.3 s, to
+    the same optimum (1e-13; docs/optimisation.md).
     """
     params, T, v, n = problem.press, problem.period, problem.ram_speed, problem.n_harmonics
     m, H, w0, tau = settings.samples, problem.stroke, problem.window[0], problem.window_duration
@@ -208,7 +208,7 @@ def design_nlp(problem: SpeedProblem, settings: DesignSettings) -> DesignNlp:
     err = at(t1 + tau * s)[0]["ram_velocity"] / v - 1
     omega = at(ts)[2]
     k = 2 * np.pi * np.arange(1, n + 1) / T
-    smooth = settings.smoothing_weight * (T / 2) * ca.sumsqr(ca.vertcat(k, k) * c) * T / wbar**2
+    smooth = settings.smoothing_weight * (T / 2) * ca.sumsqr(ca.vertcat(k, k) * c) * T / wbar**2  # int alpha^2 dt
     kin1, th1, _ = at(t1)
     ends = ca.vertcat(kin1["ram_height"] / H - w0, th1)
     # multipliers: sigma (objective), one per sample, two at the ends
