@@ -31,6 +31,7 @@ import numpy as np
 
 from . import checks as chk
 from . import mechanics as mech
+from .buffers import evaluate
 from .contact import contact_force
 from .mechanism import SLIDER_CRANK, Linkage, Mechanism, mechanism_from_dict, mechanism_to_dict
 from .params import PressParams
@@ -253,9 +254,9 @@ class PressModel:
             raise ValueError(f"ideal_series needs a model without states (ideal joints, rigid rod); this one is "
                              f"{self.spec.describe()}")
         t = np.atleast_1d(np.asarray(t, float))
-        out = self.outputs.map(t.size)(t[None, :], np.zeros((0, t.size)),
-                                       np.tile(self.parameters(speed)[:, None], (1, t.size)))
-        return {name: np.asarray(v).ravel() for name, v in zip(OUTPUT_NAMES, out)}
+        out = evaluate(self.outputs.map(t.size), t, np.zeros((0, t.size)),
+                       np.tile(self.parameters(speed)[:, None], (1, t.size)))
+        return {name: v.ravel() for name, v in zip(OUTPUT_NAMES, out)}
 
     def z0(self, x: np.ndarray, p: np.ndarray, t: float = 0.0) -> np.ndarray:
         """Consistent algebraic state (free accelerations) for a state."""

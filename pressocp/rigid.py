@@ -48,7 +48,6 @@ def evaluate_elementwise(f: ca.Function, *args: Any) -> dict[str, np.ndarray]:
                                                                           for i in range(f.n_out())]
     res = {}
     for i, o in enumerate(out):
-        o = np.asarray(o)
         rows = f.size1_out(i)
         res[f.name_out(i)] = o.reshape(shape) if rows == 1 else o.reshape((rows,) + shape)
     return res
