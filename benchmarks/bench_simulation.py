@@ -57,9 +57,9 @@ def run_case(name, model, speed, methods, rtols, repeats, budget, rtol_ref=1e-10
     """Every method at every rtol, against a CVODES reference at `rtol_ref` (on `model` as it is).
     ``floors``: method -> the tightest rtol it runs (a tighter one is left out, and recorded as such);
     a method stops at the first rtol whose run takes more than `budget` s. A method named with
-    `INTERPRETED` runs on an interpreted copy of `model` (``jit=False``: "auto" compiles a flexible
-    rod, so until 2026-11-27 its "interpreted" rows were compiled), every other on a compiled copy
-    (``jit``) after a timed warm-up run that compiles it."""
+    `INTERPRETED` runs on an interpreted copy of `model` (``jit=False``: "auto" would compile a
+    flexible rod), every other on a compiled copy (``jit``) after a timed warm-up run that compiles
+    it."""
     t0 = time.perf_counter()
     if model.rod == "flexible":
         x0, info = flexible_start(model, speed), "rigid-rod periodic state + 1 warm-up cycle"
