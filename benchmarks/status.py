@@ -331,9 +331,13 @@ def shooting_row(res: Results) -> Row:
         return Row(29, goal, f"started from collocation's verified {colloc:.3f} N·m: {r['error'].splitlines()[0]}",
                    verdict(False), f"transcriptions_flexible_shooting.json, {d['date']}")
     rel = r["verified_objective"] / colloc - 1
-    text = (f"{r['status']}, {r['iterations']} iterations, {r['wall_time_s']:.0f} s (compile included); verified "
-            f"{r['verified_objective']:.3f} N·m against collocation's {colloc:.3f} ({rel:+.1%})")
-    return Row(29, goal, text, verdict(r["success"] and abs(rel) <= 0.005),
+    held = r.get("periodic") is True and r.get("ram_speed_violation_m_s", 1.0) <= 0.0
+    text = (f"{r['status']}, {r['iterations']} iterations, {r['wall_time_s']:.0f} s "
+            f"({r['wall_time_s'] / max(r['iterations'], 1):.1f} s per iteration, compile included); verified "
+            f"{r['verified_objective']:.3f} N·m against collocation's {colloc:.3f} ({rel:+.1%})"
+            + ("" if held else ", its re-simulation not periodic with the ram speed in tolerance"))
+    # a lower verified peak than collocation's is better, not a miss: the goal is no more than 0.5 % above
+    return Row(29, goal, text, verdict(r["success"] and held and rel <= 0.005),
                f"transcriptions_flexible_shooting.json, {d['date']}")
 
 

@@ -16,10 +16,9 @@ import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, fields
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
-from scipy.integrate import trapezoid
 
 from .drive import Drive
 from .io import SUMMARY_NAME, RunMismatch, atomic_write, check_run_file
@@ -29,6 +28,9 @@ from .report import format_table
 from .scenario import Scenario, ScenarioError
 from .speed import FourierSpeed
 from .units import force_unit
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: The label of the compared response in ``results.csv`` and in the ``drive`` block, by job.
 JOB_LABELS = {"optimize": "optimum", "simulate": "speed", "design": "design"}
@@ -109,6 +111,8 @@ class Design:
                if isinstance(self.summary.get(k), (int, float)) and not isinstance(self.summary.get(k), bool)}
         t, torque = self.series_time(), self.series("torque")
         if t is not None and torque is not None and t[-1] > t[0]:
+            from scipy.integrate import trapezoid  # 1 s to import: only where runs are compared
+
             out["rms_torque_N_m"] = float(np.sqrt(trapezoid(torque**2, t) / (t[-1] - t[0])))
         cycle = (self.summary.get("drive") or {}).get(self.label)
         if isinstance(cycle, dict):
@@ -132,6 +136,8 @@ def load_results(folder: Path, which: str, name: str | None = None) -> Design:
         check_run_file(folder / SUMMARY_NAME)
         check_run_file(folder / "results.csv")
         summary = json.loads((folder / SUMMARY_NAME).read_text(encoding="utf-8"))
+        import pandas as pd  # 0.5 s to import: only where a table is made
+
         results = pd.read_csv(folder / "results.csv")
     except RunMismatch as err:
         raise CompareError(f"{which} {name}: {err}") from None
@@ -187,6 +193,8 @@ def compare_table(a: Design, b: Design) -> pd.DataFrame:
     rows = [{"figure": k, "label": label, "unit": unit, "A": fa[k], "B": fb[k],
              "B/A": fb[k] / fa[k] if fa[k] != 0 else np.nan}
             for k, (label, unit) in labels.items() if k in fa and k in fb]
+    import pandas as pd  # 0.5 s to import: only where a table is made
+
     return pd.DataFrame(rows, columns=["figure", "label", "unit", "A", "B", "B/A"])
 
 

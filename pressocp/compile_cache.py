@@ -197,7 +197,7 @@ def jit_options() -> dict:
             folder = None
     script = Path(__file__).with_name("jitcc.py")  # a link runs as it is, but a SIGINT during it is recorded too
     compiler = linker = RECORD_INTERRUPT + " ".join(shlex.quote(str(a)) for a in (
-        sys.executable, "-s", script, NO_CACHE if folder is None else folder, cc))
+        sys.executable, "-I", "-S", script, NO_CACHE if folder is None else folder, cc))
     os.environ[INTERRUPT_ENV] = str(interrupt_flag())  # for the compiler's process (`compile_interrupted`)
     os.environ[COMPILE_LOG_ENV] = str(compile_log())  # and where it logs its time (`compile_seconds`)
     _remove_log_at_exit()

@@ -15,7 +15,6 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 
 import numpy as np
-from scipy.integrate import cumulative_trapezoid, trapezoid
 
 from . import checks as chk
 
@@ -216,6 +215,8 @@ def motor_cycle(drive: Drive, t, omega, alpha, crank_torque, load_inertia) -> Mo
     `alpha` rad/s^2) and crank torque (N m, positive driving); `load_inertia` is the press's
     generalised inertia about the crank at those instants (kg m^2: twice its kinetic energy at
     1 rad/s)."""
+    from scipy.integrate import cumulative_trapezoid, trapezoid  # 1 s to import: only where a drive is
+
     t, omega, alpha, tau = (np.asarray(v, dtype=float) for v in (t, omega, alpha, crank_torque))
     if np.any(omega <= 0.0):
         raise ValueError(f"omega must be in (0, inf) rad/s throughout, got a least value {float(np.min(omega)):g}: "

@@ -22,7 +22,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.integrate import cumulative_trapezoid
 
 from .series import PIN_FORCES
 
@@ -126,6 +125,8 @@ class Objective:
             return total
         span = float(np.sum(w))
         if period is None:
+            from scipy.integrate import cumulative_trapezoid  # scipy.integrate: 1 s to import, seldom needed
+
             stored = cumulative_trapezoid(terms[0] - total / span, t, initial=0.0)
         else:
             order = np.argsort(t)

@@ -8,15 +8,18 @@ import os
 import platform
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 
 from .drive import MotorCycle
 from .io import atomic_write
 from .problem import SpeedProblem
 from .result import SERIES_UNITS, SimResult
 from .units import force_unit, format_force
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: Loads reported by every job: `SimResult` series -> (summary key stem, label, unit).
 LOADS = {
@@ -70,6 +73,8 @@ def cycle_table(responses: Mapping[str, SimResult], motors: Mapping[str, MotorCy
         t = motor.t - motor.t[0]
         for name, unit in (("speed", "rad/s"), ("torque", "N m")):
             columns[f"{label} motor_{name} [{unit}]"] = np.interp(t_ref, t, getattr(motor, name))
+    import pandas as pd  # 0.5 s to import: only where a table is made
+
     return pd.DataFrame(columns)
 
 

@@ -29,16 +29,19 @@ from __future__ import annotations
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import casadi as ca
 import numpy as np
-import pandas as pd
 
 from .compile_cache import use_jit
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
 from .simulate import Integrator, SimulationError, calling, compiled_dae, periodic_state, simulate
 from .speed import FourierSpeed
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: Quantities (peak magnitudes) and the model output they are the peak of.
 QUANTITIES = {"peak_torque": "torque", "peak_slider_normal_force": "slider_normal_force",
@@ -259,6 +262,8 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
         errors = np.full(d.shape, np.inf)
         unverified = f"the run at {LOOSER:g} rtol failed: {str(err).splitlines()[0]}"
     rows, per_peak = sensitivity_rows(peaks, names, pv[pv.size - len(names):], y, d, errors)
+    import pandas as pd  # 0.5 s to import: only where a table is made
+
     return Sensitivities(pd.DataFrame(rows), pd.DataFrame(per_peak), periodic, time.perf_counter() - t_start,
                          unverified)
 

@@ -24,9 +24,8 @@ from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import Executor, as_completed
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import pandas as pd
 from tqdm.auto import tqdm
 
 from . import impacts
@@ -37,6 +36,9 @@ from .scenario import Scenario
 from .speed import FourierSpeed
 from .summaries import optimum_summary, simulate_speed, simulation_summary
 from .workers import process_pool
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: What a sweep can run at each point.
 TASKS = ("optimize", "simulate", "impacts")
@@ -142,6 +144,8 @@ def _done_rows(csv: Path | None, keys: list[str]) -> dict[str, dict]:
     """Rows of an earlier run of the same sweep that succeeded, by their varied values."""
     if csv is None or not csv.exists():
         return {}
+    import pandas as pd  # 0.5 s to import: only where a table is made
+
     old = pd.read_csv(csv)
     if not set(keys) <= set(old.columns):
         raise ValueError(f"{csv} holds another sweep (its columns lack {sorted(set(keys) - set(old.columns))})")
@@ -281,6 +285,8 @@ def run_parallel(task: str, scenarios: list[Scenario], indices: list[int], speed
 
 
 def _table(rows: dict[int, dict], keys: list[str]) -> pd.DataFrame:
+    import pandas as pd  # 0.5 s to import: only where a table is made
+
     frame = pd.DataFrame([rows[i] for i in sorted(rows)])
     first = [*keys, *BASE_COLUMNS]
     return frame[[c for c in first if c in frame] + [c for c in frame if c not in first]]

@@ -18,9 +18,9 @@ import time
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 
 from .. import checks as chk
 from ..model import ModelSpec, build_model
@@ -32,6 +32,9 @@ from .kkt import KktSensitivity, kkt_sensitivity
 from .nlp import ParametricPoint
 from .ocp_result import OcpResult
 from .stage import StageResult, Transcription, WarmStart, standing_stage, transcription_from
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: Parameters that move the working window (its heights are fractions of the stroke) or the ideal
 #: press's kinematics: a derivative of the optimum holding the problem fixed does not exist for them.
@@ -228,6 +231,8 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
                       "there and neither value is to be trusted; re-solve at p +- dp or sweep the parameter",
                       RuntimeWarning, stacklevel=2)
     labels = [f"a{i + 1}" for i in range(n2 // 2)] + [f"b{i + 1}" for i in range(n2 // 2)]
+    import pandas as pd  # 0.5 s to import: only where a table is made
+
     coeffs = pd.DataFrame(k.dx_dp[:n2, :], index=labels, columns=list(names))
     return OptimumSensitivities(
         table=pd.DataFrame(rows), coefficients=coeffs, stage=stage.name, objective=J,

@@ -1,5 +1,5 @@
-"""`MultipleShooting`: the period cut into N equal intervals, each integrated by SUNDIALS (IDAS on the
-semi-explicit DAE, or CVODES on the explicit ODE) from its node state, with the loads at S output
+"""`MultipleShooting`: the period cut into N equal intervals, each integrated by SUNDIALS (IDAS or
+CVODES, on the explicit ODE) from its node state, with the loads at S output
 samples inside it. The interval integrator is built once, given forward-mode sensitivities (the
 backward IDAS pass fails on clearance contact) and mapped over the intervals in threads. The NLP
 variables are the Fourier coefficients, the node states and the epigraph variable; IPOPT uses a
@@ -72,6 +72,13 @@ def interval_function(model: PressModel, grid: ShootingGrid, names: tuple[str, .
     "auto": when a C compiler is found) the integrator evaluates the DAE and its derivatives as compiled
     code (`pressocp.simulate.calling`).
 
+    Both integrators take the explicit ODE (the accelerations solved for in the right-hand side), and
+    IDAS computes its consistent state derivative with IDACalcIC, exactly (the residual is linear in
+    it). On the semi-explicit DAE, started from the node state and its free accelerations, IDACalcIC's
+    line search failed (IDA_LINESEARCH_FAIL) on one interval of the slender-rod scene's optimum, where
+    CVODES integrated every interval; without IDACalcIC the zero state derivative IDAS then starts
+    from made its forward sensitivities fail their first step at rtol 1e-10 (2026-11-27).
+
     Returns
     -------
     ca.Function
@@ -80,23 +87,16 @@ def interval_function(model: PressModel, grid: ShootingGrid, names: tuple[str, .
     """
     chk.choice("integrator", integrator, INTEGRATORS)
     tau, t0 = ca.SX.sym("tau"), ca.SX.sym("t0")
-    dae = model.dae(explicit=integrator != "idas")
-    dae.pop("quad")
-    for k in ("ode", "alg"):
-        if k in dae:
-            dae[k] = ca.substitute(dae[k], model.t, tau + t0)
-    dae.update(t=tau, p=ca.vertcat(model.p, t0))
+    dae = model.dae(explicit=True, work=False)
+    dae.update(ode=ca.substitute(dae["ode"], model.t, tau + t0), t=tau, p=ca.vertcat(model.p, t0))
     if use_jit(jit, "the shooting intervals"):
         dae = calling(compiled_dae(dae))
     opts = {"reltol": rtol, "abstol": rtol if atol is None else atol, "max_num_steps": max_steps}
     if integrator == "idas":
-        opts.update(calc_ic=True, suppress_algebraic=True)
+        opts.update(calc_ic=True)
     F = ca.integrator("shooting_" + integrator, integrator, dae, 0.0, grid.local, opts)
     x0, p, ts = ca.MX.sym("x0", model.nx), ca.MX.sym("p", model.p.numel()), ca.MX.sym("t0")
-    args = {"x0": x0, "p": ca.vertcat(p, ts)}
-    if integrator == "idas":
-        args["z0"] = model.accelerations(ts, x0, p)
-    X = F(**args)["xf"]
+    X = F(x0=x0, p=ca.vertcat(p, ts))["xf"]
     S = grid.samples
     out = model.outputs.map(S)(ts + ca.DM(grid.local).T, X, ca.repmat(p, 1, S))
     y = ca.vertcat(*[out[OUTPUT_NAMES.index(n)] for n in names])
