@@ -128,7 +128,11 @@ class MultipleShooting(StateSettings):
     intervals : int
         Intervals per period, 1..400.
     samples : int
-        Output samples per interval for the load and ram-speed constraints, 1..1000.
+        Output samples per interval for the load and ram-speed constraints, 1..1000. The ram speed is
+        also held at the two samples that bracket the working window, up to one sample spacing outside
+        it, so coarse samples ask more than the problem does: on the slender-rod scene (16 intervals)
+        collocation's optimum broke those bounds by 0.42 x the tolerance at 25 samples and shooting
+        ended 2.8 % higher; at 100, by 0.06 x, and it ended 1.7 % lower (2026-11-27).
     rtol : float
         Integrator tolerance (atol = rtol on the scaled states).
     max_steps : int
