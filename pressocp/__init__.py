@@ -12,7 +12,8 @@ from .mechanism import (KnuckleJoint, KnucklePress, SixBar, SixBarPress, SliderC
 from .model import ModelSpec, PressModel, build_model
 from .objectives import OBJECTIVES, Objective
 from .ocp import (Collocation, MultipleShooting, OcpResult, OptimumSensitivities, Rigid, SensitivityError,
-                  StageResult, Strategy, Transcription, WarmStart, optimize_speed, optimum_sensitivities)
+                  StageResult, Strategy, Transcription, TranscriptionRecommendation, WarmStart, optimize_speed,
+                  optimum_sensitivities, recommend_transcription)
 from .params import Bearing, Counterbalance, PressParams, ProcessForce, hertz_internal_stiffness
 from .problem import ReversalWarning, SpeedProblem
 from .stroke_rate import RateSearch, max_stroke_rate
@@ -31,9 +32,9 @@ __all__ = [
     "MultipleShooting", "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams",
     "Counterbalance", "ProcessForce", "RateSearch", "ReversalWarning", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",
     "SixBar", "SixBarPress", "SliderCrank",
-    "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "Transcription", "WarmStart", "WorkingZone", "build_model",
+    "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "Transcription", "TranscriptionRecommendation", "WarmStart", "WorkingZone", "build_model",
     "constant_speed_zone", "crank_angle_at_height",
-    "design_speed", "hertz_internal_stiffness", "max_stroke_rate", "motor_cycle", "optimize_speed", "optimum_sensitivities", "recommend_model",
+    "design_speed", "hertz_internal_stiffness", "max_stroke_rate", "motor_cycle", "optimize_speed", "optimum_sensitivities", "recommend_model", "recommend_transcription",
     "rigid_inverse_dynamics", "rigid_kinematics", "rigid_response", "sensitivities", "Sensitivities", "simulate",
     "sweep",
 ]

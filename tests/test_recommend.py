@@ -66,3 +66,24 @@ def test_slender_rod_scene_is_flexible():
     assert r.first_mode == pytest.approx(203.2, rel=1e-3)
     assert r.mode_ratio < 10
 
+
+
+@pytest.mark.parametrize("scenario, solve, refinement", [
+    ("press75", po.Collocation, None),  # clearance joints: shooting did not converge on the map
+    ("slender_rod", po.Collocation, po.MultipleShooting),  # smooth: shooting refines collocation's optimum
+])
+def test_the_transcription_follows_the_model_level(scenario, solve, refinement):
+    spec = po.Scenario.load(scenario).build_model().spec
+    r = po.recommend_transcription(spec)
+    assert type(r.transcription) is solve
+    assert (r.refinement is None) if refinement is None else type(r.refinement) is refinement
+    if refinement is not None:  # through IDAS, sampled finely enough to hold the window where it is
+        assert r.refinement.integrator == "idas" and r.refinement.samples >= 100
+    assert ("clearance joints" in r.reason) == bool(spec.clearance)
+
+
+def test_the_ideal_press_is_solved_by_the_rigid_transcription():
+    r = po.recommend_transcription(po.ModelSpec("rigid", ()))
+    assert type(r.transcription) is po.Rigid and r.refinement is None and "no states" in r.reason
+    with pytest.raises(ValueError, match="PressModel or a ModelSpec"):
+        po.recommend_transcription("flexible")

@@ -2,6 +2,7 @@
 transcriptions (`Rigid`, `MultipleShooting`, `Collocation`), the stage chain (`Strategy`) and the
 result (`OcpResult`)."""
 
+from .choice import TranscriptionRecommendation, recommend_transcription
 from .collocation import Collocation, CollocationGrid
 from .optimize import optimize_speed
 from .ocp_result import OcpResult
@@ -12,5 +13,6 @@ from .stage import Check, StageResult, Transcription, WarmStart, transcription_f
 from .strategy import Strategy
 
 __all__ = ["Check", "Collocation", "CollocationGrid", "MultipleShooting", "OcpResult", "OptimumSensitivities", "Rigid",
-           "SensitivityError", "ShootingError", "ShootingGrid", "StageResult", "Strategy", "Transcription", "WarmStart",
-           "optimize_speed", "optimum_sensitivities", "transcription_from"]
+           "SensitivityError", "ShootingError", "ShootingGrid", "StageResult", "Strategy", "Transcription",
+           "TranscriptionRecommendation", "WarmStart", "optimize_speed", "optimum_sensitivities",
+           "recommend_transcription", "transcription_from"]
