@@ -33,9 +33,9 @@ Cases (``--case``; each writes benchmarks/results/transcriptions_<case>.json and
               shooting capped at ``--shooting-wall`` s (``--methods`` runs some of them; the JSON
               keeps the others' rows). Writes transcriptions_map.json and .png.
 
-* ``flexible_shooting`` the same scene: IDAS multiple shooting (compiled, 16 intervals x
-              `SHOOTING_SAMPLES`) started from collocation's answer, against that answer re-simulated
-              (issue #29: within 0.5 %).
+* ``flexible_shooting`` the same scene: the refinement `recommend_transcription` gives it (IDAS
+              multiple shooting, compiled, 16 intervals x 100 samples) started from collocation's answer,
+              against that answer re-simulated (issue #29: within 0.5 %).
 
     python benchmarks/bench_transcriptions.py --case smooth|seed|flexible|flexible_shooting|map [--shooting-wall S]
 """
@@ -46,7 +46,7 @@ import argparse
 import json
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from types import SimpleNamespace
 from pathlib import Path
 
@@ -154,13 +154,6 @@ def flexible_case(wall: float) -> Case:
                 {"scenario": "slender_rod", "model": model.spec.describe(), "start_on_model_objective": on_rod})
 
 
-#: Output samples per shooting interval of the ``flexible_shooting`` case. The ram speed is held at the
-#: samples that bracket the working window, up to one sample spacing outside it: with 25 per interval
-#: (0.16 ms apart) collocation's optimum broke those bounds by 0.42 x the tolerance and shooting climbed
-#: to 72.3 N·m verified; with 100 (0.04 ms), by 0.06 x, and it went down to 69.16 (2026-11-27).
-SHOOTING_SAMPLES = 100
-
-
 def flexible_shooting_case(wall: float) -> Case:
     """The slender-rod scene (issue #29): IDAS multiple shooting started from collocation's optimum (the
     default call's answer: its flexible stage and polish, collocation on the default grid), its node
@@ -178,8 +171,9 @@ def flexible_shooting_case(wall: float) -> Case:
     print(f"default call ({answer.status}, {time.perf_counter() - t0:.0f} s): {answer.objective_value:.5g}, "
           f"verified {colloc:.5g}", flush=True)
     cap = {"ipopt.max_wall_time": wall}
-    runs = [(f"IDAS shooting 16x{SHOOTING_SAMPLES}, compiled",
-             po.MultipleShooting("idas", samples=SHOOTING_SAMPLES, ipopt=cap))]
+    refine = po.recommend_transcription(model).refinement  # IDAS shooting, sampled finely (its docstring)
+    refine = replace(refine, ipopt={**refine.ipopt, **cap})
+    runs = [(f"IDAS shooting {refine.intervals}x{refine.samples}, compiled", refine)]
     goals = {f"collocation's verified optimum {colloc:.2f} N·m": colloc,
              f"within {GOAL_REL:.1%} of it": colloc * (1 + GOAL_REL)}
     return Case(problem, start, runs, goals, lambda: model, "flexible",

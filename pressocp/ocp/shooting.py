@@ -72,12 +72,10 @@ def interval_function(model: PressModel, grid: ShootingGrid, names: tuple[str, .
     "auto": when a C compiler is found) the integrator evaluates the DAE and its derivatives as compiled
     code (`pressocp.simulate.calling`).
 
-    Both integrators take the explicit ODE (the accelerations solved for in the right-hand side), and
-    IDAS computes its consistent state derivative with IDACalcIC, exactly (the residual is linear in
-    it). On the semi-explicit DAE, started from the node state and its free accelerations, IDACalcIC's
-    line search failed (IDA_LINESEARCH_FAIL) on one interval of the slender-rod scene's optimum, where
-    CVODES integrated every interval; without IDACalcIC the zero state derivative IDAS then starts
-    from made its forward sensitivities fail their first step at rtol 1e-10 (2026-11-27).
+    Both integrators take the explicit ODE (the accelerations solved for in the right-hand side); IDAS
+    computes its consistent state derivative with IDACalcIC, which is exact on an ODE. On the
+    semi-explicit DAE IDACalcIC could fail where CVODES integrated
+    (docs/decisions/2026-11-27-idas-shooting-ode.md).
 
     Returns
     -------
