@@ -158,6 +158,36 @@ def per_group(mask: np.ndarray, groups: list) -> dict[str, int]:
     return out
 
 
+def differentiated_nlp(result: OcpResult, stage: StageResult, names: tuple[str, ...]
+                       ) -> tuple[Transcription, SpeedProblem, ModelSpec]:
+    """The transcription, problem and model whose NLP is re-solved and differentiated at the answer.
+
+    The answer's own stage NLP with IPOPT's default options; the ideal press's stages keep their
+    rod-tension bounds and take no bearing parameters; a transcription that gives no parametric point
+    (multiple shooting) is refused before any solve.
+    """
+    problem = result.problem
+    if not stage.settings:
+        raise ValueError(f"the answer's stage {stage.name!r} records no transcription settings (a result saved "
+                         "before they were recorded): optimise again")
+    transcription = replace(transcription_from(stage.settings), ipopt={})  # the stage's NLP, default IPOPT options
+    if not transcription.has_states:  # the ideal press's stages: rigid, no_reversal, relaxed
+        bearings = [n for n in names if "." in n]
+        if bearings:
+            raise ValueError(f"the answer is the ideal press's optimum (verified on the clearance model), which "
+                             f"does not depend on {', '.join(bearings)}: differentiate a clearance-model optimum "
+                             "(optimize_speed(..., strategy='all')) or sweep it")
+        problem = problem.replace(min_tension=stage.details.get("min_tension_N"),
+                                  max_tension=stage.details.get("max_tension_N"))
+        spec = result.model
+    elif transcription.gives_parametric_point:
+        spec = result.model if stage.model == result.model.describe() else ModelSpec("rigid", result.model.clearance, mechanism=result.model.mechanism)
+    else:
+        raise ValueError(f"the answer comes from {type(transcription).__name__} (stage {stage.name!r}); optimum "
+                         "sensitivities need a Rigid or Collocation answer: optimise with the default transcription")
+    return transcription, problem, spec
+
+
 def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress: bool = False
                           ) -> OptimumSensitivities:
     """dJ*/dp and d(coefficients)/dp of an optimal design for press parameters p.
@@ -187,27 +217,9 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
     chk.instance("result", result, OcpResult)
     names = checked_names(parameters)
     stage = answer_stage(result)
-    problem, press = result.problem, result.problem.press
     t0 = time.perf_counter()
-    if not stage.settings:
-        raise ValueError(f"the answer's stage {stage.name!r} records no transcription settings (a result saved "
-                         "before they were recorded): optimise again")
-    transcription = replace(transcription_from(stage.settings), ipopt={})  # the stage's NLP, default IPOPT options
-    if not transcription.has_states:  # the ideal press's stages: rigid, no_reversal, relaxed
-        bearings = [n for n in names if "." in n]
-        if bearings:
-            raise ValueError(f"the answer is the ideal press's optimum (verified on the clearance model), which "
-                             f"does not depend on {', '.join(bearings)}: differentiate a clearance-model optimum "
-                             "(optimize_speed(..., strategy='all')) or sweep it")
-        problem = problem.replace(min_tension=stage.details.get("min_tension_N"),
-                                  max_tension=stage.details.get("max_tension_N"))
-        spec = result.model
-    elif transcription.gives_parametric_point:
-        spec = result.model if stage.model == result.model.describe() else ModelSpec("rigid", result.model.clearance, mechanism=result.model.mechanism)
-    else:
-        raise ValueError(f"the answer comes from {type(transcription).__name__} (stage {stage.name!r}); optimum "
-                         "sensitivities need a Rigid or Collocation answer: optimise with the default transcription")
-    model = build_model(press, spec.rod, spec.clearance, spec.n_elements, problem.n_harmonics, names,
+    transcription, problem, spec = differentiated_nlp(result, stage, names)
+    model = build_model(problem.press, spec.rod, spec.clearance, spec.n_elements, problem.n_harmonics, names,
                         n_modes=spec.n_modes, mechanism=spec.mechanism)
     again = transcription.solve(problem, model, WarmStart(result.speed), "sensitivity", progress)
     if not again.success or again.point is None:
@@ -240,7 +252,6 @@ def optimum_sensitivities(result: OcpResult, parameters: Sequence[str], progress
         weakly_active=per_group(k.weak, again.point.groups),
         resolve_time=resolve_time, kkt_time=kkt_time, kkt=k, speed=again.speed, problem=problem,
         transcription=transcription, model=spec, point=again.point, to_objective=to_J)
-
 
 
 def checked_names(parameters: Sequence[str]) -> tuple[str, ...]:
