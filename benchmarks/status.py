@@ -20,7 +20,7 @@ import json
 import statistics
 import sys
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 RESULTS = Path(__file__).resolve().parent / "results"
@@ -498,13 +498,29 @@ def size_row(package: Path = ROOT / "pressocp") -> Row:
     return Row(31, goal, measured, verdict(not wide and not long), "the code, now")
 
 
+def stale(row: Row, runs: dict) -> Row:
+    """`row`, its verdict marked stale when the job named after its result file (``drive`` for
+    ``drive.json``) ran after the row's date and did not finish (failed or over its budget): the row
+    then reads a file that run did not refresh."""
+    name, _, date = row.source.partition(", ")
+    run = runs.get(Path(name.split(" ")[0]).stem)
+    if not run or not date or run.get("date", "") <= date or (run.get("exit_status") == 0 and not run.get("over_budget")):
+        return row
+    how = f"stopped over its budget ({run['wall_time_s'] / 60:.0f} min)" if run.get("over_budget") else \
+        f"failed (exit status {run.get('exit_status')})"
+    return replace(row, verdict=f"{row.verdict}; **stale**: the job's last run ({run['date']}) {how}, so this row "
+                                "is from the run before")
+
+
 def rows(folder: Path = RESULTS) -> list[Row]:
-    """Every goal's row from the result files in `folder`."""
+    """Every goal's row from the result files in `folder`, marked `stale` where the job that writes the
+    file last ran after it and did not finish."""
     res, out = Results(folder), []
     for check in CHECKS:
         got = check(res)
         out += got if isinstance(got, list) else [got]
-    return out + list(UNMEASURED)
+    runs = res.json("runs.json") or {}
+    return [stale(r, runs) for r in out] + list(UNMEASURED)
 
 
 def table(folder: Path = RESULTS) -> str:

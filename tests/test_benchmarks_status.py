@@ -115,3 +115,21 @@ def test_the_slow_tests_row_is_met_only_when_none_failed(tmp_path):
         assert row.verdict == "**not met**" and ("test_x" in row.measured) == ("failed_tests" in bad), bad
     assert "| tests |" in status.table(tmp_path)
     assert status.slow_tests_row(status.Results(tmp_path / "none")).verdict == "not measured"
+
+
+def test_a_row_whose_job_last_stopped_unfinished_is_marked_stale(tmp_path):
+    """A job that ran after its file's row and was stopped over budget (or failed) did not refresh the
+    file: the row's verdict says so. A later successful run, or an earlier failed one, does not."""
+    run = {"date_run": {"date": "2026-11-26T10:00:00"}, "workers": 2, "wall_time_s": 60.0, "exit_status": 0,
+           "passed": 4, "failed": 0, "errors": 0, "skipped": 0, "failed_tests": [], "seconds": {}}
+    (tmp_path / "slow_tests.json").write_text(json.dumps(run))
+    cases = [({"date": "2026-11-27T09:00:00", "exit_status": -1000, "over_budget": True, "wall_time_s": 3600.0},
+              "met; **stale**: the job's last run (2026-11-27T09:00:00) stopped over its budget (60 min)"),
+             ({"date": "2026-11-27T09:00:00", "exit_status": 2, "over_budget": False, "wall_time_s": 10.0},
+              "met; **stale**: the job's last run (2026-11-27T09:00:00) failed (exit status 2)"),
+             ({"date": "2026-11-27T09:00:00", "exit_status": 0, "over_budget": False, "wall_time_s": 10.0}, "met"),
+             ({"date": "2026-11-25T09:00:00", "exit_status": 1, "over_budget": False, "wall_time_s": 10.0}, "met")]
+    for last, expected in cases:
+        (tmp_path / "runs.json").write_text(json.dumps({"slow_tests": last}))
+        row = by_goal(status.rows(tmp_path), "the tests marked slow")[0]
+        assert row.verdict.startswith(expected) and (("stale" in row.verdict) == ("stale" in expected)), row.verdict
