@@ -17,6 +17,7 @@ import ast
 import contextlib
 import io
 import json
+import re
 import statistics
 import sys
 from collections.abc import Callable, Iterable
@@ -498,13 +499,17 @@ def size_row(package: Path = ROOT / "pressocp") -> Row:
     return Row(31, goal, measured, verdict(not wide and not long), "the code, now")
 
 
+#: A result's ISO date as the rows quote it.
+STAMP = re.compile(r"\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}")
+
+
 def stale(row: Row, runs: dict) -> Row:
     """`row`, its verdict marked stale when the job named after its result file (``drive`` for
-    ``drive.json``) ran after the row's date and did not finish (failed or over its budget): the row
-    then reads a file that run did not refresh."""
-    name, _, date = row.source.partition(", ")
-    run = runs.get(Path(name.split(" ")[0]).stem)
-    if not run or not date or run.get("date", "") <= date or (run.get("exit_status") == 0 and not run.get("over_budget")):
+    ``drive.json``) ran after the row's latest date and did not finish (a non-zero exit status: failed,
+    or stopped over its budget): the row then reads a file that run did not refresh."""
+    dates = STAMP.findall(row.source)  # "file.json, DATE", or "file.jsonl, before DATE, after DATE"
+    run = runs.get(Path(row.source.split(",")[0].split(" ")[0]).stem)
+    if not run or not dates or run.get("date", "") <= max(dates) or run.get("exit_status") == 0:
         return row
     how = f"stopped over its budget ({run['wall_time_s'] / 60:.0f} min)" if run.get("over_budget") else \
         f"failed (exit status {run.get('exit_status')})"

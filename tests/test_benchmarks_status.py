@@ -133,3 +133,10 @@ def test_a_row_whose_job_last_stopped_unfinished_is_marked_stale(tmp_path):
         (tmp_path / "runs.json").write_text(json.dumps({"slow_tests": last}))
         row = by_goal(status.rows(tmp_path), "the tests marked slow")[0]
         assert row.verdict.startswith(expected) and (("stale" in row.verdict) == ("stale" in expected)), row.verdict
+    # a row quoting two dates (before and after) is judged by the later one
+    write_jsonl(tmp_path / "speed.jsonl", [speed_row("press60", "before", [30.0], [76.0], "2026-11-26T08:00:00"),
+                                           speed_row("press60", "after", [14.0] * 3, [76.0] * 3, "2026-11-27T08:00:00")])
+    for date, marked in (("2026-11-27T09:00:00", True), ("2026-11-26T09:00:00", False)):
+        (tmp_path / "runs.json").write_text(json.dumps({"speed": {"date": date, "exit_status": 1, "wall_time_s": 1.0}}))
+        row = by_goal(status.rows(tmp_path), "press60")[0]
+        assert ("**stale**" in row.verdict) == marked, (date, row.source, row.verdict)
