@@ -147,6 +147,37 @@ class Replay(Transcription):
         return dataclasses.replace(self.stages[self.calls - 1], name=name)
 
 
+class RelaxReplay(Replay):
+    """`Replay` that also stands in for its own relaxed re-solve."""
+
+    def relaxed(self, stage):
+        return self
+
+
+def test_a_re_solve_that_did_not_converge_is_not_re_simulated(smooth, monkeypatch):
+    """A polish round or relaxed re-solve that stops without converging cannot be kept, so its
+    iterate is not re-simulated: the only re-simulation is the standing answer's, and the record
+    says not kept, with IPOPT's status and no verified value."""
+    from pressocp.ocp import strategy as strategy_module
+
+    model = build_model(SMOOTH.press, n_harmonics=4)
+    best = dataclasses.replace(smooth.stages[0], simulation=None)
+    failed = dataclasses.replace(best, success=False, status="Maximum_Iterations_Exceeded")
+    calls = []
+    real = strategy_module.verify_speed
+    monkeypatch.setattr(strategy_module, "verify_speed", lambda *a, **k: calls.append(a[1]) or real(*a, **k))
+    strat = Strategy(polish_rounds=3, verify_rtol=1e-8)
+    [dropped] = strat.polish(SMOOTH, model, best, Replay(failed), False)
+    assert len(calls) == 1 and calls[0] is best.speed
+    assert dropped.status.startswith("not kept (") and "Maximum_Iterations_Exceeded)" in dropped.status
+    assert dropped.speed is best.speed and dropped.details["verified_value"] is None
+    calls.clear()
+    [relaxed], sim = strat.relax(SMOOTH, model, dataclasses.replace(best, simulation=None), RelaxReplay(failed), False)
+    assert len(calls) == 1 and calls[0] is best.speed and sim is relaxed.simulation
+    assert relaxed.status.startswith("not kept (") and "Maximum_Iterations_Exceeded)" in relaxed.status
+    assert relaxed.speed is best.speed and relaxed.details["verified_value"] is None
+
+
 @pytest.mark.slow  # 13 s
 def test_polish_keeps_only_a_verified_improvement(smooth):
     """From a detuned copy of the optimum, a round that returns the optimum is kept (its periodic

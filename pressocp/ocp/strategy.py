@@ -612,9 +612,10 @@ class Strategy:
             solved, _ = self.solve_refined(problem, model, transcription, WarmStart(last.speed, x0), name, progress,
                                            rescue=False)
             st = solved[-1]
-            cand = self.verify_stage(model, st)
-            viol = max(ram_speed_violation(cand, problem), 0.0)
-            new = value(cand)
+            # a round that did not converge is not re-simulated: it cannot be kept
+            cand = self.verify_stage(model, st) if st.success else None
+            viol = max(ram_speed_violation(cand, problem), 0.0) if st.success else np.inf
+            new = value(cand) if st.success else None
             if st.success and is_periodic(cand) is True and new < best and viol <= 0.0:
                 st.details.update(verified_value=new, previous_verified_value=best if np.isfinite(best) else None)
                 rounds += solved
@@ -663,17 +664,18 @@ class Strategy:
             return [], before
         best, checks = value(before), time.perf_counter() - t0
         st = tr.solve(problem, model, WarmStart(last.speed, point=last.nlp), "relaxed", progress)
-        t0 = time.perf_counter()
-        cand = self.verify_stage(model, st)
-        new, viol = value(cand), max(ram_speed_violation(cand, problem), 0.0)
-        if st.model != model.spec.describe():  # verify_stage timed its own model's re-simulation only
-            add_time(st, "checks", checks + time.perf_counter() - t0)
-        if st.success and is_periodic(cand) is True and new < best and viol <= 0.0:
-            st.details.update(verified_value=new, previous_verified_value=best)
-            return [st], cand
-        why = (st.status if not st.success else f"re-simulated {new:.6g} against {best:.6g}"
-               if is_periodic(cand) is True and viol <= 0.0 else
-               "its re-simulation is not periodic with the ram speed in tolerance")
+        new, why = None, st.status  # a re-solve that did not converge is not re-simulated: it cannot be kept
+        if st.success:
+            t0 = time.perf_counter()
+            cand = self.verify_stage(model, st)
+            new, viol = value(cand), max(ram_speed_violation(cand, problem), 0.0)
+            if st.model != model.spec.describe():  # verify_stage timed its own model's re-simulation only
+                add_time(st, "checks", checks + time.perf_counter() - t0)
+            if is_periodic(cand) is True and new < best and viol <= 0.0:
+                st.details.update(verified_value=new, previous_verified_value=best)
+                return [st], cand
+            why = (f"re-simulated {new:.6g} against {best:.6g}" if is_periodic(cand) is True and viol <= 0.0 else
+                   "its re-simulation is not periodic with the ram speed in tolerance")
         return [replace(StageResult.skipped("relaxed", "", model.spec.describe(), last),
                         status=f"not kept ({st.iterations} iterations: {why}); the previous answer stands",
                         iterations=st.iterations, wall_time=st.wall_time, timing=st.timing,
