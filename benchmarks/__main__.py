@@ -1,6 +1,6 @@
 """Regenerate the benchmarks with one command.
 
-    python -m benchmarks                  the suite, in order (budgets 180 min on 2 cores)
+    python -m benchmarks                  the suite, in order (`--list` gives each job's budget)
     python -m benchmarks --archive        the archive: past findings at up to 1.5 h each (budgets 4.7 h)
     python -m benchmarks --list           the benchmarks, their commands and budgets
     python -m benchmarks --only figures stability_quick
@@ -126,6 +126,8 @@ JOBS = (
     Job("transcriptions_map", "bench_transcriptions.py", ("--case", "map", "--methods", "collocation"), 3,
         "collocation over stroke rate x clearance (the shooting cells: transcriptions_map_shooting)"),
     Job("sensitivity", "bench_sensitivity.py", (), 2, "AD sensitivities against differences, rtol 1e-10 .. 1e-13"),
+    Job("sensitivity_seed", "bench_sensitivity_seed.py", (), 6,
+        "AD sensitivities against central differences on the seed optimum, at equal accuracy"),
     Job("optimum_sensitivity", "bench_optimum_sensitivity.py", (), 5, "dJ*/dp against re-solved optima"),
     Job("optimum_tracking", "bench_optimum_tracking.py", ("press75", "--steps", "1e-3", "2e-2"), 2,
         "dJ*/dp against the tracked optimum"),

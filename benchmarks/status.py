@@ -38,6 +38,7 @@ GOAL_SUITE_S = 3 * 3600.0
 GOAL_RADAU_RATIO = 20.0
 GOAL_VERIFY_RATIO, GOAL_VERIFY_PEAKS = 3.0, 1e-6
 GOAL_SWEEP_RATIO = 1.8
+GOAL_AD_RATIO, GOAL_AD_ERROR = 3.0, 0.02
 GOAL_MODAL_CYCLE_S, GOAL_MODAL_PEAK, GOAL_MODAL_SIMEON, GOAL_MODAL_ELEMENTS = 1.0, 1e-3, 0.01, 0.02
 #: Issue #31 (restructure): the limits of a public function's parameters and of any function's lines.
 MAX_PARAMETERS, MAX_LINES = 10, 80
@@ -166,8 +167,20 @@ def suite_row(res: Results) -> Row:
         return missing(28, goal, "runs.json")
     ok = s["wall_time_s"] <= GOAL_SUITE_S and not s["failed"]
     failed = ", ".join(s["failed"]) or "none failed"
-    return Row(28, goal, f"{s['jobs']} jobs in **{s['wall_time_s'] / 60:.0f} min**; {failed}", verdict(ok),
+    jobs, budget = suite_now()
+    changed = "" if jobs == s["jobs"] else (f"; **stale**: the suite has {jobs} jobs now (budgets {budget:g} min), "
+                                            f"not run whole since")
+    return Row(28, goal, f"{s['jobs']} jobs in **{s['wall_time_s'] / 60:.0f} min**; {failed}", verdict(ok) + changed,
                f"runs.json (suite), {s['date']}")
+
+
+def suite_now() -> tuple[int, float]:
+    """The suite's jobs as the runner lists them now (`benchmarks.__main__.JOBS`, archive left out):
+    their number and their budgets' sum, min."""
+    from benchmarks.__main__ import JOBS  # the runner imports this module: here, not at the top
+
+    jobs = [j for j in JOBS if not j.archive]
+    return len(jobs), float(sum(j.minutes for j in jobs))
 
 
 def idas_1e6_against_radau(rows: list[dict]) -> str:
@@ -448,22 +461,33 @@ def slow_tests_row(res: Results) -> Row:
     return Row(None, goal, text, verdict(ok), f"slow_tests.json, {d['date_run']['date']}")
 
 
-def not_in_suite(issue: int, goal: str, why: str) -> Row:
-    return Row(issue, goal, why, "not measured by the suite", "")
+def ad_row(res: Results) -> Row:
+    """#29: AD against central differences on the seed optimum (bench_sensitivity_seed): the cheapest
+    setting of each within the error goal, and AD there against central differences at rtol 1e-10."""
+    goal = (f"AD sensitivities of the peak torque to 3 parameters on the seed optimum: ≥ {GOAL_AD_RATIO:g} × faster "
+            f"than central differences at equal accuracy, each within {100 * GOAL_AD_ERROR:g} % of them at rtol 1e-10")
+    r = res.json("sensitivity_seed.json")
+    if r is None:
+        return missing(29, goal, "sensitivity_seed.json")
+    eq = r["equal_accuracy"]
+    ad, cd = eq["AD"], eq["central differences"]
+    if ad is None or cd is None:
+        which = "AD" if ad is None else "central differences"
+        return Row(29, goal, f"{which} reached no error within {100 * GOAL_AD_ERROR:g} % at the tolerances run",
+                   verdict(False), f"sensitivity_seed.json, {r['date']}")
+    against = r["ad_against_cd_1e-10"][f"AD rtol {ad['rtol']:g}"]
+    ok = eq["ratio"] >= GOAL_AD_RATIO and against <= GOAL_AD_ERROR
+    return Row(29, goal, f"errors against central differences at rtol {r['reference_rtol']:g}: AD "
+               f"{ad['median_s']:.1f} s (rtol {ad['rtol']:g}, error {ad['error']:.1e}) against central differences "
+               f"{cd['median_s']:.1f} s (rtol {cd['rtol']:g}, error {cd['error']:.1e}): **{eq['ratio']:.2f} ×**; AD "
+               f"against central differences at rtol 1e-10: {100 * against:.2g} %", verdict(ok),
+               f"sensitivity_seed.json, {r['date']}")
 
 
 CHECKS: tuple[Callable[[Results], Row | list[Row]], ...] = (
     speed_rows, flexible_row, sweep_optima_row, suite_row, radau_row, verification_row, optimum_sensitivity_row,
     sweep_parallel_row, modal_rod_rows, shooting_row, drive_row, counterbalance_rows, forming_row, stroke_rate_row,
-    slow_tests_row)
-
-#: Goals no job of the suite measures yet, with the last one-off measurement.
-UNMEASURED = (
-    not_in_suite(29, "AD sensitivities of the peak torque to 3 parameters on the seed optimum: ≥ 3 × faster than "
-                 "central differences at equal accuracy",
-                 "one-off scripts, 2026-11-25: AD 4.1 s, central differences 4.4 s (parity)"),
-)
-
+    slow_tests_row, ad_row)
 
 def layer_row() -> Row:
     """`lint-imports` with the contracts of pyproject.toml, on the package as it is now."""
@@ -525,7 +549,7 @@ def rows(folder: Path = RESULTS) -> list[Row]:
         got = check(res)
         out += got if isinstance(got, list) else [got]
     runs = res.json("runs.json") or {}
-    return [stale(r, runs) for r in out] + list(UNMEASURED)
+    return [stale(r, runs) for r in out]
 
 
 def table(folder: Path = RESULTS) -> str:

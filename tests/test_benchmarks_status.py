@@ -55,7 +55,7 @@ def test_speed_goals(tmp_path):
 
 def test_suite_sweep_and_verification_goals(tmp_path):
     (tmp_path / "runs.json").write_text(json.dumps({
-        "suite": {"date": "d6", "jobs": 33, "wall_time_s": 2.5 * 3600, "failed": []},
+        "suite": {"date": "d6", "jobs": status.suite_now()[0], "wall_time_s": 2.5 * 3600, "failed": []},
         "simulation": {"date": "d7"}}))
     (tmp_path / "sweep_optima.json").write_text(json.dumps({
         "date": "d8", "median_s": 310.0, "all_verified": True,
@@ -140,3 +140,32 @@ def test_a_row_whose_job_last_stopped_unfinished_is_marked_stale(tmp_path):
         (tmp_path / "runs.json").write_text(json.dumps({"speed": {"date": date, "exit_status": 1, "wall_time_s": 1.0}}))
         row = by_goal(status.rows(tmp_path), "press60")[0]
         assert ("**stale**" in row.verdict) == marked, (date, row.source, row.verdict)
+
+
+def test_a_suite_run_with_other_jobs_than_today_is_stale(tmp_path):
+    jobs, budget = status.suite_now()
+    (tmp_path / "runs.json").write_text(json.dumps({
+        "suite": {"date": "d6", "jobs": jobs - 3, "wall_time_s": 2.0 * 3600, "failed": []}}))
+    suite = by_goal(status.rows(tmp_path), "`python -m benchmarks`")[0]
+    assert suite.verdict == f"met; **stale**: the suite has {jobs} jobs now (budgets {budget:g} min), not run whole since"
+
+
+def ad_file(path, ad_s, cd_s, ad_error, against):
+    """A sensitivity_seed.json with AD's cheapest setting within 2 % at rtol 1e-9 and central
+    differences' at 1e-10."""
+    path.write_text(json.dumps({
+        "date": "d10", "reference_rtol": 1e-12, "ad_against_cd_1e-10": {"AD rtol 1e-09": against},
+        "equal_accuracy": {"AD": {"rtol": 1e-9, "median_s": ad_s, "error": ad_error},
+                           "central differences": {"rtol": 1e-10, "median_s": cd_s, "error": 0.008},
+                           "ratio": cd_s / ad_s}}))
+
+
+def test_the_ad_row_needs_3_times_and_agreement_with_central_differences(tmp_path):
+    goal = "AD sensitivities of the peak torque"
+    ad_file(tmp_path / "sensitivity_seed.json", 3.0, 9.3, 0.002, 0.011)  # 3.1 x, 1.1 %: met
+    row = by_goal(status.rows(tmp_path), goal)[0]
+    assert row.verdict == "met" and "**3.10 ×**" in row.measured and "1.1 %" in row.measured and "d10" in row.source
+    ad_file(tmp_path / "sensitivity_seed.json", 3.0, 8.7, 0.002, 0.011)  # 2.9 x
+    assert by_goal(status.rows(tmp_path), goal)[0].verdict == "**not met**"
+    ad_file(tmp_path / "sensitivity_seed.json", 3.0, 9.3, 0.002, 0.03)  # 3.1 x, but 3 % from central differences
+    assert by_goal(status.rows(tmp_path), goal)[0].verdict == "**not met**"

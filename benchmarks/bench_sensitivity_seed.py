@@ -1,0 +1,215 @@
+"""AD sensitivities against central differences on the seed optimum, at equal accuracy (issue #29).
+
+The peak motor torque of the 75 spm seed optimum (`tests/references/press75_optimum_speed.json`, a
+min-max optimum with several rival peaks) on the default model (rigid rod, both clearances),
+differentiated with respect to slider mass, wrist-pin clearance and crank-pin stiffness:
+
+* AD: `po.sensitivities` (forward sensitivities of the periodic response, with its error estimate,
+  as a user calls it) at rtol 1e-8, 1e-9, 1e-10;
+* central differences: the periodic state of each perturbed press (one model with the parameters
+  as inputs; settled cycle by cycle from the nominal periodic state), |torque| at each rival
+  peak's time (the finest AD's), relative steps of `STEP`, at rtol 1e-9, 1e-10, 1e-11.
+
+Both run their integrators on compiled right-hand sides (`PressModel.jit` True; `po.sensitivities`
+compiles its sensitivity equations in any case). At a peak's time the difference of |torque| is the
+  peak's derivative (the time moves with p, but d|torque|/dt = 0 there).
+
+Every derivative is compared with central differences at rtol `REFERENCE_RTOL`; a method's error is
+its largest relative difference over parameters and rival peaks. Each timing is the median of
+`--repeat` runs in this process (the first AD run includes any compile of its right-hand side, the
+cache being warm after it). The goal compares the cheapest setting of each method whose error is
+within `GOAL_ERROR`.
+
+    python benchmarks/bench_sensitivity_seed.py [--repeat 3] [--replot]
+
+Writes results/sensitivity_seed.json and .png.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import casadi as ca
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+import pressocp as po  # noqa: E402
+from pressocp.io import versions  # noqa: E402
+from pressocp.model import OUTPUT_NAMES  # noqa: E402
+from pressocp.plots import save  # noqa: E402
+from pressocp.report import stamp  # noqa: E402
+from pressocp.simulate import Integrator, integrator_dae, periodic_state  # noqa: E402
+
+OUT = Path(__file__).parent / "results"
+SEED = Path(__file__).parent.parent / "tests" / "references" / "press75_optimum_speed.json"
+PARAMETERS = ("slider_mass", "wrist_pin.clearance", "crank_pin.stiffness")
+AD_RTOLS = (1e-8, 1e-9, 1e-10)
+CD_RTOLS = (1e-9, 1e-10, 1e-11)
+REFERENCE_RTOL = 1e-12
+STEP = 1e-3  # relative
+GOAL_ERROR = 0.02
+GOAL_RATIO = 3.0
+PERIODIC_TOL = 1e3  # x rtol, as `po.sensitivities` searches its periodic state
+
+
+def central_differences(press: po.PressParams, speed: po.FourierSpeed, peaks: dict[str, np.ndarray],
+                        rtol: float) -> dict[str, list[float]]:
+    """d|torque|/dp at each parameter's rival peak times (s within the cycle): the nominal periodic
+    state (`periodic_state`, as `po.sensitivities` finds its own), then for each parameter two
+    perturbed periodic responses on one model that carries the parameters as inputs (built once),
+    each settled cycle by cycle from the nominal state, |torque| read at the peak times (CVODES,
+    explicit form, no work quadratures)."""
+    model = replace(po.build_model(press, parameters=PARAMETERS), jit=True)
+    tol = PERIODIC_TOL * rtol
+    x_nominal = periodic_state(model, speed, Integrator("cvodes", rtol), tol=tol)[0]
+    opts = {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**8}
+    dae = integrator_dae(model, True, False)  # compiled, as `po.sensitivities` runs its own
+    cycle = ca.integrator("cycle", "cvodes", dae, 0.0, speed.period, opts)
+    times = np.unique(np.concatenate(list(peaks.values())))
+    to_peaks = ca.integrator("to_peaks", "cvodes", dae, 0.0, [float(t) for t in times], opts)
+    k = OUTPUT_NAMES.index("torque")
+    p0 = model.parameters(speed)
+    out = {}
+    for i, name in enumerate(PARAMETERS):
+        h = STEP * press.value(name)
+        values = []
+        for sign in (1.0, -1.0):
+            p = p0.copy()
+            p[p0.size - len(PARAMETERS) + i] += sign * h
+            x = x_nominal
+            for _ in range(60):
+                x_next = np.asarray(cycle(x0=x, p=p)["xf"]).ravel()
+                change, x = float(np.max(np.abs(x_next - x))), x_next
+                if change < tol:
+                    break
+            else:
+                raise RuntimeError(f"{name} {sign * h:+g}: no periodic state (change per cycle {change:.2g})")
+            X = np.asarray(to_peaks(x0=x, p=p)["xf"])
+            torque = {float(t): abs(float(model.outputs(t, X[:, j], p)[k])) for j, t in enumerate(times)}
+            values.append(np.array([torque[float(t)] for t in peaks[name]]))
+        out[name] = list((values[0] - values[1]) / (2 * h))
+    return out
+
+
+def ad_derivatives(model: po.PressModel, speed: po.FourierSpeed, rtol: float) -> tuple[dict, dict, float, float]:
+    """`po.sensitivities` at `rtol`: derivatives and error estimates per parameter at each rival peak
+    (by time), the largest error estimate, and the wall time."""
+    s = po.sensitivities(model, speed, PARAMETERS, rtol=rtol)
+    rows = s.per_peak.to_dict("records")
+    derivs = {n: {float(r["time"]): float(r["derivative"]) for r in rows if r["parameter"] == n} for n in PARAMETERS}
+    estimates = {n: max(float(r["error_estimate"]) for r in rows if r["parameter"] == n) for n in PARAMETERS}
+    return derivs, estimates, max(estimates.values()), s.wall_time
+
+
+def at_peaks(derivs: dict[float, float], times: np.ndarray) -> list[float]:
+    """The derivatives (by peak time) at the peaks nearest `times` (each rtol locates them slightly
+    differently)."""
+    keys = np.array(sorted(derivs))
+    return [derivs[float(keys[np.argmin(np.abs(keys - t))])] for t in times]
+
+
+def largest_error(derivs: dict[str, list[float]], reference: dict[str, list[float]]) -> tuple[float, str]:
+    """Largest |d / d_ref - 1| over parameters and rival peaks, and where."""
+    worst, where = 0.0, ""
+    for name in PARAMETERS:
+        for k, (d, r) in enumerate(zip(derivs[name], reference[name])):
+            e = abs(d / r - 1.0) if r != 0 else float("inf")
+            if e > worst:
+                worst, where = e, f"{name}, rival peak {k + 1}"
+    return worst, where
+
+
+def measure(repeat: int) -> dict:
+    press = po.PressParams()
+    speed = po.FourierSpeed.from_dict(json.loads(SEED.read_text()))
+    model = replace(po.build_model(press), jit=True)  # its integrators compiled, as the differences'
+    ad = {}
+    for rtol in AD_RTOLS:
+        runs = [ad_derivatives(model, speed, rtol) for _ in range(repeat)]
+        ad[rtol] = runs[-1][:3] + ([r[3] for r in runs],)
+        print(f"AD rtol {rtol:g}: {[round(r[3], 2) for r in runs]} s, largest error estimate {runs[-1][2]:.2g}",
+              flush=True)
+    finest = ad[AD_RTOLS[-1]][0]
+    peaks = {n: np.array(sorted(finest[n])) for n in PARAMETERS}
+    t0 = time.perf_counter()
+    reference = central_differences(press, speed, peaks, REFERENCE_RTOL)
+    ref_s = time.perf_counter() - t0
+    print(f"reference (central differences, rtol {REFERENCE_RTOL:g}): {ref_s:.1f} s", flush=True)
+    rows = []
+    for rtol, (derivs, _, estimate, times) in ad.items():
+        d = {n: at_peaks(derivs[n], peaks[n]) for n in PARAMETERS}
+        err, where = largest_error(d, reference)
+        rows.append({"method": "AD", "rtol": rtol, "times_s": times, "median_s": float(np.median(times)),
+                     "error": err, "worst": where, "error_estimate": estimate, "derivatives": d})
+    for rtol in CD_RTOLS:
+        times, d = [], None
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            d = central_differences(press, speed, peaks, rtol)
+            times.append(time.perf_counter() - t0)
+        err, where = largest_error(d, reference)
+        rows.append({"method": "central differences", "rtol": rtol, "times_s": times,
+                     "median_s": float(np.median(times)), "error": err, "worst": where, "derivatives": d})
+        print(f"central differences rtol {rtol:g}: {[round(t, 2) for t in times]} s, error {err:.2g} ({where})",
+              flush=True)
+    best = {m: min((r for r in rows if r["method"] == m and r["error"] <= GOAL_ERROR), key=lambda r: r["median_s"],
+                   default=None) for m in ("AD", "central differences")}
+    ratio = (best["central differences"]["median_s"] / best["AD"]["median_s"]
+             if best["AD"] and best["central differences"] else None)
+    cd10 = next(r for r in rows if r["method"] == "central differences" and r["rtol"] == 1e-10)["derivatives"]
+    within = {f"AD rtol {r['rtol']:g}": largest_error(r["derivatives"], cd10)[0] for r in rows if r["method"] == "AD"}
+    return {**stamp(), "versions": versions(), "case": "press75 seed optimum, default model, peak motor torque",
+            "parameters": list(PARAMETERS), "peaks_s": {n: list(peaks[n]) for n in PARAMETERS}, "step": STEP,
+            "reference_rtol": REFERENCE_RTOL, "reference_s": ref_s, "reference": reference, "repeat": repeat,
+            "goal_error": GOAL_ERROR, "goal_ratio": GOAL_RATIO, "rows": rows,
+            "equal_accuracy": {"AD": best["AD"] and {k: best["AD"][k] for k in ("rtol", "median_s", "error")},
+                               "central differences": best["central differences"]
+                               and {k: best["central differences"][k] for k in ("rtol", "median_s", "error")},
+                               "ratio": ratio},
+            "ad_against_cd_1e-10": within}
+
+
+def plot(data: dict) -> plt.Figure:
+    """Wall time against the largest error, each method at each rtol."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for m, mark in (("AD", "o-"), ("central differences", "s-")):
+        rows = [r for r in data["rows"] if r["method"] == m]
+        ax.loglog([r["error"] for r in rows], [r["median_s"] for r in rows], mark, label=m)
+        for r in rows:
+            ax.annotate(f"{r['rtol']:g}", (r["error"], r["median_s"]), fontsize=7, xytext=(4, 3),
+                        textcoords="offset points")
+    ax.axvline(data["goal_error"], ls="--", color="tab:red", lw=0.8)
+    ratio = data["equal_accuracy"]["ratio"]
+    ax.set_xlabel(f"largest relative error of dJ/dp (against central differences at rtol {data['reference_rtol']:g})")
+    ax.set_ylabel(f"wall time, s (median of {data['repeat']})")
+    ax.set_title("peak torque of the 75 spm seed optimum, 3 parameters: AD against central differences\n"
+                 f"at equal accuracy (≤ {100 * data['goal_error']:g} %): "
+                 f"{'no pair' if ratio is None else f'{ratio:.2f} ×'} (goal {data['goal_ratio']:g} ×), {data['date']}",
+                 fontsize=8)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--replot", action="store_true", help="redraw the figure from the JSON")
+    args = ap.parse_args()
+    path = OUT / "sensitivity_seed.json"
+    data = json.loads(path.read_text()) if args.replot else measure(args.repeat)
+    if not args.replot:
+        path.write_text(json.dumps(data, indent=1, default=float))
+    save(plot(data), OUT / "sensitivity_seed.png")
+
+
+if __name__ == "__main__":
+    main()
