@@ -13,8 +13,8 @@ import scipy.linalg as sla
 from pressocp import Bearing, Counterbalance, FourierSpeed, PressParams, ProcessForce, beam, rigid_response
 from pressocp.mechanism.slider_crank import flexible_rod_energies
 from pressocp.model import build_model
-from pressocp.simulate import (Integrator, SimulationError, expect_settled, periodic_orbit, periodic_state, runs_compiled,
-                               simulate)
+from pressocp.simulate import (Integrator, SimulationError, expect_settled, newton_periodic, periodic_orbit,
+                               periodic_state, runs_compiled, simulate)
 from pressocp.studies import simeon_crank
 
 FLORES_PERIOD = 60.0 / 5000.0
@@ -397,6 +397,32 @@ def test_without_a_c_compiler_a_compiled_model_says_so_and_runs_interpreted(monk
                  n_out=51, work=False)
     assert np.array_equal(a.torque, b.torque)
     assert not any(k[0] == "integrator_dae" for k in m.functions)
+
+
+class KinkedShots:
+    """Stand-in for the periodic search's shots (`PeriodicShots`): the one-period map x -> x + a + |x|,
+    whose residual a + |x| is lowest at x = 0 and has a kink there, so no step along Newton's direction
+    (from a finite-difference Jacobian across the kink) lowers it."""
+
+    def __init__(self, a):
+        self.a, self.model, self.shots = np.asarray(a, float), type("M", (), {"nx": len(a)})(), 0
+
+    def end_only(self):
+        return type("F", (), {"map": lambda self, *args: self})()
+
+    def shoot(self, xs, F=None):
+        self.shots += 1
+        xs = np.asarray(xs, float)
+        return xs + (self.a[:, None] if xs.ndim > 1 else self.a) + np.abs(xs)
+
+
+def test_newton_stops_where_its_line_search_finds_no_lower_residual():
+    """Newton's search ends at the step whose line search finds nothing lower (here the first: 1 shot
+    batch for the Jacobian and 10 halvings), returning the best state and its residual, instead of
+    going on from a worse point to its step limit."""
+    sh = KinkedShots([1e-3, 5e-4])
+    x, res, steps = newton_periodic(sh, np.zeros(2), 1e-3, 1e-9, 8)
+    assert steps == 1 and res == 1e-3 and np.array_equal(x, np.zeros(2)) and sh.shots == 1 + 10
 
 
 def test_settling_cycles_expected_to_settle():
