@@ -489,6 +489,7 @@ CHECKS: tuple[Callable[[Results], Row | list[Row]], ...] = (
     sweep_parallel_row, modal_rod_rows, shooting_row, drive_row, counterbalance_rows, forming_row, stroke_rate_row,
     slow_tests_row, ad_row)
 
+
 def layer_row() -> Row:
     """`lint-imports` with the contracts of pyproject.toml, on the package as it is now."""
     goal = "`lint-imports` passes with contracts for the layers: no import circle, no upward import"
@@ -581,4 +582,5 @@ def write_readme(readme: Path, folder: Path = RESULTS) -> None:
 
 
 if __name__ == "__main__":
+    sys.path.insert(0, str(ROOT))  # run as a script: `suite_now` imports the runner as `benchmarks`
     sys.stdout.write(table() + "\n")
