@@ -612,11 +612,8 @@ class Strategy:
             solved, _ = self.solve_refined(problem, model, transcription, WarmStart(last.speed, x0), name, progress,
                                            rescue=False)
             st = solved[-1]
-            # a round that did not converge is not re-simulated: it cannot be kept
-            cand = self.verify_stage(model, st) if st.success else None
-            viol = max(ram_speed_violation(cand, problem), 0.0) if st.success else np.inf
-            new = value(cand) if st.success else None
-            if st.success and is_periodic(cand) is True and new < best and viol <= 0.0:
+            cand, new, why = self.judged(problem, model, st, best)
+            if not why:
                 st.details.update(verified_value=new, previous_verified_value=best if np.isfinite(best) else None)
                 rounds += solved
                 gain = (reference - new) / abs(reference) if np.isfinite(reference) else np.inf
@@ -624,9 +621,6 @@ class Strategy:
                 if gain <= self.polish_gain:
                     break
                 continue
-            why = (f"{st.status}" if not st.success else
-                   f"re-simulated {new:.6g} against {best:.6g}" if is_periodic(cand) is True and viol <= 0.0
-                   else "its re-simulation is not periodic with the ram speed in tolerance")
             rounds += [replace(s, superseded=f"the polish round ending in {st.name} was not kept") for s in solved[:-1]]
             if k == 0:  # the polished stage's own follow-ups, deferred by `clearance_chain`
                 follow, transcription = self.followed(problem, model, transcription, last, progress)
@@ -643,6 +637,21 @@ class Strategy:
             rounds.append(kept)
             break
         return rounds
+
+    def judged(self, problem: SpeedProblem, model: PressModel, st: StageResult,
+               best: float) -> tuple[SimResult | None, float | None, str]:
+        """A re-solve `st` of the standing answer (a polish round, the relaxed re-solve), re-simulated on
+        `model` (`verify_stage`) and judged against `best`, the standing answer's verified objective
+        (inf: none to beat): its re-simulation, its objective there, and why it is not kept ("" when it
+        is: periodic, the ram speed in tolerance, lower than `best`). One that did not converge cannot be
+        kept and is not re-simulated: (None, None, IPOPT's status)."""
+        if not st.success:
+            return None, None, st.status
+        cand = self.verify_stage(model, st)
+        new = problem.objective_value(cand)
+        if is_periodic(cand) is not True or ram_speed_violation(cand, problem) > 0.0:
+            return cand, new, "its re-simulation is not periodic with the ram speed in tolerance"
+        return cand, new, "" if new < best else f"re-simulated {new:.6g} against {best:.6g}"
 
     def relax(self, problem: SpeedProblem, model: PressModel, last: StageResult, transcription: Transcription,
               progress: bool) -> tuple[list[StageResult], SimResult | None]:
@@ -664,18 +673,13 @@ class Strategy:
             return [], before
         best, checks = value(before), time.perf_counter() - t0
         st = tr.solve(problem, model, WarmStart(last.speed, point=last.nlp), "relaxed", progress)
-        new, why = None, st.status  # a re-solve that did not converge is not re-simulated: it cannot be kept
-        if st.success:
-            t0 = time.perf_counter()
-            cand = self.verify_stage(model, st)
-            new, viol = value(cand), max(ram_speed_violation(cand, problem), 0.0)
-            if st.model != model.spec.describe():  # verify_stage timed its own model's re-simulation only
-                add_time(st, "checks", checks + time.perf_counter() - t0)
-            if is_periodic(cand) is True and new < best and viol <= 0.0:
-                st.details.update(verified_value=new, previous_verified_value=best)
-                return [st], cand
-            why = (f"re-simulated {new:.6g} against {best:.6g}" if is_periodic(cand) is True and viol <= 0.0 else
-                   "its re-simulation is not periodic with the ram speed in tolerance")
+        t0 = time.perf_counter()
+        cand, new, why = self.judged(problem, model, st, best)
+        if st.success and st.model != model.spec.describe():  # verify_stage timed its own model's re-simulation only
+            add_time(st, "checks", checks + time.perf_counter() - t0)
+        if not why:
+            st.details.update(verified_value=new, previous_verified_value=best)
+            return [st], cand
         return [replace(StageResult.skipped("relaxed", "", model.spec.describe(), last),
                         status=f"not kept ({st.iterations} iterations: {why}); the previous answer stands",
                         iterations=st.iterations, wall_time=st.wall_time, timing=st.timing,
