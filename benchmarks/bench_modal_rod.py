@@ -2,7 +2,21 @@
 
     python benchmarks/bench_modal_rod.py [--repeat 1] [--elements 8] [--rtol 1e-7] [--t-end 0.2] [--method idas] [--interpreted]
 
-Scene: the default press at 75 spm driven by its kinematic design (-0.1 m/s over h/H 0.7 -> 0.3),
+Three scenes, both clearances, compiled IDAS, 4 001 output samples a cycle, no work quadratures.
+
+Two periodic scenes: the 75 spm seed optimum (`tests/references/press75_optimum_speed.json`), the
+cycle a user verifies, whose crank pin barely leaves its wall; and the kinematic design at 69 spm
+(period 0.87 s, -0.1 m/s over h/H 0.7 -> 0.3), whose journals leave their walls some 20 times a
+cycle and hit them again at 20-40 mm/s, and which has an attracting periodic orbit (its peak torque
+repeats to 1e-7 from cycle to cycle; at 75 spm the same design's per-cycle peaks wander by 5 % on
+the flexible rods, docs/decisions/2026-11-27-periodic-yardstick.md). Every level (the rigid rod,
+the 4- and ``--elements``-element rods, 1-3 modes of the latter) is brought to its periodic state
+(IDAS rtol 1e-9, the search timed), then one cycle from that state is timed at rtol 1e-5, 1e-6 and
+1e-7 (median of ``--repeat``, at least 3). Errors are against the ``--elements`` rod's periodic
+cycle at rtol 1e-10 (the full element rod). The contact losses per cycle and the journals' radial
+speed as they reach the wall again are recorded.
+
+The transient scene: the default press at 75 spm driven by its kinematic design (-0.1 m/s over h/H 0.7 -> 0.3),
 whose rod force reverses: both journals cross their clearances and hit. ``--t-end`` seconds from
 rest (journals centred, rod undeformed; 0.8 s is one cycle), ``--method`` (IDAS) at ``--rtol``,
 compiled (``model.jit``; ``--interpreted`` for CasADi's virtual machine), 4 001 output samples, no
@@ -29,11 +43,17 @@ import numpy as np
 from pressocp import PressParams, SpeedProblem, design_speed
 from pressocp.model import ModelSpec
 from pressocp.report import stamp
-from pressocp.simulate import Integrator, simulate
+from pressocp.simulate import Integrator, periodic_state, simulate
+from pressocp.speed import FourierSpeed
 from pressocp.studies import SIMEON_REFERENCE, simeon_crank
 
 OUT = Path(__file__).parent / "results"
 PEAKS = ("torque", "crank_pin_force", "wrist_pin_force")
+SEED = Path(__file__).parent.parent / "tests" / "references" / "press75_optimum_speed.json"
+#: The impacting periodic scene's cycle, s (69 spm): see the module docstring.
+IMPACTING_PERIOD = 0.87
+#: The periodic scenes: the periodic search's and the reference cycle's rtol, and the timed ones.
+PERIODIC_RTOL, REFERENCE_RTOL, TIMED_RTOLS = 1e-9, 1e-10, (1e-5, 1e-6, 1e-7)
 #: Goals of the fast-simulation issue: one impact cycle under 1 s with the peak torque within 1e-3 of
 #: the full element rod; Simeon within 1 %; the 8-element rod within 2 % on the impacting scene.
 GOAL_CYCLE_S, GOAL_PEAK, GOAL_SIMEON, GOAL_ELEMENTS = 1.0, 1e-3, 0.01, 0.02
@@ -68,6 +88,74 @@ def cycle(spec: ModelSpec, rtol: float, repeat: int, t_end: float, method: str =
             "steps": sim.stats.get("steps"), "peaks": {n: sim.peak(n) for n in PEAKS}}
 
 
+def impacts(sim, press: PressParams) -> dict:
+    """Per journal: how often it leaves its bearing wall in the cycle, and its largest radial speed
+    (m/s) as it reaches the wall again (from the samples either side of the return)."""
+    out = {}
+    dt = float(sim.t[1] - sim.t[0])
+    for joint in ("crank_pin", "wrist_pin"):
+        eps = np.asarray(getattr(sim, f"{joint}_eccentricity"))
+        free = eps < 1.0  # |e|/c below 1: in flight
+        back = np.flatnonzero(~free & np.roll(free, 1))
+        speed = [(eps[k] - eps[k - 1]) * getattr(press, joint).clearance / dt for k in back]
+        out[joint] = {"losses": int(back.size), "return_speed_m_s": max(speed, default=0.0)}
+    return out
+
+
+def periodic_scene(spec: ModelSpec, speed, repeat: int) -> dict:
+    """`spec` on `speed`: its periodic state at `PERIODIC_RTOL` (the search timed), its cycle from there
+    at `REFERENCE_RTOL` (peaks, impacts) and at each of `TIMED_RTOLS` (median of `repeat`, peaks)."""
+    model = spec.build(PressParams(), speed.a.size)
+    model.jit = True
+    simulate(model, speed, t_end=1e-3, integrator=Integrator("idas", rtol=1e-6), n_out=3, work=False)  # compile
+    t0 = time.perf_counter()
+    x0, info = periodic_state(model, speed, Integrator("idas", rtol=PERIODIC_RTOL))
+    search_s = time.perf_counter() - t0
+
+    def cycle_at(rtol: float):
+        t0 = time.perf_counter()
+        sim = simulate(model, speed, integrator=Integrator("idas", rtol=rtol), x0=x0, n_out=4001, work=False)
+        return time.perf_counter() - t0, sim
+
+    wall, ref = cycle_at(REFERENCE_RTOL)
+    timed = []
+    for rtol in TIMED_RTOLS:
+        runs = [cycle_at(rtol) for _ in range(repeat)]
+        sim = runs[-1][1]
+        timed.append({"rtol": rtol, "times_s": [r[0] for r in runs], "median_s": statistics.median(r[0] for r in runs),
+                      "steps": sim.stats.get("steps"), "peaks": {n: sim.peak(n) for n in PEAKS},
+                      "initial_conditions": sim.stats.get("initial_conditions")})
+    return {"model": spec.describe(), "spec": spec.to_dict(), "states": model.nx,
+            "periodic_search": {**info, "wall_s": search_s},
+            "reference_cycle": {"rtol": REFERENCE_RTOL, "wall_s": wall, "steps": ref.stats.get("steps"),
+                                "peaks": {n: ref.peak(n) for n in PEAKS}, "impacts": impacts(ref, model.params)},
+            "timed": timed}
+
+
+def periodic_speeds() -> list[tuple[str, FourierSpeed]]:
+    """The periodic scenes' names and crank speeds: the seed optimum, the impacting kinematic design."""
+    seed = json.loads(SEED.read_text())
+    problem = SpeedProblem(PressParams(), period=IMPACTING_PERIOD, ram_speed=-0.1)
+    return [("press75 seed optimum", FourierSpeed(seed["period"], seed["a"], seed["b"], seed["theta0"])),
+            (f"kinematic design at {60 / IMPACTING_PERIOD:.0f} spm (period {IMPACTING_PERIOD:g} s), impacting",
+             design_speed(problem).speed)]
+
+
+def periodic_scene_of(name: str, speed: FourierSpeed, full: ModelSpec, specs: list[ModelSpec], repeat: int) -> dict:
+    """The periodic scene `name` on the `full` rod (the reference) and on `specs`; errors against the
+    full rod's cycle at `REFERENCE_RTOL`."""
+    runs = [periodic_scene(spec, speed, repeat) for spec in (full, *specs)]
+    ref_peaks = runs[0]["reference_cycle"]["peaks"]
+    for lv in runs:
+        for c in (lv["reference_cycle"], *lv["timed"]):
+            c["errors"] = {n: abs(c["peaks"][n] / ref_peaks[n] - 1) for n in PEAKS}
+        print(f"{name}, {lv['model']}: search {lv['periodic_search']['wall_s']:.1f} s; "
+              + "; ".join(f"rtol {c['rtol']:g} {c['median_s']:.3f} s, torque error {c['errors']['torque']:.1e}"
+                          for c in lv["timed"]), flush=True)
+    return {"scene": name, "period": speed.period, "reference": runs[0]["model"], "reference_rtol": REFERENCE_RTOL,
+            "repeat": repeat, "levels": runs}
+
+
 def simeon(spec: ModelSpec) -> dict:
     """Simeon's slider crank on the rod of `spec`: relative errors at 0.1 s against the reference."""
     p = PressParams.simeon()
@@ -82,13 +170,41 @@ def simeon(spec: ModelSpec) -> dict:
             "errors": {k: abs(v / ref[k] - 1) for k, v in got.items()}}
 
 
+def periodic_panel(px, per: dict) -> None:
+    """Time of one periodic cycle against its peak torque error, a line per level over the rtols."""
+    for k, lv in enumerate(per["levels"]):
+        xs = [c["median_s"] for c in lv["timed"]]
+        ys = [max(c["errors"]["torque"], 1e-9) for c in lv["timed"]]
+        px.plot(xs, ys, "o-", color=f"C{k}", label=f"{lv['model'].replace(', clearance in crank_pin and wrist_pin', '')} "
+                f"({lv['states']} states)")
+        for x, y, c in zip(xs, ys, lv["timed"]):
+            px.annotate(f"{c['rtol']:g}", (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+    imp = per["levels"][0]["reference_cycle"]["impacts"]
+    px.axvline(GOAL_CYCLE_S, color="k", ls=":", lw=1)
+    px.axhline(GOAL_PEAK, color="k", ls=":", lw=1)
+    px.set_xscale("log")
+    px.set_yscale("log")
+    px.set_xlabel(f"one periodic cycle ({per['period']:g} s), wall s (median of {per['repeat']}; IDAS at the rtol "
+                  "marked, compiled)")
+    px.set_ylabel(f"peak torque error against the {per['reference'].split(',')[0]}\n(periodic, rtol "
+                  f"{per['reference_rtol']:g})")
+    px.set_title(f"{per['scene']}, both clearances:\ncontact losses crank/wrist pin {imp['crank_pin']['losses']}/"
+                 f"{imp['wrist_pin']['losses']} a cycle, back at the wall at up to "
+                 f"{max(i['return_speed_m_s'] for i in imp.values()) * 1e3:.1f} mm/s", fontsize=8)
+    px.legend(fontsize=7)
+
+
 def figure(row: dict, path: Path) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.8))
+    scenes = row.get("periodic") or []
+    fig, axes = plt.subplots(1, 2 + len(scenes), figsize=(6 * (2 + len(scenes)), 4.8))
+    ax, bx = axes[-2:]
+    for px, per in zip(axes, scenes):
+        periodic_panel(px, per)
     for k, c in enumerate(row["cycles"]):
         err = max(c["errors"][n] for n in PEAKS)
         ax.plot(c["median_s"], max(err, 1e-8), "o", color=f"C{k}", label=f"{c['model']} ({c['states']} states)")
@@ -101,7 +217,7 @@ def figure(row: dict, path: Path) -> None:
     ax.set_xlabel(f"{row['t_end']:g} s from rest (the cycle is 0.8 s), wall s (median of {row['repeat']}; "
                   f"{row.get('method', 'cvodes').upper()} rtol {row['rtol']:g}, {how})")
     ax.set_ylabel("largest peak error (torque, pin forces)\nagainst the full element rod (the same rtol)")
-    ax.set_title("75 spm kinematic design, both clearances: cost against error", fontsize=9)
+    ax.set_title("75 spm kinematic design, both clearances, a transient from rest: cost against error", fontsize=9)
     ax.legend(fontsize=7)
     names = [s["model"].replace("flexible rod ", "").replace(", ideal joints", "") for s in row["simeon"]]
     keys = ("slider_position", "slider_velocity", "midspan_deflection", "midspan_extremes")
@@ -136,6 +252,7 @@ def main() -> None:
     if a.repeat < 1:
         ap.error(f"--repeat must be >= 1, got {a.repeat}")
     full = ModelSpec("flexible", n_elements=a.elements)
+    scenes = [periodic_scene_of(name, speed, full, levels(a.elements), max(3, a.repeat)) for name, speed in periodic_speeds()]
     reference = cycle(full, a.rtol, a.repeat, a.t_end, a.method, not a.interpreted)
     print(f"reference {reference['model']} at rtol {a.rtol:g}: {reference['median_s']:.1f} s, "
           f"peak torque {reference['peaks']['torque']:.6g} N m", flush=True)
@@ -152,6 +269,7 @@ def main() -> None:
         print(f"Simeon, {s['model']}: " + ", ".join(f"{k} {v:.2e}" for k, v in s["errors"].items()), flush=True)
     row = {**stamp(), "scene": f"default press, 75 spm kinematic design, both clearances, {a.t_end:g} s from rest",
            "repeat": a.repeat, "rtol": a.rtol, "method": a.method, "jit": not a.interpreted, "t_end": a.t_end, "reference": reference, "cycles": cycles, "simeon": sims,
+           "periodic": scenes,
            "goals": {"cycle_s": GOAL_CYCLE_S, "peak": GOAL_PEAK, "simeon": GOAL_SIMEON, "elements": GOAL_ELEMENTS}}
     OUT.mkdir(exist_ok=True)
     (OUT / "modal_rod.json").write_text(json.dumps(row, indent=1))

@@ -108,57 +108,61 @@ HINT = (
 KEPT_INTEGRATORS = 8
 
 
-def _integrator(model: PressModel, integ: Integrator, grid: np.ndarray, work: bool = True,
-                calc_ic: bool = True) -> ca.Function:
+def _integrator(model: PressModel, integ: Integrator, grid: np.ndarray, work: bool = True) -> ca.Function:
     """The CasADi integrator of `model` over `grid`, built once per model and settings and kept in
     ``model.functions`` (the last `KEPT_INTEGRATORS`): building one took 20 ms on the rigid rod and
     0.1 s on a 2-element rod (2026-11-26), paid again by every call of a sweep or a repeated check.
     With ``model.jit`` the SUNDIALS integrators evaluate the compiled right-hand side
-    (`integrator_dae`). IDAS corrects its start by IDACalcIC unless `calc_ic` is False
-    (`started_consistently`)."""
+    (`integrator_dae`)."""
     grid = np.asarray(grid, float)
     key = ("integrator", integ.method, grid.tobytes(), float(integ.rtol), float(integ.abstol), int(integ.max_steps),
-           float(integ.step), bool(work), str(model.jit), bool(calc_ic))
+           float(integ.step), bool(work), str(model.jit))
     kept = model.functions.setdefault("integrators", {})
     if key not in kept:
         if len(kept) >= KEPT_INTEGRATORS:
             kept.pop(next(iter(kept)))
-        kept[key] = _build_integrator(model, integ, grid, work, calc_ic)
+        kept[key] = _build_integrator(model, integ, grid, work)
     return kept[key]
 
 
 #: What `started_consistently` records in a run's statistics (``initial_conditions``).
-CALC_IC_FAILED = "IDACalcIC failed ({}); started from the model's consistent accelerations, without it"
+CALC_IC_FAILED = "IDACalcIC failed ({}); started without it from the model's consistent accelerations and rates"
 
 
 def started_consistently(model: PressModel, integ: Integrator, grid: np.ndarray, work: bool, err: RuntimeError,
                          args: dict, stats: dict) -> dict[str, np.ndarray] | None:
-    """The run of `args` again without IDACalcIC, from the model's consistent accelerations, when `err`
-    is IDAS failing to correct its start (else None).
+    """The run of `args` again without IDACalcIC, from the model's consistent accelerations and state
+    derivatives, when `err` is IDAS failing to correct its start (else None).
 
     The DAE's algebraic states are the free accelerations, which `PressModel.accelerations` gives
-    exactly for any state, so IDACalcIC's correction is not needed. From mid-cycle states of the
-    8-element rod and of one mode of it, its Newton iteration failed (IDA_CONV_FAIL,
-    IDA_LINESEARCH_FAIL) at every rtol from 1e-6 to 1e-10, while the same runs started without it
-    took the same steps and peaks as the models that pass it (145.12923 N m at rtol 1e-10 on the seed
-    optimum, 2026-11-27). The failure and the restart are recorded in `stats` under
-    ``initial_conditions``."""
+    exactly for any state, and with them the state derivatives, so IDACalcIC's correction is not
+    needed. From mid-cycle states of the 8-element rod and of one mode of it its Newton iteration
+    failed (IDA_CONV_FAIL from zero accelerations, IDA_LINESEARCH_FAIL from the consistent ones) at
+    every rtol from 1e-6 to 1e-10; started from zero state derivatives instead, IDAS failed its first
+    step on an impacting cycle (IDA_ERR_FAIL). Each column of `args` gets its own integrator (the
+    start's derivatives are a construction option), not kept. The failure and the restart are
+    recorded in `stats` under ``initial_conditions``."""
     if integ.method != "idas" or "IDACalcIC" not in str(err):
         return None
     x0 = np.asarray(args["x0"], float)
     cols = x0.reshape(model.nx, -1, order="F")
-    p = np.asarray(args["p"], float).reshape(-1, cols.shape[1], order="F")
-    z0 = np.column_stack([model.z0(cols[:, k], p[:, k]) for k in range(cols.shape[1])])
-    F = _integrator(model, integ, grid, work, calc_ic=False)
+    ps = np.asarray(args["p"], float).reshape(-1, cols.shape[1], order="F")
+    dae = model.dae(explicit=False, work=False)
+    rates = ca.Function("rates", [dae["t"], dae["x"], dae["z"], dae["p"]], [dae["ode"]])
     code = re.search(r"IDA_[A-Z_]+", str(err))
     stats["initial_conditions"] = CALC_IC_FAILED.format(code.group(0) if code else first_line(err))
-    try:
-        with interruptible():
-            return call(F, stats=stats, **{**args, "z0": z0 if x0.ndim > 1 else z0[:, 0]})
-    except RuntimeError as again:
-        raise SimulationError(f"{first_line(again)} (started without IDACalcIC, which had failed: "
-                              f"{first_line(err)})", time=float(stats.get("tcur", np.nan)), method="idas",
-                              hint=HINT) from None
+    runs = []
+    for x, p in zip(cols.T, ps.T):
+        z = model.z0(x, p)
+        F = _build_integrator(model, integ, grid, work, start=np.asarray(rates(0.0, x, z, p)).ravel())
+        try:
+            with interruptible():
+                runs.append(call(F, stats=stats, x0=x, z0=z, p=p))
+        except RuntimeError as again:
+            raise SimulationError(f"{first_line(again)} (started without IDACalcIC, which had failed: "
+                                  f"{first_line(err)})", time=float(stats.get("tcur", np.nan)), method="idas",
+                                  hint=HINT) from None
+    return {k: np.hstack([np.asarray(r[k]) for r in runs]) if x0.ndim > 1 else runs[0][k] for k in runs[0]}
 
 
 def compiled_dae(dae: dict, derivatives: str = "same") -> ca.Function:
@@ -210,7 +214,9 @@ def runs_compiled(model: PressModel) -> bool:
 
 
 def _build_integrator(model: PressModel, integ: Integrator, grid: np.ndarray, work: bool,
-                      calc_ic: bool = True) -> ca.Function:
+                      start: np.ndarray | None = None) -> ca.Function:
+    """The integrator of `_integrator`; IDAS starts from the state derivatives `start` (scaled, 1/s)
+    instead of correcting its start by IDACalcIC when they are given (`started_consistently`)."""
     method = integ.method
     explicit = method != "idas"
     sundials = method in ("idas", "cvodes")
@@ -220,7 +226,9 @@ def _build_integrator(model: PressModel, integ: Integrator, grid: np.ndarray, wo
     if sundials:
         opts.update(reltol=integ.rtol, abstol=integ.abstol, max_num_steps=integ.max_steps)
         if method == "idas":
-            opts.update(calc_ic=calc_ic, suppress_algebraic=True)
+            opts.update(calc_ic=start is None, suppress_algebraic=True)
+            if start is not None:
+                opts.update(init_xdot=list(start))
     else:
         # CasADi takes the number of steps over the whole run [0, grid[-1]] (at least one per output)
         opts.update(number_of_finite_elements=max(grid.size, int(np.ceil(float(grid[-1]) / integ.step))))
