@@ -221,7 +221,18 @@ def radau_row(res: Results) -> Row:
         parts.append("IDAS interpreted: " + ", ".join(f"{v['radau_over_idas_interpreted']:.1f} ×"
                                                        for _, v in sorted(cells.items())))
     date = r.get("stamp", {}).get("date") or runs.get("simulation", {}).get("date", "date not recorded")
-    return Row(29, goal, "; ".join(parts), verdict(ok), f"simulation.json, {date}")
+    source = f"simulation.json, {date}"
+    orbit = res.json("simulation_periodic69.json")
+    if orbit is not None:
+        cells = {k: v for k, v in orbit["equal_accuracy"].items() if "radau_over_idas" in v}
+        radau = [row for row in orbit["results"]["periodic69"]["rows"] if row["method"] == "scipy-radau" and row["ok"]]
+        loosest = max(radau, key=lambda row: row["rtol"], default=None)
+        parts.append("on the 69 spm design's periodic impacting orbit (the 75 spm cycle is not one): "
+                     + ", ".join(f"{v['radau_over_idas']:.1f} × at {float(k.split('@')[1]):.1%}" for k, v in sorted(cells.items()))
+                     + ("" if loosest is None else f" (Radau within {loosest['peak_torque_rel_error']:.0e} already at "
+                        f"its loosest rtol {loosest['rtol']:g}, {loosest['time_per_cycle_s']:.1f} s)"))
+        source += f"; simulation_periodic69.json, {orbit['stamp']['date']}"
+    return Row(29, goal, "; ".join(parts), verdict(ok), source)
 
 
 def verification_row(res: Results) -> Row:

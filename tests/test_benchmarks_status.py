@@ -76,6 +76,16 @@ def test_suite_sweep_and_verification_goals(tmp_path):
     assert ver.verdict == "**not met**" and "3.20 ×" in ver.measured and "in the same run" in ver.measured  # the peak 2e-6 off
     radau = by_goal(rows, "seed clearance model")[0]
     assert radau.verdict == "**not met**" and "d7" in radau.source  # 19 x at 0.1 %
+    (tmp_path / "simulation_periodic69.json").write_text(json.dumps({
+        "stamp": {"date": "d11"},
+        "equal_accuracy": {"periodic69@0.001": {"radau_over_idas": 9.6}, "periodic69@0.01": {"radau_over_idas": 17.5}},
+        "results": {"periodic69": {"rows": [
+            {"method": "scipy-radau", "ok": True, "rtol": 1e-4, "peak_torque_rel_error": 8e-6, "time_per_cycle_s": 5.1},
+            {"method": "scipy-radau", "ok": True, "rtol": 1e-5, "peak_torque_rel_error": 4e-5, "time_per_cycle_s": 8.0},
+            {"method": "idas", "ok": True, "rtol": 1e-3, "peak_torque_rel_error": 1e-2, "time_per_cycle_s": 0.2}]}}}))
+    radau = by_goal(status.rows(tmp_path), "seed clearance model")[0]
+    assert "9.6 × at 0.1%, 17.5 × at 1.0% (Radau within 8e-06 already at its loosest rtol 0.0001, 5.1 s)" in radau.measured
+    assert radau.verdict == "**not met**" and "d11" in radau.source  # quoted: the verdict stays on simulation.json
 
 
 def test_the_readme_block_is_replaced_in_place(tmp_path):
