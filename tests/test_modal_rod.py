@@ -83,12 +83,13 @@ CALC_IC_FAILS_HERE = [-0.009758755293709629, -1.0021191715013031, -0.01065288178
 def test_idas_starts_where_its_initial_condition_correction_fails():
     """From a state where IDACalcIC fails, IDAS starts from the model's consistent accelerations, says
     so in its statistics, and ends where CVODES (the explicit ODE, which needs no correction) ends at
-    rtol 1e-10. Before, the run raised SimulationError."""
+    rtol 1e-10. Before, the run raised SimulationError. Several starts at once (the periodic search's
+    shots) each get their own run, in their columns."""
     import json
     from pathlib import Path
 
     from pressocp import FourierSpeed
-    from pressocp.simulate import Integrator, simulate
+    from pressocp.simulate import Integrator, simulate, started_consistently
 
     d = json.loads((Path(__file__).parent / "references" / "press75_optimum_speed.json").read_text())
     speed = FourierSpeed(d["period"], d["a"], d["b"], d["theta0"])
@@ -102,6 +103,18 @@ def test_idas_starts_where_its_initial_condition_correction_fails():
     scaled = np.abs(idas.states[:, -1] - cvodes.states[:, -1]) / model.x_scale
     assert scaled.max() < 1e-4  # 5.2e-6 measured, of states of order 1
     assert idas.torque[-1] == pytest.approx(cvodes.torque[-1], rel=1e-4)
+    # several starts at once (the periodic search's Jacobian shots): each column its own run
+    par = model.parameters(speed)
+    xs = np.column_stack([x, 0.999 * x])
+    err = RuntimeError('IDACalcIC returned "IDA_CONV_FAIL"')
+    both = started_consistently(model, Integrator("idas", rtol=1e-8), np.array([0.02]), False, err,
+                                {"x0": xs, "p": np.column_stack([par, par])}, {})["xf"]
+    scaled_cvodes = cvodes.states[:, -1] / model.x_scale
+    assert np.abs(both[:, 0] - scaled_cvodes).max() < 1e-4
+    alone = started_consistently(model, Integrator("idas", rtol=1e-8), np.array([0.02]), False, err,
+                                 {"x0": 0.999 * x, "p": par}, {})["xf"]
+    np.testing.assert_allclose(both[:, 1], np.ravel(alone), rtol=0, atol=1e-12)
+    assert np.abs(both[:, 1] - both[:, 0]).max() > 1e-4  # the two starts differ
 
 
 
