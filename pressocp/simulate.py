@@ -147,8 +147,10 @@ def started_consistently(model: PressModel, integ: Integrator, grid: np.ndarray,
     x0 = np.asarray(args["x0"], float)
     cols = x0.reshape(model.nx, -1, order="F")
     ps = np.asarray(args["p"], float).reshape(-1, cols.shape[1], order="F")
-    dae = model.dae(explicit=False, work=False)
-    rates = ca.Function("rates", [dae["t"], dae["x"], dae["z"], dae["p"]], [dae["ode"]])
+    if "rates" not in model.functions:  # on the 8-element rod every run comes here: built once per model
+        dae = model.dae(explicit=False, work=False)
+        model.functions["rates"] = ca.Function("rates", [dae["t"], dae["x"], dae["z"], dae["p"]], [dae["ode"]])
+    rates = model.functions["rates"]
     code = re.search(r"IDA_[A-Z_]+", str(err))
     stats["initial_conditions"] = CALC_IC_FAILED.format(code.group(0) if code else first_line(err))
     runs = []
