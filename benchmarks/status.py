@@ -335,10 +335,15 @@ def _said(lc: tuple[dict, dict] | None, repeat: int) -> str:
             f"{lv['reference_cycle']['errors']['torque']:.1e})")
 
 
+def _return_speed(per: dict) -> float:
+    """The periodic scene's fastest return of a journal to its bearing wall, m/s (on the full rod)."""
+    return max(i["return_speed_m_s"] for i in per["levels"][0]["reference_cycle"]["impacts"].values())
+
+
 def _impacts(per: dict) -> str:
     imp = per["levels"][0]["reference_cycle"]["impacts"]
     return (f"contact losses crank/wrist pin {imp['crank_pin']['losses']}/{imp['wrist_pin']['losses']} a cycle, back at "
-            f"the wall at up to {1e3 * max(i['return_speed_m_s'] for i in imp.values()):.1f} mm/s")
+            f"the wall at up to {1e3 * _return_speed(per):.1f} mm/s")
 
 
 def _periodic_modal_rows(r: dict, goal: str, goal2: str, src: str) -> list[Row]:
@@ -346,10 +351,7 @@ def _periodic_modal_rows(r: dict, goal: str, goal2: str, src: str) -> list[Row]:
     fastest return to a bearing wall): the fastest flexible level and rtol within the peak tolerance of
     the full element rod, the fastest reduced one, and the reduced rods' model error (their periodic
     cycles at the reference rtol) with Simeon's; the other scenes are quoted."""
-    def speed_back(per):
-        return max(i["return_speed_m_s"] for i in per["levels"][0]["reference_cycle"]["impacts"].values())
-
-    scenes = sorted(r["periodic"], key=speed_back, reverse=True)
+    scenes = sorted(r["periodic"], key=_return_speed, reverse=True)
     per, others = scenes[0], scenes[1:]
     best, best_reduced = _fastest_within(per), _fastest_within(per, reduced_only=True)
     also = "" if best_reduced is None or best_reduced == best else f"; the fastest reduced rod: {_said(best_reduced, per['repeat'])}"
