@@ -4,7 +4,10 @@ scipy baselines on the same equations, with an optional periodic steady state.
 
 from __future__ import annotations
 
+import contextlib
+import io
 import re
+import sys
 import time
 from dataclasses import dataclass, replace
 from typing import Any
@@ -127,6 +130,24 @@ def _integrator(model: PressModel, integ: Integrator, grid: np.ndarray, work: bo
 
 #: What `started_consistently` records in a run's statistics (``initial_conditions``).
 CALC_IC_FAILED = "IDACalcIC failed ({}); started without it from the model's consistent accelerations and rates"
+
+
+def first_try(F: ca.Function, stats: dict, args: dict) -> dict[str, np.ndarray]:
+    """`call` of the integrator `F` on `args`, interruptible, with what SUNDIALS prints meanwhile (CasADi
+    writes it to Python's ``sys.stderr``) held back: written out afterwards, unless the run failed in
+    IDACalcIC. That failure's messages ("The linesearch algorithm failed with too small a step.", once
+    per attempt: six to nine lines per periodic search on the 8-element rod) are dropped, because
+    `started_consistently` restarts the run and records the failure in its statistics."""
+    held, drop = io.StringIO(), False
+    try:
+        with contextlib.redirect_stderr(held), interruptible():
+            return call(F, stats=stats, **args)
+    except RuntimeError as err:
+        drop = "IDACalcIC" in str(err)
+        raise
+    finally:
+        if not drop and held.getvalue():
+            sys.stderr.write(held.getvalue())
 
 
 def started_consistently(model: PressModel, integ: Integrator, grid: np.ndarray, work: bool, err: RuntimeError,
@@ -265,8 +286,7 @@ def integrate(model: PressModel, integ: Integrator, x0: np.ndarray, p: np.ndarra
         args["z0"] = model.z0(x0, p)
     t0, raw = time.perf_counter(), {}
     try:
-        with interruptible():
-            res = call(F, stats=raw, **args)
+        res = first_try(F, raw, args)
     except RuntimeError as err:
         res = started_consistently(model, integ, grid, work, err, args, raw)
         if res is None:
@@ -483,8 +503,7 @@ class PeriodicShots:
         self.started, self.last = time.perf_counter(), {}
         p = np.tile(self.p[:, None], (1, xs.shape[1])) if xs.ndim > 1 else self.p
         try:
-            with interruptible():
-                return call(F, stats=self.last, x0=xs, p=p)["xf"]
+            return first_try(F, self.last, {"x0": xs, "p": p})["xf"]
         except RuntimeError as err:
             grid = self.grid if F is self.F else np.array([self.period])
             res = started_consistently(self.model, self.shots, grid, False, err, {"x0": xs, "p": p}, self.last)
