@@ -12,6 +12,10 @@ Two questions, both answered on the ideal press (closed form, milliseconds):
   which drives its transverse inertia load): a load harmonic at a fraction r of the mode is amplified
   by 1 / (1 - r^2), 1 % at r = 0.1. Within a factor `MODE_FACTOR` the flexible rod is needed.
 
+The flexible level is named as a concrete model: the 8-element rod reduced to its first 2 bending
+modes (`REDUCED_ROD`), the fewest modes within 1e-3 of the 8-element rod's peaks on every periodic scene
+measured, and faster per cycle than the 4-element rod (docs/measurements.md, "How many modes").
+
 The factor 10 is deliberately conservative. "clearance" locates impacts but does not size them: the
 size of an impact peak also depends on the rod's bending. A design that keeps the rod in tension (an
 optimum) needs no more than the clearance level. How each level compares with the flexible rod across
@@ -25,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import checks as chk
+from .model import ModelSpec
 from .params import PressParams
 from .rigid import rigid_inverse_dynamics, rigid_kinematics
 from .speed import FourierSpeed
@@ -38,6 +43,13 @@ HARMONIC_SHARE = 0.01
 MODE_FACTOR = 10.0
 #: The level names, plainest first.
 LEVELS = ("rigid", "clearance", "flexible")
+#: (elements, modes) of the flexible rod the "flexible" level names. Peak torque and pin forces against
+#: the 8-element rod, each periodic at rtol 1e-10 (2026-11-27): 2 modes within 1.7e-4 on the impacting
+#: 69 spm design, 1.1e-4 and 2.7e-5 on the slender-rod scene's design and rigid optimum, 1.1e-7 on the
+#: 75 spm seed optimum; 1 mode 3.0e-3 off on the impacting design; the 4-element rod 1.5e-3 off on the
+#: slender rod's optimum. A cycle of the impacting design at rtol 1e-5: 0.42 s against 0.64 s for the
+#: 4-element rod and 1.2 s for the 8-element one.
+REDUCED_ROD = (8, 2)
 
 
 @dataclass
@@ -58,6 +70,9 @@ class ModelRecommendation:
         First bending mode of the rod, pinned at both ends, Hz.
     load_frequency : float
         Highest harmonic of the rod's loads with at least `HARMONIC_SHARE` of the largest amplitude, Hz.
+    spec : ModelSpec
+        The level as a model to build (``spec.build(params, n_harmonics)``): the ideal press, the rigid
+        rod with both clearance joints, or the flexible rod reduced to `REDUCED_ROD` with them.
     """
 
     level: str
@@ -65,11 +80,17 @@ class ModelRecommendation:
     min_rod_tension: float
     first_mode: float
     load_frequency: float
+    spec: ModelSpec
 
     @property
     def mode_ratio(self) -> float:
         """first_mode / load_frequency."""
         return self.first_mode / self.load_frequency
+
+
+#: Each level as a model (`ModelRecommendation.spec`).
+LEVEL_SPECS = {"rigid": ModelSpec("rigid", ()), "clearance": ModelSpec("rigid"),
+               "flexible": ModelSpec("flexible", n_elements=REDUCED_ROD[0], n_modes=REDUCED_ROD[1])}
 
 
 def highest_harmonic(signal: np.ndarray, period: float) -> float:
@@ -115,7 +136,8 @@ def recommend_model(params: PressParams, speed: FourierSpeed) -> ModelRecommenda
                  f"harmonic ({f_load:.4g} Hz)")
     if f_mode < MODE_FACTOR * f_load:
         level = "flexible"
-        reason = f"{mode_note}, within a factor {MODE_FACTOR:g} -> flexible; {tension_note}"
+        reason = (f"{mode_note}, within a factor {MODE_FACTOR:g} -> flexible ({LEVEL_SPECS[level].describe()}); "
+                  f"{tension_note}")
     elif reverses:
         level = "clearance"
         reason = (f"{tension_note} -> clearance; {mode_note}, more than {MODE_FACTOR:g} -> rigid rod (for the "
@@ -123,7 +145,7 @@ def recommend_model(params: PressParams, speed: FourierSpeed) -> ModelRecommenda
     else:
         level = "rigid"
         reason = f"{tension_note} -> rigid press; {mode_note}, more than {MODE_FACTOR:g} -> rigid rod"
-    return ModelRecommendation(level, reason, t_min, f_mode, f_load)
+    return ModelRecommendation(level, reason, t_min, f_mode, f_load, LEVEL_SPECS[level])
 
 
-__all__ = ["HARMONIC_SHARE", "LEVELS", "MODE_FACTOR", "ModelRecommendation", "highest_harmonic", "recommend_model"]
+__all__ = ["HARMONIC_SHARE", "LEVELS", "LEVEL_SPECS", "REDUCED_ROD", "MODE_FACTOR", "ModelRecommendation", "highest_harmonic", "recommend_model"]
