@@ -109,8 +109,9 @@ JOBS = (
     Job("stroke_rate", "bench_stroke_rate.py", (), 60,
         "press75's highest stroke rate with a 15 N·m motor (gear 10): every rate tried verified, +2 % fails"),
     Job("modal_rod", "bench_modal_rod.py", ("--t-end", "0.8"), 10,
-        "the flexible rod reduced to 1-3 modes: one periodic cycle of the seed optimum and of the impacting 69 spm "
-        "design, and a 75 spm transient (IDAS, compiled), time and error against the element rod; Simeon"),
+        "the flexible rod reduced to 1-3 modes: one periodic cycle of the seed optimum, of the impacting 69 spm "
+        "design and of the slender-rod scene's design, and a 75 spm transient (IDAS, compiled), time and error "
+        "against the element rod; Simeon"),
     Job("ocp_seed_collocation", "bench_ocp.py", ("seed_collocation", "--repeat", "3"), 6,
         "75 spm, every stage, collocation on CasADi's virtual machine"),
     Job("ocp_seed_collocation_jit", "bench_ocp.py", ("seed_collocation_jit", "--repeat", "3"), 3,

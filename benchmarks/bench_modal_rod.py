@@ -4,7 +4,7 @@
 
 Three scenes, both clearances, compiled IDAS, 4 001 output samples a cycle, no work quadratures.
 
-Two periodic scenes: the 75 spm seed optimum (`tests/references/press75_optimum_speed.json`), the
+Three periodic scenes: the 75 spm seed optimum (`tests/references/press75_optimum_speed.json`), the
 cycle a user verifies, whose crank pin barely leaves its wall; and the kinematic design at 69 spm
 (period 0.87 s, -0.1 m/s over h/H 0.7 -> 0.3), whose journals leave their walls some 20 times a
 cycle and hit them again at 20-40 mm/s, and which has an attracting periodic orbit (its peak torque
@@ -14,7 +14,11 @@ the 4- and ``--elements``-element rods, 1-3 modes of the latter) is brought to i
 (IDAS rtol 1e-9, the search timed), then one cycle from that state is timed at rtol 1e-5, 1e-6 and
 1e-7 (median of ``--repeat``, at least 3). Errors are against the ``--elements`` rod's periodic
 cycle at rtol 1e-10 (the full element rod). The contact losses per cycle and the journals' radial
-speed as they reach the wall again are recorded.
+speed as they reach the wall again are recorded. The third is the bundled slender-rod scene
+(Simeon's rod at 100 rad/s, ideal joints) driven by its kinematic design: there the rod's first mode
+lies within the loads' harmonics, which is where `recommend_model` asks for the flexible rod (its
+levels: the 4-element rod and 1-3 modes of the ``--elements`` rod; it says how many modes that level
+names, `pressocp.recommend.REDUCED_ROD`).
 
 The transient scene: the default press at 75 spm driven by its kinematic design (-0.1 m/s over h/H 0.7 -> 0.3),
 whose rod force reverses: both journals cross their clearances and hit. ``--t-end`` seconds from
@@ -40,7 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pressocp import PressParams, SpeedProblem, design_speed
+from pressocp import PressParams, Scenario, SpeedProblem, design_speed
 from pressocp.model import ModelSpec
 from pressocp.report import stamp
 from pressocp.simulate import Integrator, periodic_state, simulate
@@ -88,12 +92,12 @@ def cycle(spec: ModelSpec, rtol: float, repeat: int, t_end: float, method: str =
             "steps": sim.stats.get("steps"), "peaks": {n: sim.peak(n) for n in PEAKS}}
 
 
-def impacts(sim, press: PressParams) -> dict:
-    """Per journal: how often it leaves its bearing wall in the cycle, and its largest radial speed
-    (m/s) as it reaches the wall again (from the samples either side of the return)."""
+def impacts(sim, press: PressParams, joints: tuple[str, ...] = ("crank_pin", "wrist_pin")) -> dict:
+    """Per clearance joint of `joints`: how often it leaves its bearing wall in the cycle, and its largest
+    radial speed (m/s) as it reaches the wall again (from the samples either side of the return)."""
     out = {}
     dt = float(sim.t[1] - sim.t[0])
-    for joint in ("crank_pin", "wrist_pin"):
+    for joint in joints:
         eps = np.asarray(getattr(sim, f"{joint}_eccentricity"))
         free = eps < 1.0  # |e|/c below 1: in flight
         back = np.flatnonzero(~free & np.roll(free, 1))
@@ -102,10 +106,11 @@ def impacts(sim, press: PressParams) -> dict:
     return out
 
 
-def periodic_scene(spec: ModelSpec, speed, repeat: int) -> dict:
-    """`spec` on `speed`: its periodic state at `PERIODIC_RTOL` (the search timed), its cycle from there
-    at `REFERENCE_RTOL` (peaks, impacts) and at each of `TIMED_RTOLS` (median of `repeat`, peaks)."""
-    model = spec.build(PressParams(), speed.a.size)
+def periodic_scene(spec: ModelSpec, speed, repeat: int, press: PressParams) -> dict:
+    """`spec` of `press` on `speed`: its periodic state at `PERIODIC_RTOL` (the search timed), its cycle
+    from there at `REFERENCE_RTOL` (peaks, impacts) and at each of `TIMED_RTOLS` (median of `repeat`,
+    peaks)."""
+    model = spec.build(press, speed.a.size)
     model.jit = True
     simulate(model, speed, t_end=1e-3, integrator=Integrator("idas", rtol=1e-6), n_out=3, work=False)  # compile
     t0 = time.perf_counter()
@@ -128,23 +133,33 @@ def periodic_scene(spec: ModelSpec, speed, repeat: int) -> dict:
     return {"model": spec.describe(), "spec": spec.to_dict(), "states": model.nx,
             "periodic_search": {**info, "wall_s": search_s},
             "reference_cycle": {"rtol": REFERENCE_RTOL, "wall_s": wall, "steps": ref.stats.get("steps"),
-                                "peaks": {n: ref.peak(n) for n in PEAKS}, "impacts": impacts(ref, model.params)},
+                                "peaks": {n: ref.peak(n) for n in PEAKS},
+                                "impacts": impacts(ref, model.params, model.clearance)},
             "timed": timed}
 
 
-def periodic_speeds() -> list[tuple[str, FourierSpeed]]:
-    """The periodic scenes' names and crank speeds: the seed optimum, the impacting kinematic design."""
+def periodic_scenes(elements: int) -> list[tuple[str, FourierSpeed, PressParams, ModelSpec, list[ModelSpec]]]:
+    """The periodic scenes: name, crank speed, press, the full rod (the reference) and the levels
+    compared with it. The seed optimum and the impacting kinematic design of the default press (both
+    clearances), and the slender-rod scene's kinematic design (ideal joints)."""
     seed = json.loads(SEED.read_text())
     problem = SpeedProblem(PressParams(), period=IMPACTING_PERIOD, ram_speed=-0.1)
-    return [("press75 seed optimum", FourierSpeed(seed["period"], seed["a"], seed["b"], seed["theta0"])),
+    full = ModelSpec("flexible", n_elements=elements)
+    slender = Scenario.load("slender_rod")
+    ideal = [ModelSpec("flexible", (), 4), *(ModelSpec("flexible", (), elements, m) for m in (1, 2, 3))]
+    return [("press75 seed optimum", FourierSpeed(seed["period"], seed["a"], seed["b"], seed["theta0"]),
+             PressParams(), full, levels(elements)),
             (f"kinematic design at {60 / IMPACTING_PERIOD:.0f} spm (period {IMPACTING_PERIOD:g} s), impacting",
-             design_speed(problem).speed)]
+             design_speed(problem).speed, PressParams(), full, levels(elements)),
+            ("slender-rod scene's kinematic design", design_speed(slender.problem).speed,
+             slender.press, ModelSpec("flexible", (), elements), ideal)]
 
 
-def periodic_scene_of(name: str, speed: FourierSpeed, full: ModelSpec, specs: list[ModelSpec], repeat: int) -> dict:
+def periodic_scene_of(name: str, speed: FourierSpeed, press: PressParams, full: ModelSpec, specs: list[ModelSpec],
+                      repeat: int) -> dict:
     """The periodic scene `name` on the `full` rod (the reference) and on `specs`; errors against the
     full rod's cycle at `REFERENCE_RTOL`."""
-    runs = [periodic_scene(spec, speed, repeat) for spec in (full, *specs)]
+    runs = [periodic_scene(spec, speed, repeat, press) for spec in (full, *specs)]
     ref_peaks = runs[0]["reference_cycle"]["peaks"]
     for lv in runs:
         for c in (lv["reference_cycle"], *lv["timed"]):
@@ -180,6 +195,9 @@ def periodic_panel(px, per: dict) -> None:
         for x, y, c in zip(xs, ys, lv["timed"]):
             px.annotate(f"{c['rtol']:g}", (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
     imp = per["levels"][0]["reference_cycle"]["impacts"]
+    joints = (f"both clearances:\ncontact losses crank/wrist pin {imp['crank_pin']['losses']}/"
+              f"{imp['wrist_pin']['losses']} a cycle, back at the wall at up to "
+              f"{max(i['return_speed_m_s'] for i in imp.values()) * 1e3:.1f} mm/s" if imp else "no clearance joints")
     px.axvline(GOAL_CYCLE_S, color="k", ls=":", lw=1)
     px.axhline(GOAL_PEAK, color="k", ls=":", lw=1)
     px.set_xscale("log")
@@ -188,9 +206,7 @@ def periodic_panel(px, per: dict) -> None:
                   "marked, compiled)")
     px.set_ylabel(f"peak torque error against the {per['reference'].split(',')[0]}\n(periodic, rtol "
                   f"{per['reference_rtol']:g})")
-    px.set_title(f"{per['scene']}, both clearances:\ncontact losses crank/wrist pin {imp['crank_pin']['losses']}/"
-                 f"{imp['wrist_pin']['losses']} a cycle, back at the wall at up to "
-                 f"{max(i['return_speed_m_s'] for i in imp.values()) * 1e3:.1f} mm/s", fontsize=8)
+    px.set_title(f"{per['scene']}, {joints}", fontsize=8)
     px.legend(fontsize=7)
 
 
@@ -252,7 +268,7 @@ def main() -> None:
     if a.repeat < 1:
         ap.error(f"--repeat must be >= 1, got {a.repeat}")
     full = ModelSpec("flexible", n_elements=a.elements)
-    scenes = [periodic_scene_of(name, speed, full, levels(a.elements), max(3, a.repeat)) for name, speed in periodic_speeds()]
+    scenes = [periodic_scene_of(*scene, max(3, a.repeat)) for scene in periodic_scenes(a.elements)]
     reference = cycle(full, a.rtol, a.repeat, a.t_end, a.method, not a.interpreted)
     print(f"reference {reference['model']} at rtol {a.rtol:g}: {reference['median_s']:.1f} s, "
           f"peak torque {reference['peaks']['torque']:.6g} N m", flush=True)

@@ -337,11 +337,13 @@ def _said(lc: tuple[dict, dict] | None, repeat: int) -> str:
 
 def _return_speed(per: dict) -> float:
     """The periodic scene's fastest return of a journal to its bearing wall, m/s (on the full rod)."""
-    return max(i["return_speed_m_s"] for i in per["levels"][0]["reference_cycle"]["impacts"].values())
+    return max((i["return_speed_m_s"] for i in per["levels"][0]["reference_cycle"]["impacts"].values()), default=0.0)
 
 
 def _impacts(per: dict) -> str:
     imp = per["levels"][0]["reference_cycle"]["impacts"]
+    if not imp:
+        return "no clearance joints"
     return (f"contact losses crank/wrist pin {imp['crank_pin']['losses']}/{imp['wrist_pin']['losses']} a cycle, back at "
             f"the wall at up to {1e3 * _return_speed(per):.1f} mm/s")
 
