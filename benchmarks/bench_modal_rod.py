@@ -2,14 +2,15 @@
 
     python benchmarks/bench_modal_rod.py [--repeat 1] [--elements 8] [--rtol 1e-7] [--t-end 0.2] [--method idas] [--interpreted]
 
-Three scenes, both clearances, compiled IDAS, 4 001 output samples a cycle, no work quadratures.
+Four scenes, compiled IDAS, 4 001 output samples a cycle, no work quadratures: three periodic ones
+and a transient.
 
-Three periodic scenes: the 75 spm seed optimum (`tests/references/press75_optimum_speed.json`), the
-cycle a user verifies, whose crank pin barely leaves its wall; and the kinematic design at 69 spm
+The periodic scenes: the 75 spm seed optimum (`tests/references/press75_optimum_speed.json`), the
+cycle a user verifies, whose crank pin barely leaves its wall; the kinematic design at 69 spm
 (period 0.87 s, -0.1 m/s over h/H 0.7 -> 0.3), whose journals leave their walls some 20 times a
 cycle and hit them again at 20-40 mm/s, and which has an attracting periodic orbit (its peak torque
 repeats to 1e-7 from cycle to cycle; at 75 spm the same design's per-cycle peaks wander by 5 % on
-the flexible rods, docs/decisions/2026-11-27-periodic-yardstick.md). Every level (the rigid rod,
+the flexible rods, docs/decisions/2026-11-27-periodic-yardstick.md), both with both clearances. Every level (the rigid rod,
 the 4- and ``--elements``-element rods, 1-3 modes of the latter) is brought to its periodic state
 (IDAS rtol 1e-9, the search timed), then one cycle from that state is timed at rtol 1e-5, 1e-6 and
 1e-7 (median of ``--repeat``, at least 3). Errors are against the ``--elements`` rod's periodic

@@ -132,6 +132,12 @@ def _integrator(model: PressModel, integ: Integrator, grid: np.ndarray, work: bo
 CALC_IC_FAILED = "IDACalcIC failed ({}); started without it from the model's consistent accelerations and rates"
 
 
+def calc_ic_failed(err: BaseException) -> bool:
+    """Whether `err` is IDAS failing to correct its start (IDACalcIC), the failure
+    `started_consistently` restarts from."""
+    return "IDACalcIC" in str(err)
+
+
 def first_try(F: ca.Function, stats: dict, args: dict) -> dict[str, np.ndarray]:
     """`call` of the integrator `F` on `args`, interruptible, with what SUNDIALS prints meanwhile (CasADi
     writes it to Python's ``sys.stderr``) held back: written out afterwards, unless the run failed in
@@ -143,7 +149,7 @@ def first_try(F: ca.Function, stats: dict, args: dict) -> dict[str, np.ndarray]:
         with contextlib.redirect_stderr(held), interruptible():
             return call(F, stats=stats, **args)
     except RuntimeError as err:
-        drop = "IDACalcIC" in str(err)
+        drop = calc_ic_failed(err)
         raise
     finally:
         if not drop and held.getvalue():
@@ -163,7 +169,7 @@ def started_consistently(model: PressModel, integ: Integrator, grid: np.ndarray,
     step on an impacting cycle (IDA_ERR_FAIL). Each column of `args` gets its own integrator (the
     start's derivatives are a construction option), not kept. The failure and the restart are
     recorded in `stats` under ``initial_conditions``."""
-    if integ.method != "idas" or "IDACalcIC" not in str(err):
+    if integ.method != "idas" or not calc_ic_failed(err):
         return None
     x0 = np.asarray(args["x0"], float)
     cols = x0.reshape(model.nx, -1, order="F")

@@ -88,13 +88,15 @@ def test_the_ideal_press_is_solved_by_the_rigid_transcription():
     with pytest.raises(ValueError, match="PressModel or a ModelSpec"):
         po.recommend_transcription("flexible")
 
-def test_each_level_names_a_model_to_build():
+
+def test_each_level_names_a_model_to_build(impact_speed):
     """`ModelRecommendation.spec`: the ideal press, the rigid rod with both clearance joints, and the
     flexible rod as the 8-element rod reduced to 2 bending modes (with the joints)."""
     from pressocp.model import ModelSpec
 
     press = po.PressParams()
     assert po.recommend_model(press, po.FourierSpeed.constant(1.0)).spec == ModelSpec("rigid", ())
+    assert po.recommend_model(press, impact_speed).spec == ModelSpec("rigid", ("crank_pin", "wrist_pin"))
     sc = po.Scenario.load("slender_rod")
     r = po.recommend_model(sc.press, po.FourierSpeed.constant(sc.problem.period))
     assert r.spec == ModelSpec("flexible", ("crank_pin", "wrist_pin"), 8, 2)
