@@ -13,8 +13,8 @@ import scipy.linalg as sla
 from pressocp import Bearing, Counterbalance, FourierSpeed, PressParams, ProcessForce, beam, rigid_response
 from pressocp.mechanism.slider_crank import flexible_rod_energies
 from pressocp.model import build_model
-from pressocp.simulate import (Integrator, SimulationError, expect_settled, newton_periodic, periodic_orbit,
-                               periodic_state, runs_compiled, simulate)
+from pressocp.simulate import (Integrator, SimulationError, expect_settled, for_repeated_use, newton_periodic,
+                               periodic_orbit, periodic_state, runs_compiled, simulate)
 from pressocp.studies import simeon_crank
 
 FLORES_PERIOD = 60.0 / 5000.0
@@ -376,6 +376,22 @@ def test_by_default_a_flexible_rod_runs_compiled_and_the_rigid_rod_interpreted()
     assert not runs_compiled(rigid)
     rigid.jit = True
     assert runs_compiled(rigid) == compiler_available()
+
+
+def test_a_model_for_repeated_use_runs_compiled_unless_its_jit_was_chosen():
+    """`for_repeated_use` (the optimiser's checks and verification): a rigid rod left at "auto" is
+    compiled, sharing its built functions; a choice made (False or True), a flexible rod and the
+    rigid press come back as they are."""
+    from pressocp.compile_cache import compiler_available
+
+    rigid = build_model(PressParams())
+    again = for_repeated_use(rigid)
+    assert runs_compiled(again) == compiler_available() and again.functions is rigid.functions
+    assert rigid.jit == "auto" and not runs_compiled(rigid)
+    rigid.jit = False
+    assert for_repeated_use(rigid) is rigid
+    for m in (build_model(PressParams(), rod="flexible", n_elements=1), build_model(PressParams(), clearance=())):
+        assert for_repeated_use(m) is m
 
 
 def test_a_jit_setting_that_is_not_true_false_or_auto_fails_before_integrating():

@@ -15,6 +15,7 @@ from ..compile_cache import compile_seconds, prepared_record, write_prepared_rec
 from ..design import design_speed
 from ..model import ModelSpec, PressModel, build_model
 from ..problem import ReversalWarning, SpeedProblem
+from ..simulate import for_repeated_use
 from ..speed import FourierSpeed
 from ..workers import parallel_workers, process_pool
 from .collocation import Collocation
@@ -139,7 +140,7 @@ def checked_request(problem: SpeedProblem, model: PressModel | None, transcripti
     elif initial.n_harmonics > problem.n_harmonics:
         raise ValueError(f"initial has {initial.n_harmonics} harmonics, more than the problem's "
                          f"{problem.n_harmonics}")
-    return strat, tr, model, initial
+    return strat, tr, for_repeated_use(model), initial
 
 
 def run_chain(problem: SpeedProblem, model: PressModel, tr: Transcription, strat: Strategy, initial: FourierSpeed,
@@ -238,7 +239,7 @@ def initial_response(model: PressModel | ModelSpec, problem: SpeedProblem, initi
         prepared = prepare_stage(ahead[0], problem, ahead[1], initial, ahead[2])
         return initial_response(model, problem, initial, rtol), prepared
     if isinstance(model, ModelSpec):
-        model = model.build(problem.press, problem.n_harmonics)
+        model = for_repeated_use(model.build(problem.press, problem.n_harmonics))
     if model.is_rigid:
         return verify_speed(model, initial, rtol)
     reference = problem.objective_value(rigid_reference(problem, initial))

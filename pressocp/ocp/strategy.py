@@ -49,7 +49,7 @@ from ..params import PressParams
 from ..problem import SpeedProblem
 from ..result import SimResult
 from ..mechanism.ideal import ideal_inverse_dynamics
-from ..simulate import SimulationError
+from ..simulate import SimulationError, for_repeated_use
 from ..speed import FourierSpeed
 from .candidates import run_candidates, run_flexible_candidates
 from .rigid_stage import Rigid
@@ -222,7 +222,7 @@ class Strategy:
         stage.details["reversal_side"] = top.reversal_side()
         press = problem.press.with_value("counterbalance.force", force)
         fixed = problem.replace(press=press, counterbalance_range=None)
-        return stage, fixed, model.spec.build(press, model.n_harmonics)
+        return stage, fixed, for_repeated_use(model.spec.build(press, model.n_harmonics))
 
     def run(self, problem: SpeedProblem, model: PressModel, transcription: Transcription, initial: FourierSpeed,
             progress: bool, pool: Executor | None = None) -> list[StageResult]:
@@ -234,8 +234,8 @@ class Strategy:
             return stages  # a drive the ideal press cannot meet: no clearance model does better
         if not model.clearance:  # a flexible rod between ideal joints: no clearance stages
             return stages + self.flexible_only(problem, model, rigid, transcription, progress, pool)
-        base = model if model.rod == "rigid" else self.clearance_spec(model.spec).build(model.params,
-                                                                                     model.n_harmonics)
+        base = for_repeated_use(model if model.rod == "rigid" else
+                                self.clearance_spec(model.spec).build(model.params, model.n_harmonics))
         rigid.check = self.check(base, rigid, problem)
         stages += self.rigid_rod_stages(problem, base, rigid, transcription, initial, progress, pool)
         if model.rod != "flexible" or not all(st.success or st.superseded for st in stages):
