@@ -78,6 +78,8 @@ JOBS = (
     Job("simulation", "bench_simulation.py", (), 14, "work-precision of the integrators, two models"),
     Job("simulation_periodic69", "bench_simulation.py", ("--case", "periodic69"), 12,
         "IDAS, CVODES and scipy Radau on the clearance model at 69 spm, whose impacts repeat cycle after cycle"),
+    Job("simulation_seed", "bench_simulation.py", ("--case", "seed"), 8,
+        "IDAS, CVODES and scipy Radau on the 75 spm seed optimum's smooth periodic cycle"),
     Job("work_precision", "bench_work_precision.py", ("--models", "clearance", "--reference-timeout", "1800"), 6,
         "every integrator, clearance model, both scenes"),
     Job("work_precision_2", "bench_work_precision.py", ("--models", "flexible-2", "--scenes", "smooth"), 2,

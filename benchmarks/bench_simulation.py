@@ -10,9 +10,15 @@ scipy's call compiled code; the compile, once per method and model, is timed apa
 ``compile_s``); "idas (interpreted)" and "cvodes (interpreted)" are the same integrators on CasADi's
 virtual machine.
 
-Writes benchmarks/results/simulation.json and simulation.png.
+``--case periodic69`` and ``--case seed`` run one scene each, apart from the default two: the same
+design at 69 spm, whose impacts repeat cycle after cycle, and the 75 spm seed optimum, whose cycle
+is smooth (its journals stay on their walls). On a smooth cycle scipy's Radau (L-stable, order 5)
+takes about 1/25 of the steps of IDAS and CVODES, whose BDF orders 3-5 are unstable on the
+journals' lightly damped contact modes (docs/decisions/2026-11-28-bdf-order.md).
 
-    python benchmarks/bench_simulation.py [--quick] [--replot]
+Writes benchmarks/results/simulation.json and simulation.png (``simulation_<case>`` for one case).
+
+    python benchmarks/bench_simulation.py [--quick] [--replot] [--case all|clearance|flexible|periodic69|seed]
 """
 
 from __future__ import annotations
@@ -30,13 +36,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from pressocp import PressParams, SpeedProblem  # noqa: E402
+from pressocp import FourierSpeed, PressParams, SpeedProblem  # noqa: E402
 from pressocp.design import design_speed  # noqa: E402
 from pressocp.model import build_model  # noqa: E402
 from pressocp.report import stamp  # noqa: E402
 from pressocp.simulate import Integrator, SimulationError, periodic_state, simulate  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
+#: The 75 spm seed optimum (the tests' reference speed): a smooth periodic cycle.
+SEED_OPTIMUM = Path(__file__).parent.parent / "tests" / "references" / "press75_optimum_speed.json"
 
 
 def flexible_start(model, speed):
@@ -148,8 +156,10 @@ def plot_results(results: dict, methods, path: Path) -> None:
                     color="0.3", fontsize=7, rotation=90, va="bottom", ha="right")
         ax.set_xlabel("wall time per cycle [s] (labels: rtol)")
         ax.set_ylabel("relative error of peak torque")
-        model = {"flexible": "flexible model (4 elements)", "periodic69": "clearance model"}.get(case, f"{case} model")
-        ax.set_title(f"{model}, impact scenario (T = {res.get('period', 0.8):g} s)", fontsize=9)
+        model = {"flexible": "flexible model (4 elements)", "periodic69": "clearance model",
+                 "seed": "clearance model"}.get(case, f"{case} model")
+        scene = "the 75 spm seed optimum (smooth)" if case == "seed" else f"impact scenario (T = {res.get('period', 0.8):g} s)"
+        ax.set_title(f"{model}, {scene}", fontsize=9)
         ax.grid(alpha=0.3, which="both")
     fig.legend(*axes[0][0].get_legend_handles_labels(), loc="lower center", ncol=4, fontsize=8)
     fig.tight_layout(rect=(0, 0.07, 1, 1))
@@ -160,9 +170,11 @@ def plot_results(results: dict, methods, path: Path) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="fewer tolerances and repeats")
-    ap.add_argument("--case", choices=("all", "clearance", "flexible", "periodic69"), default="all",
+    ap.add_argument("--case", choices=("all", "clearance", "flexible", "periodic69", "seed"), default="all",
                     help="periodic69 (not in all): the clearance model on the same design at 69 spm (T = 0.87 s), "
-                         "whose impacts repeat cycle after cycle (docs/decisions/2026-11-27-periodic-yardstick.md)")
+                         "whose impacts repeat cycle after cycle (docs/decisions/2026-11-27-periodic-yardstick.md); "
+                         "seed (not in all): the clearance model on the 75 spm seed optimum's periodic cycle, "
+                         "smooth (the journals stay on their walls), scipy's Radau from rtol 1e-3")
     ap.add_argument("--replot", action="store_true", help="only redraw simulation.png from simulation.json")
     args = ap.parse_args()
     if args.replot:
@@ -184,6 +196,10 @@ def main() -> None:
         results["periodic69"] = run_case("clearance, 69 spm", build_model(p), slow, methods[:3], rtols, repeats,
                                          budget=120)
         results["periodic69"]["period"] = PERIODIC_69
+    if args.case == "seed":
+        seed = FourierSpeed.from_dict(json.loads(SEED_OPTIMUM.read_text()))
+        results["seed"] = run_case("clearance, seed optimum", build_model(p), seed, methods[:3], [1e-3, *rtols], repeats,
+                                   budget=120)
     if args.case in ("all", "flexible"):
         # the flexible model is ~20x dearer: looser reference, tolerances down to 1e-7, one repeat;
         # scipy's Radau down to 1e-6 (at 1e-7 one cycle took 703 s, 2026-11-24)

@@ -232,6 +232,13 @@ def radau_row(res: Results) -> Row:
                      + ("" if loosest is None else f" (Radau within {loosest['peak_torque_rel_error']:.0e} already at "
                         f"its loosest rtol {loosest['rtol']:g}, {loosest['time_per_cycle_s']:.1f} s)"))
         source += f"; simulation_periodic69.json, {orbit['stamp']['date']}"
+    smooth = res.json("simulation_seed.json")
+    if smooth is not None:
+        literal = idas_1e6_against_radau(smooth["results"]["seed"]["rows"])
+        cells = {k: v for k, v in smooth["equal_accuracy"].items() if "radau_over_idas" in v}
+        parts.append("on the seed optimum's smooth periodic cycle (journals on their walls): " + ", ".join([literal] * bool(literal) + [
+                         f"{v['radau_over_idas']:.1f} × at {float(k.split('@')[1]):.1%}" for k, v in sorted(cells.items())]))
+        source += f"; simulation_seed.json, {smooth['stamp']['date']}"
     return Row(29, goal, "; ".join(parts), verdict(ok), source)
 
 

@@ -235,14 +235,18 @@ def calling(f: ca.Function) -> ca.Function:
 
 def for_repeated_use(model: PressModel) -> PressModel:
     """`model` with its SUNDIALS integrators compiled when its ``jit`` is "auto" and a C compiler is
-    found (else `model` itself; a model without states has nothing to integrate), for a caller that re-simulates it many times: the optimiser's checks,
-    re-simulations and verification. "auto" alone leaves a rigid rod interpreted, because one check
-    costs less than its compile; an optimisation re-simulates the same model ten times or more, and
-    the compile (about 0.7 s for the rigid rod, once per press and DAE form: the compile cache keeps
-    it for later processes) pays back in the first. On press75 (2026-11-28): the rigid optimum's
-    screen 2.7 s compiled against 5.0 s, the seed optimum's verification at rtol 1e-9 1.2 against
-    2.6 s, the same peak to 8 digits. The functions built of it are shared with `model`."""
-    if model.is_rigid or model.jit != "auto" or runs_compiled(model) or not use_jit("auto", "the optimiser's re-simulations"):
+    found, else `model` itself (also a model without states: nothing to integrate). For a caller that
+    re-simulates one model many times: the optimiser's checks and its verification. "auto" alone
+    leaves a rigid rod interpreted, because one check costs less than its compile; an optimisation
+    re-simulates the same model ten times or more, and the compile (about 0.7 s for the rigid rod,
+    once per press and DAE form: the compile cache keeps it for later processes) pays back in the
+    first. On press75 (2026-11-28): the rigid optimum's screen 2.7 s compiled against 5.0 s, the
+    seed optimum's verification at rtol 1e-9 1.2 against 2.6 s, the same peak to 8 digits. The
+    functions built of it are shared with `model`
+    (docs/decisions/2026-11-28-compiled-checks.md)."""
+    if model.is_rigid or model.jit != "auto" or runs_compiled(model):
+        return model
+    if not use_jit("auto", "the optimiser's re-simulations"):
         return model
     return replace(model, jit=True)
 

@@ -22,7 +22,6 @@ import numpy as np
 
 from ..model import ModelSpec
 from ..problem import SpeedProblem
-from ..simulate import for_repeated_use
 from ..workers import parallel_workers, process_pool
 from .stage import StageResult, Transcription
 from ..verify import is_periodic, ram_speed_violation
@@ -38,7 +37,7 @@ def candidate_chain(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec
     at `margin`, its answer verified (`Strategy.verify_stage`), its stages named with `suffix`. Runs
     in a worker process too (the model is built from its spec there), so its stages carry no solver
     objects."""
-    model = for_repeated_use(base.build(problem.press, problem.n_harmonics))
+    model = base.build(problem.press, problem.n_harmonics)
     stages = strategy.clearance_chain(problem, model, rigid, transcription, None, progress, margin, candidate=True)
     return verified_and_named(strategy, model, stages, suffix)
 
@@ -48,7 +47,7 @@ def flexible_candidate(strategy: "Strategy", problem: SpeedProblem, spec: ModelS
     """One candidate on a flexible rod between ideal joints: `Strategy.flexible_chain` on the model
     `spec` from the rigid optimum `start`, its answer verified, its stages named with `suffix`. Runs in
     a worker process too (the model is built there)."""
-    model = for_repeated_use(spec.build(problem.press, problem.n_harmonics))
+    model = spec.build(problem.press, problem.n_harmonics)
     stages = strategy.flexible_chain(problem, model, start, transcription, progress)
     return verified_and_named(strategy, model, stages, suffix)
 
@@ -106,7 +105,7 @@ def run_candidates(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec,
     chains = _in_workers(candidate_chain, args, strategy.workers, progress,
                          f"candidates (tension margins {', '.join(f'{m:g}' for m in margins)})", pool)
     if all(len(c) == 1 and not c[0].success for c in chains):  # no candidate got past its no-reversal stage
-        model = for_repeated_use(base.build(problem.press, problem.n_harmonics))
+        model = base.build(problem.press, problem.n_harmonics)
         note = "candidate ended: its no-reversal stage did not converge, as every candidate's did"
         return [*(replace(c[0], superseded=note) for c in chains),
                 *strategy.clearance_chain(problem, model, rigid, transcription, None, progress, None)]

@@ -89,7 +89,7 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     earlier = [s for s in stages if not s.success and not s.superseded and s is not found]
     # the last stage's own verification (same model, same tolerance) when the strategy ran one
     reuse = answer.simulation is not None and answer.model == model.spec.describe()
-    sim = answer.simulation if reuse else verify_speed(model, answer.speed, strat.verify_rtol)
+    sim = answer.simulation if reuse else verify_speed(for_repeated_use(model), answer.speed, strat.verify_rtol)
     t1, t2 = window_times(sim, problem)
     wall = time.perf_counter() - t_start
     timing.update(verification=time.perf_counter() - t_verify, other=t_chain - t_start,
@@ -140,7 +140,7 @@ def checked_request(problem: SpeedProblem, model: PressModel | None, transcripti
     elif initial.n_harmonics > problem.n_harmonics:
         raise ValueError(f"initial has {initial.n_harmonics} harmonics, more than the problem's "
                          f"{problem.n_harmonics}")
-    return strat, tr, for_repeated_use(model), initial
+    return strat, tr, model, initial
 
 
 def run_chain(problem: SpeedProblem, model: PressModel, tr: Transcription, strat: Strategy, initial: FourierSpeed,
@@ -239,8 +239,9 @@ def initial_response(model: PressModel | ModelSpec, problem: SpeedProblem, initi
         prepared = prepare_stage(ahead[0], problem, ahead[1], initial, ahead[2])
         return initial_response(model, problem, initial, rtol), prepared
     if isinstance(model, ModelSpec):
-        model = for_repeated_use(model.build(problem.press, problem.n_harmonics))
+        model = model.build(problem.press, problem.n_harmonics)
     if model.is_rigid:
         return verify_speed(model, initial, rtol)
     reference = problem.objective_value(rigid_reference(problem, initial))
-    return screen(model, initial, reference, problem.objective, max(INITIAL_RTOL, 10 * rtol), drive=problem.drive)[0]
+    return screen(for_repeated_use(model), initial, reference, problem.objective, max(INITIAL_RTOL, 10 * rtol),
+                  drive=problem.drive)[0]
