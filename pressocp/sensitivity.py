@@ -37,7 +37,8 @@ import numpy as np
 from .compile_cache import use_jit
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
-from .simulate import Integrator, SimulationError, calling, compiled_dae, periodic_state, simulate
+from .simulate import (Integrator, SimulationError, calling, compiled_dae, for_repeated_use, periodic_state,
+                       simulate)
 from .speed import FourierSpeed
 
 if TYPE_CHECKING:
@@ -243,6 +244,7 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
                        n_modes=model.n_modes, mechanism=model.mechanism)
     pv = msym.parameters(speed)
     T = speed.period
+    model = for_repeated_use(model)  # three periodic runs of it: compiled, as the sensitivities are
     x0 = periodic_state(model, speed, Integrator("cvodes", rtol), tol=PERIODIC_TOL * rtol)[0] if periodic else model.x0
     res = simulate(model, speed, integrator=Integrator(method="cvodes", rtol=rtol), n_out=SAMPLES, x0=x0, work=False)
     t_rel = res.t - res.t[0]
