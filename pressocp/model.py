@@ -174,8 +174,10 @@ class PressModel:
         4-element rod with IDAS, after a compile the first time for each press and DAE form (the rigid
         rod 1.6 s with IDAS, 2.7 s with CVODES; the 4-element rod 5 s and 23 s), which the compile cache
         keeps for later processes. "auto" (the default): compiled for a flexible rod, interpreted for
-        the rigid rod, whose one-off check costs less than its compile. Without a C compiler a warning
-        says the virtual machine is used.
+        the rigid rod, whose one-off check costs less than its compile; callers that re-simulate one
+        model many times (the optimiser's checks, `sensitivities`) compile it too
+        (`pressocp.simulate.for_repeated_use`). Without a C compiler a warning says the virtual
+        machine is used.
     functions : dict
         Functions built from this model by a transcription, kept for its later solves: collocation's
         point function and the solver of its last compiled solve, so that the point function and its
