@@ -86,6 +86,16 @@ def test_suite_sweep_and_verification_goals(tmp_path):
     radau = by_goal(status.rows(tmp_path), "seed clearance model")[0]
     assert "9.6 × at 0.1%, 17.5 × at 1.0% (Radau within 8e-06 already at its loosest rtol 0.0001, 5.1 s)" in radau.measured
     assert radau.verdict == "**not met**" and "d11" in radau.source  # quoted: the verdict stays on simulation.json
+    (tmp_path / "simulation_seed.json").write_text(json.dumps({
+        "stamp": {"date": "d12"}, "equal_accuracy": {"seed@0.001": {"radau_over_idas": 6.2}, "seed@0.01": {}},
+        "results": {"seed": {"rows": [
+            {"method": "idas", "ok": True, "rtol": 1e-6, "peak_torque_rel_error": 3.3e-4, "time_per_cycle_s": 0.26},
+            {"method": "scipy-radau", "ok": True, "rtol": 1e-3, "peak_torque_rel_error": 7.6e-4, "time_per_cycle_s": 1.6},
+            {"method": "scipy-radau", "ok": True, "rtol": 1e-4, "peak_torque_rel_error": 1.4e-4, "time_per_cycle_s": 1.72}]}}}))
+    radau = by_goal(status.rows(tmp_path), "seed clearance model")[0]
+    assert ("smooth periodic cycle (journals on their walls): IDAS at 1e-6 (3.3e-04 peak error, 0.26 s) against Radau "
+            "at 0.0001 (1.4e-04, 1.72 s): 6.6 ×, 6.2 × at 0.1%") in radau.measured  # Radau at 1e-3 is less accurate
+    assert radau.verdict == "**not met**" and "d12" in radau.source
 
 
 def test_the_readme_block_is_replaced_in_place(tmp_path):
