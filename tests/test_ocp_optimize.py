@@ -62,6 +62,22 @@ def test_auto_accepts_a_verified_rigid_optimum(smooth):
     assert r.t1 == pytest.approx(check.t[in_window(SMOOTH, check.theta, check.ram_height)][0], abs=1e-3)
 
 
+def test_the_chains_checks_run_compiled_on_a_model_left_at_auto(smooth):
+    """A screen and a stage's re-simulation (`Strategy.screened`, `Strategy.verify_stage`) integrate
+    the rigid rod through compiled code (`for_repeated_use`) when its ``jit`` is "auto", building into
+    the model's own functions; the model itself stays as built."""
+    from pressocp.compile_cache import compiler_available
+
+    model = build_model(SMOOTH.press, n_harmonics=SMOOTH.n_harmonics)
+    Strategy.screened(model, smooth.speed, SMOOTH)
+    assert model.jit == "auto"
+    assert any(k[0] == "integrator_dae" for k in model.functions) == compiler_available()
+    model.functions.clear()
+    stage = dataclasses.replace(smooth.stages[0], simulation=None, model=model.spec.describe())
+    Strategy(verify_rtol=1e-8).verify_stage(model, stage)
+    assert any(k[0] == "integrator_dae" for k in model.functions) == compiler_available()
+
+
 def test_saved_result_reloads_and_resimulates_to_the_same_peak(smooth, tmp_path):
     """JSON round trip: every field comes back, and the reloaded answer re-simulated (periodic,
     the saved tolerance) has the saved peak to 1e-6."""
