@@ -13,8 +13,9 @@ virtual machine.
 ``--case periodic69`` and ``--case seed`` run one scene each, apart from the default two: the same
 design at 69 spm, whose impacts repeat cycle after cycle, and the 75 spm seed optimum, whose cycle
 is smooth (its journals stay on their walls). On a smooth cycle scipy's Radau (L-stable, order 5)
-takes about 1/25 of the steps of IDAS and CVODES, whose BDF orders 3-5 are unstable on the
-journals' lightly damped contact modes (docs/decisions/2026-11-28-bdf-order.md).
+takes about 1/25 of the steps of IDAS and CVODES, whose BDF orders 4 and 5 (and 3 near top dead
+centre) are unstable on the journals' lightly damped contact modes
+(docs/decisions/2026-11-28-bdf-order.md).
 
 Writes benchmarks/results/simulation.json and simulation.png (``simulation_<case>`` for one case).
 

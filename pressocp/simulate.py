@@ -244,11 +244,9 @@ def for_repeated_use(model: PressModel) -> PressModel:
     seed optimum's verification at rtol 1e-9 1.2 against 2.6 s, the same peak to 8 digits. The
     functions built of it are shared with `model`
     (docs/decisions/2026-11-28-compiled-checks.md)."""
-    if model.is_rigid or model.jit != "auto" or runs_compiled(model):
+    if model.is_rigid or model.jit != "auto" or not use_jit("auto", "the optimiser's re-simulations"):
         return model
-    if not use_jit("auto", "the optimiser's re-simulations"):
-        return model
-    return replace(model, jit=True)
+    return model if runs_compiled(model) else replace(model, jit=True)
 
 
 def runs_compiled(model: PressModel) -> bool:

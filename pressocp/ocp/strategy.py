@@ -473,11 +473,11 @@ class Strategy:
         """`screen` of `speed` on `model` against its rigid-press objective: (sim, ratio, dense rigid
         response). The chain's checks and re-simulations run compiled (`for_repeated_use`); the stages'
         own simulations (a collocation stage's warm start) keep the model as built, so that IPOPT's
-        start and path do not move with the checks' round-off (compiled as well, press75's 0.05 chain
-        took one more polish round: 104 against 92 s, 2026-11-28)."""
+        start and path do not move with the checks' round-off
+        (docs/decisions/2026-11-28-compiled-checks.md)."""
         dense = rigid_reference(problem, speed)
-        sim, ratio = screen(for_repeated_use(model), speed, problem.objective_value(dense), problem.objective, rtol,
-                            drive=problem.drive)
+        sim, ratio = screen(for_repeated_use(model), speed, problem.objective_value(dense), problem.objective,
+                            rtol, drive=problem.drive)
         return sim, float(ratio), dense
 
     def verify_stage(self, model: PressModel, stage: StageResult) -> SimResult:
