@@ -14,6 +14,14 @@ IPOPT_BASE = {**QUIET, "ipopt.max_iter": 300, "ipopt.tol": 1e-8, "ipopt.linear_s
 #: but stopped at its 300-iteration limit on press75 at 60 spm with a 0.05 mm wrist-pin clearance,
 #: where the filter took 101: not taken (docs/decisions/2026-11-26-rigid-globalization.md).
 IPOPT_RIGID = {**IPOPT_BASE, "ipopt.mu_strategy": "adaptive"}
+#: On top of `IPOPT_RIGID`, the rigid stage's first solve: IPOPT stops at its acceptable level (overall
+#: error 1e-4 for 3 iterations). The min-max optimum is flat and degenerate: press60's iterates reach
+#: the objective to 4e-6 by iteration 48 and spend 77 more closing the dual (125 in all). Where that
+#: answer stands (verified on the clearance model, `Strategy.run`), the relaxed re-solve starts from it
+#: with its multipliers; everywhere else it is first continued to `IPOPT_RIGID`'s tolerance (a chain
+#: started from the acceptable iterate itself did not converge on large_press, NR at margin 0.02;
+#: docs/decisions/2026-11-28-rigid-acceptable.md).
+IPOPT_RIGID_ACCEPTABLE = {"ipopt.acceptable_tol": 1e-4, "ipopt.acceptable_iter": 3}
 #: Transcriptions with states, warm-started at a good point: a limited-memory Hessian (an exact one
 #: would need adjoint sensitivities through the integrators, which fail on contact in IDAS; collocation
 #: asks for the exact one), a small initial barrier parameter and

@@ -177,3 +177,24 @@ def test_min_tension_range():
     with pytest.raises(ValueError, match=r"min_tension must be in \(-inf, -8497.7\) N .*less counterbalance and process "
                                          r"force"):  # 1502.3 N hanging less 10 kN forming
         SpeedProblem(PressParams(process_force=ProcessForce(force=1e4)), min_tension=10.0)
+
+
+def test_an_acceptable_rigid_answer_is_continued_to_the_full_tolerance(small):
+    """`Strategy.rigid_tight`: a rigid stage stopped at IPOPT's acceptable level (forced here by loose
+    acceptable tolerances) is continued from its primal-dual point to the full tolerance, to the
+    optimum of an independent cold solve at that tolerance (the fixture), in one record of both."""
+    from pressocp.ocp.strategy import Strategy
+
+    prob, full = small
+    loose = {"ipopt.acceptable_tol": 1e2, "ipopt.acceptable_iter": 1, "ipopt.acceptable_constr_viol_tol": 1e2,
+             "ipopt.acceptable_dual_inf_tol": 1e10, "ipopt.acceptable_compl_inf_tol": 1e2}
+    early = Rigid(samples=200, window_samples=40, ipopt=loose).solve(prob)
+    assert early.status == "Solved_To_Acceptable_Level" and early.iterations < full.iterations
+    strategy = Strategy(rigid=Rigid(samples=200, window_samples=40))
+    tight = strategy.rigid_tight(prob, None, early, False)
+    assert tight.status == "Solve_Succeeded"
+    assert tight.iterations > early.iterations and tight.details["acceptable_iterations"] == early.iterations
+    assert len(tight.history) == tight.iterations + 2  # each solve logs its start and every iteration
+    assert tight.objective == pytest.approx(full.objective, rel=1e-5)
+    assert abs(early.objective - full.objective) > 1e-4 * full.objective  # the early stop was far from it
+    assert strategy.rigid_tight(prob, None, full, False) is full  # a converged stage stands as it is
