@@ -1,7 +1,9 @@
 """The stage chain: the model hierarchy applied to optimisation.
 
-1. ``rigid``: the ideal press (`Rigid`), exact Hessian, seconds. Its optimum is the floor. It is
-   re-simulated on the target model (rigid rod); when it impacts there (the joint forces reverse):
+1. ``rigid``: the ideal press (`Rigid`), exact Hessian, seconds. Its optimum is the floor. IPOPT
+   stops at its acceptable level (`rigid_first`); an answer that other stages start from is first
+   continued to the full tolerance (`rigid_tight`). It is re-simulated on the target model (rigid
+   rod); when it impacts there (the joint forces reverse):
 2. ``no_reversal``: the ideal press again, with the rod's axial load at both pins kept on one side
    (`SpeedProblem.without_reversal`: in tension above a margin x its static value, or, with a
    counterbalance that lifts more than ram and rod weigh, in compression), warm-started from the
