@@ -228,6 +228,24 @@ def test_polish_keeps_only_a_verified_improvement(smooth):
     assert replay.calls == 1 and [s.name for s in rounds] == ["polish_1"] and rounds[0].speed is best.speed
 
 
+def test_no_polish_round_runs_from_an_answer_at_the_rigid_floor(smooth):
+    """An answer whose re-simulation is at or below the rigid press's optimum (the floor) is not
+    polished: no re-solve runs, a ``polish_1`` record says why and holds the answer. Just above the
+    floor a round runs. The boundary is set from an independent periodic re-simulation (IDAS)."""
+    model = build_model(SMOOTH.press, n_harmonics=4)
+    best = dataclasses.replace(smooth.stages[0], simulation=None)
+    peak = simulate(model, best.speed, periodic=True, integrator=Integrator(method="idas", rtol=1e-9),
+                    n_out=20001).peak("torque")
+    strat = Strategy(polish_rounds=3, verify_rtol=1e-8)
+    replay = Replay(best)
+    [skipped] = strat.polish(SMOOTH, model, best, replay, False, floor=peak * (1 + 1e-4))
+    assert replay.calls == 0 and skipped.name == "polish_1" and skipped.was_skipped
+    assert "at or below the rigid press's optimum" in skipped.status and skipped.speed is best.speed
+    replay = Replay(best)
+    rounds = strat.polish(SMOOTH, model, best, replay, False, floor=peak * (1 - 1e-4))
+    assert replay.calls == 1 and rounds[0].name == "polish_1" and not rounds[0].status.startswith("skipped")
+
+
 def test_a_failed_continuation_restarts_as_a_cold_chain(smooth, monkeypatch):
     """In a continuation ("continue"), the clearance stage starts from the neighbour's optimum. When
     that fails, the cold chain runs after it and gives the answer; the failed stage stays in the

@@ -420,7 +420,8 @@ class Strategy:
             stages += solved
         if not stages[-1].success:
             return stages
-        return stages + self.rounds(problem, chain[-1][1], base, [rigid, *stages], transcription, progress)
+        return stages + self.rounds(problem, chain[-1][1], base, [rigid, *stages], transcription, progress,
+                                    floor=rigid.objective)
 
     def state_chain(self, problem: SpeedProblem, chain: list[tuple[str, PressModel]], transcription: Transcription,
                     speed: FourierSpeed, progress: bool) -> tuple[list[StageResult], Transcription]:
@@ -484,12 +485,14 @@ class Strategy:
         return [*solved, *self.rounds(problem, model, model, solved, transcription, progress)]
 
     def rounds(self, problem: SpeedProblem, polish_model: PressModel | None, refine_model: PressModel,
-               stages: list[StageResult], transcription: Transcription, progress: bool) -> list[StageResult]:
+               stages: list[StageResult], transcription: Transcription, progress: bool,
+               floor: float = -np.inf) -> list[StageResult]:
         """After the chain: the polish rounds on `polish_model` (None when no stage on a model with states
-        ran), then the refinement rounds on `refine_model`, from ``stages[-1]``."""
+        ran), then the refinement rounds on `refine_model`, from ``stages[-1]``. `floor`: the rigid
+        press's optimum of the same problem (`polish`)."""
         out: list[StageResult] = []
         if polish_model is not None and self.polish_rounds:
-            out += self.polish(problem, polish_model, stages[-1], transcription, progress)
+            out += self.polish(problem, polish_model, stages[-1], transcription, progress, floor)
             out += self.relax(problem, polish_model, standing_stage([*stages, *out]), transcription, progress)[0]
         if self.refine_rounds:
             out += self.refine(problem, refine_model, (stages + out)[-1], transcription, progress)
@@ -637,13 +640,19 @@ class Strategy:
                      min_eccentricity=min(sim.min_eccentricities(model.clearance).values(), default=None))
 
     def polish(self, problem: SpeedProblem, model: PressModel, last: StageResult, transcription: Transcription,
-               progress: bool) -> list[StageResult]:
+               progress: bool, floor: float = -np.inf) -> list[StageResult]:
         """Up to `polish_rounds` re-solves of `last`'s NLP (`transcription` on `model`) from its answer,
         each followed by its own tightened or refined re-solves (`solve_refined`). A round that does
         not lower the periodic re-simulation's objective (at `verify_rtol`), or fails, or leaves the
         ram speed out of tolerance, is recorded as not kept, its answer being `last`'s, and ends the
         polishing; so does a kept round that gained no more than `polish_gain`. When the first round
-        is not kept, `last`'s own follow-ups (`followed`, deferred by `clearance_chain`) run then."""
+        is not kept, `last`'s own follow-ups (`followed`, deferred by `clearance_chain`) run then.
+
+        No round runs when `last`'s verified objective is at or below `floor` (the rigid press's
+        optimum): a barrier restart escapes a local optimum above the floor, and the clearances move
+        an answer below it by little (large_press, 2026-11-28: both candidates' rounds, 17-27 s each,
+        re-simulated 487.609 against 487.608 and 487.582 against 487.581 N m, floor 487.631, and were
+        not kept). Its follow-ups run instead, and a record ``polish_1`` says why."""
         value = problem.objective_value
         # both re-simulated alike, at the final verification's tolerance: an optimum holds the ram
         # speed to within a few 1e-5 m/s of its tolerance, about the error of a check at rtol 1e-7
@@ -652,6 +661,13 @@ class Strategy:
         # beat, but a periodic one still measures a round's gain
         reference = value(first) if is_periodic(first) is True else np.inf
         best = reference if ram_speed_violation(first, problem) <= 0.0 else np.inf
+        if best <= floor:
+            follow, _ = self.followed(problem, model, transcription, last, progress)
+            reason = (f"{last.name}'s answer re-simulates at {best:.6g}, at or below the rigid press's optimum "
+                      f"{floor:.6g}")
+            skipped = StageResult.skipped("polish_1", reason, model.spec.describe(), last)
+            skipped.simulation = first
+            return [skipped, *follow[1:]]  # the last stage's answer is the chain's
         rounds = []
         for k in range(self.polish_rounds):
             name = f"polish_{k + 1}"
