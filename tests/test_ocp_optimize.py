@@ -246,6 +246,28 @@ def test_no_polish_round_runs_from_an_answer_at_the_rigid_floor(smooth):
     assert replay.calls == 1 and rounds[0].name == "polish_1" and not rounds[0].status.startswith("skipped")
 
 
+def test_no_relaxed_re_solve_runs_when_the_ram_would_leave_its_tolerance(smooth):
+    """The relaxed re-solve holds more of the ram-speed tolerance. When the answer's re-simulated ram
+    already strays past the share its NLP held by more than the relaxed NLP adds room for, it is
+    skipped (a record says why); when it strays less, it runs. The boundary is set from the ram's
+    deviation in an independent periodic simulation (IDAS, `window_error`)."""
+    model = build_model(SMOOTH.press, n_harmonics=4)
+    best = dataclasses.replace(smooth.stages[0], simulation=None)
+    sim = simulate(model, best.speed, periodic=True, integrator=Integrator(method="idas", rtol=1e-9), n_out=20001)
+    dev = window_error(sim, SMOOTH) / SMOOTH.tol
+    assert 0.05 < dev < 0.95
+    strat = Strategy(polish_rounds=3, verify_rtol=1e-8)
+    for held, runs in ((dev - 0.01, False), (dev + 0.01, True)):
+        replay = RelaxReplay(best)
+        replay.backoff = 1.0
+        last = dataclasses.replace(best, details={**best.details, "backoff": held})
+        [st], _ = strat.relax(SMOOTH, model, last, replay, False)
+        assert replay.calls == int(runs) and st.name == "relaxed"
+        assert st.status.startswith("skipped") != runs
+        if not runs:
+            assert "would take it out of tolerance" in st.status and st.speed is best.speed
+
+
 def test_a_failed_continuation_restarts_as_a_cold_chain(smooth, monkeypatch):
     """In a continuation ("continue"), the clearance stage starts from the neighbour's optimum. When
     that fails, the cold chain runs after it and gives the answer; the failed stage stays in the
