@@ -170,10 +170,12 @@ def test_collocation_answer_derivative_matches_re_solved_optima():
     tr = po.Collocation(elements=200, jit=False)
     r = po.optimize_speed(SMALL, transcription=tr, strategy=po.Strategy("all", rigid=RIGID, verify_rtol=1e-8),
                           progress=False)
-    kept = standing_stage(r.stages)  # the last stage may be a relaxed re-solve recorded as not kept
-    assert r.success and kept.name == "polish_1"
+    # the last stage may be a relaxed re-solve recorded as not kept; the target's answer re-simulates at
+    # the rigid floor here (journals on their walls), so no polish round runs from it
+    kept = standing_stage(r.stages)
+    assert r.success and kept.name in ("target", "polish_1") and kept.transcription.startswith("Collocation")
     s = po.optimum_sensitivities(r, ("slider_mass", "wrist_pin.clearance"))
-    assert s.stage == "polish_1"
+    assert s.stage == kept.name
 
     def central(name, rel):
         p = SMALL.press.value(name)
