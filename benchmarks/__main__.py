@@ -136,8 +136,9 @@ JOBS = (
     Job("optimum_sensitivity", "bench_optimum_sensitivity.py", (), 5, "dJ*/dp against re-solved optima"),
     Job("optimum_tracking", "bench_optimum_tracking.py", ("press75", "--steps", "1e-3", "2e-2"), 2,
         "dJ*/dp against the tracked optimum"),
-    Job("sweep_optima", "bench_sweep.py", ("optima", "--repeat", "3"), 35,
-        "8 optima (wrist-pin clearance x 60/75 spm) by `pressocp sweep --workers 2`, a fresh process per run"),
+    Job("sweep_optima", "bench_sweep.py", ("optima", "--repeat", "3"), 45,
+        "8 optima (wrist-pin clearance x 60/75 spm) by `pressocp sweep --workers 2`, cold and continued along the "
+        "clearance (`--along`), a fresh process per run"),
     Job("sweep_parallel", "bench_sweep.py", ("parallel",), 4, "sweep speed-up, 1/2 workers and dask"),
     Job("fuzz", "bench_fuzz.py", (), 6, "600 generated presses, scenario dicts and files, command lines, and 60 command lines run as processes; unit slips"),
     Job("transaction", "bench_transaction.py", (), 5,

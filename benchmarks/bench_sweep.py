@@ -18,8 +18,11 @@ Cases (one per call; each writes benchmarks/results/sweep_<case>.json and .png):
 * ``optima``        the 8-optima sweep as a user runs it: ``pressocp sweep press75 --vary
                     press.wrist_pin.clearance=5e-5,1e-4,2e-4,3e-4 --vary problem.stroke_rate_spm=60,75
                     --task optimize --workers 2`` in a fresh process per run, timed from outside
-                    (start-up and compile included; the compile cache as the last run left it),
-                    ``--repeat`` times; every row's verified flag and peak, and the median.
+                    (start-up and compile included; the compile cache as the last run left it), in
+                    two variants alternating, ``--repeat`` times each: every point cold (``cold``),
+                    and continued along the clearance in segments of two (``--along
+                    press.wrist_pin.clearance``, ``continued``, the goal's); every row's verified
+                    flag and peak, and the medians.
 
     python benchmarks/bench_sweep.py CASE [--repeat R] [--rates 60 65 70 75] [--ram-speed V] [--side-by-side] [--replot]
 """
@@ -198,65 +201,90 @@ OPTIMA_RATES_SPM = (60, 75)
 GOAL_OPTIMA_S = 300.0  # issue #28: the 8-optima sweep on 2 workers in <= 5 min, every row verified
 
 
+#: The two ways the optima sweep runs: extra command-line arguments. "continued" is the goal's.
+OPTIMA_VARIANTS = {"cold": [], "continued": ["--along", "press.wrist_pin.clearance"]}
+
+
 def optima(repeat: int) -> dict:
-    """The 8-optima sweep through the command line, each run in a fresh process and output folder."""
+    """The 8-optima sweep through the command line, each run in a fresh process and output folder, the
+    variants alternating."""
     command = [sys.executable, "-m", "pressocp", "sweep", "press75", "--quiet", "--task", "optimize", "--workers", "2",
                "--vary", "press.wrist_pin.clearance=" + ",".join(f"{c:g}" for c in OPTIMA_CLEARANCES_M),
                "--vary", "problem.stroke_rate_spm=" + ",".join(f"{r:g}" for r in OPTIMA_RATES_SPM)]
-    runs = []
+    runs: dict[str, list] = {name: [] for name in OPTIMA_VARIANTS}
     for _ in range(repeat):
-        with tempfile.TemporaryDirectory() as out:
-            t0 = time.perf_counter()
-            proc = subprocess.run([*command, "--out", out], capture_output=True, text=True)
-            wall = time.perf_counter() - t0
-            table = pd.read_csv(Path(out) / "sweep.csv") if (Path(out) / "sweep.csv").exists() else pd.DataFrame()
-        if proc.returncode != 0:
-            print(proc.stdout[-2000:], proc.stderr[-4000:], sep="\n")
-        cols = [c for c in ("press.wrist_pin.clearance", "problem.stroke_rate_spm", "ok", "peak_torque_N_m",
-                            "wall_time_s", "status", "error") if c in table]
-        runs.append({"wall_time_s": wall, "exit_status": proc.returncode,
-                     "all_verified": bool(len(table) == len(OPTIMA_CLEARANCES_M) * len(OPTIMA_RATES_SPM)
-                                             and table["ok"].astype(bool).all()),
-                     "rows": table[cols].astype(object).where(table[cols].notna(), None).to_dict("records")})
-    med = statistics.median(r["wall_time_s"] for r in runs)
-    row = {"case": "optima", **machine(), "command": " ".join(command[1:]), "repeat": repeat, "median_s": med,
-           "goal_s": GOAL_OPTIMA_S, "all_verified": all(r["all_verified"] for r in runs), "runs": runs}
+        for name, extra in OPTIMA_VARIANTS.items():
+            runs[name].append(optima_run([*command, *extra]))
+    variants = {name: {"command": " ".join([*command[1:], *OPTIMA_VARIANTS[name]]),
+                       "median_s": statistics.median(r["wall_time_s"] for r in rs),
+                       "all_verified": all(r["all_verified"] for r in rs), "runs": rs} for name, rs in runs.items()}
+    goal = variants["continued"]
+    row = {"case": "optima", **machine(), "command": goal["command"], "repeat": repeat, "median_s": goal["median_s"],
+           "goal_s": GOAL_OPTIMA_S, "all_verified": goal["all_verified"], "runs": goal["runs"],
+           "cold_over_continued": variants["cold"]["median_s"] / goal["median_s"], "variants": variants}
     optima_figure(row)
     return row
 
 
+def optima_run(command: list[str]) -> dict:
+    """One sweep in a fresh process and output folder: its wall time, exit status and rows."""
+    with tempfile.TemporaryDirectory() as out:
+        t0 = time.perf_counter()
+        proc = subprocess.run([*command, "--out", out], capture_output=True, text=True)
+        wall = time.perf_counter() - t0
+        table = pd.read_csv(Path(out) / "sweep.csv") if (Path(out) / "sweep.csv").exists() else pd.DataFrame()
+    if proc.returncode != 0:
+        print(proc.stdout[-2000:], proc.stderr[-4000:], sep="\n")
+    cols = [c for c in ("press.wrist_pin.clearance", "problem.stroke_rate_spm", "ok", "peak_torque_N_m",
+                        "wall_time_s", "start", "status", "error") if c in table]
+    return {"wall_time_s": wall, "exit_status": proc.returncode,
+            "all_verified": bool(len(table) == len(OPTIMA_CLEARANCES_M) * len(OPTIMA_RATES_SPM)
+                                 and table["ok"].astype(bool).all()),
+            "rows": table[cols].astype(object).where(table[cols].notna(), None).to_dict("records")}
+
+
 def optima_figure(row: dict) -> None:
-    """Each run's wall time against the goal, and every row's verified peak torque per clearance."""
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9, 3.4), gridspec_kw={"width_ratios": (1, 1.4)})
-    walls = [r["wall_time_s"] for r in row["runs"]]
-    ax.bar(range(1, len(walls) + 1), walls, color=["C0" if r["all_verified"] else "C3" for r in row["runs"]])
-    for i, v in enumerate(walls, 1):
-        ax.text(i, v, f"{v:.0f} s", ha="center", va="bottom", fontsize=8)
+    """Each run's wall time per variant against the goal, and every row's verified peak torque per
+    clearance (continued: solid, cold: dashed)."""
+    variants = row.get("variants") or {"continued": {"runs": row["runs"], "median_s": row["median_s"]}}
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(10, 3.6), gridspec_kw={"width_ratios": (1, 1.4)})
+    x = 0
+    for v, (name, var) in enumerate(variants.items()):
+        walls = [r["wall_time_s"] for r in var["runs"]]
+        xs = range(x + 1, x + len(walls) + 1)
+        ax.bar(xs, walls, color=[f"C{v}" if r["all_verified"] else "C3" for r in var["runs"]],
+               label=f"{name}: median {var['median_s']:.0f} s")
+        for i, w in zip(xs, walls):
+            ax.text(i, w, f"{w:.0f}", ha="center", va="bottom", fontsize=7)
+        x += len(walls) + 1
     ax.axhline(row["goal_s"], color="tab:red", ls="--", lw=0.8)
     ax.text(0.5, row["goal_s"], f" goal {row['goal_s']:.0f} s", color="tab:red", fontsize=7, va="bottom")
-    ax.set_xticks(range(1, len(walls) + 1))
-    ax.set_xlabel("run (a fresh process each; blue: every row verified)")
+    ax.set_xticks([])
+    ax.set_xlabel("run (a fresh process each; red: a row not verified)")
     ax.set_ylabel("wall time of the sweep, s")
-    ax.set_ylim(0, 1.2 * max(max(walls), row["goal_s"]))
+    ax.set_ylim(0, 1.25 * max(max(r["wall_time_s"] for var in variants.values() for r in var["runs"]), row["goal_s"]))
+    ax.legend(fontsize=7, loc="upper right")
     n = len(OPTIMA_CLEARANCES_M) * len(OPTIMA_RATES_SPM)
-    ax.set_title(f"{n} optima on 2 workers: median {row['median_s']:.0f} s", fontsize=9)
-    for k, run in enumerate(row["runs"]):
-        t = pd.DataFrame(run["rows"])
-        if t.empty:
-            continue
-        for j, (rate, g) in enumerate(t.groupby("problem.stroke_rate_spm")):
-            g = g.sort_values("press.wrist_pin.clearance")
-            bad = ~g["ok"].astype(bool)
-            bx.plot(1e3 * g["press.wrist_pin.clearance"], g["peak_torque_N_m"], "o-",
-                    color=f"C{j}", alpha=0.5 + 0.5 / (k + 1), label=f"{rate:g} spm" if k == 0 else None)
-            bx.plot(1e3 * g["press.wrist_pin.clearance"][bad], g["peak_torque_N_m"][bad], "s", mfc="none", ms=10,
-                    color="C3", label="not verified" if bad.any() else None)
+    ax.set_title(f"{n} optima on 2 workers", fontsize=9)
+    for v, (name, var) in enumerate(variants.items()):
+        for k, run in enumerate(var["runs"]):
+            t = pd.DataFrame(run["rows"])
+            if t.empty:
+                continue
+            for j, (rate, g) in enumerate(t.groupby("problem.stroke_rate_spm")):
+                g = g.sort_values("press.wrist_pin.clearance")
+                bad = ~g["ok"].astype(bool)
+                bx.plot(1e3 * g["press.wrist_pin.clearance"], g["peak_torque_N_m"], "o-" if name == "continued" else "x--",
+                        color=f"C{j}", alpha=0.6, label=f"{rate:g} spm, {name}" if k == 0 else None)
+                bx.plot(1e3 * g["press.wrist_pin.clearance"][bad], g["peak_torque_N_m"][bad], "s", mfc="none", ms=10,
+                        color="C3", label="not verified" if bad.any() else None)
     bx.set_xlabel("wrist-pin clearance [mm]")
     bx.set_ylabel("verified peak torque [N·m]")
     bx.set_title("every run's optima (re-simulated)", fontsize=9)
     bx.grid(alpha=0.3)
-    bx.legend(fontsize=8)
-    fig.suptitle(f"pressocp sweep --task optimize, {row.get('date', '')[:16]}, {row.get('cpus', '')} cores", fontsize=9)
+    bx.legend(fontsize=7)
+    fig.suptitle(f"pressocp sweep --task optimize (continued: --along press.wrist_pin.clearance), "
+                 f"{row.get('date', '')[:16]}, {row.get('cpus', '')} cores", fontsize=9)
     fig.tight_layout()
     save(fig, OUT / "sweep_optima.png")
 

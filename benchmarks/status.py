@@ -154,8 +154,12 @@ def sweep_optima_row(res: Results) -> Row:
         return missing(28, goal, "sweep_optima.json")
     walls = [x["wall_time_s"] for x in r["runs"]]
     ok = r["median_s"] <= GOAL_SWEEP_OPTIMA_S and r["all_verified"]
-    return Row(28, goal, f"{', '.join(f'{w:.0f}' for w in walls)} s, median **{r['median_s']:.0f} s**; "
-               f"{'every row verified' if r['all_verified'] else 'not every row verified'}", verdict(ok),
+    cold = (r.get("variants") or {}).get("cold")
+    how = "continued along the clearance (`--along`): " if cold else ""
+    versus = (f" (every point cold: median {cold['median_s']:.0f} s, "
+              f"{'every row verified' if cold['all_verified'] else 'not every row verified'})") if cold else ""
+    return Row(28, goal, f"{how}{', '.join(f'{w:.0f}' for w in walls)} s, median **{r['median_s']:.0f} s**; "
+               f"{'every row verified' if r['all_verified'] else 'not every row verified'}{versus}", verdict(ok),
                f"sweep_optima.json, {r['date']}")
 
 

@@ -24,10 +24,10 @@ from .rigid import crank_angle_at_height, rigid_inverse_dynamics, rigid_kinemati
 from .sensitivity import Sensitivities, sensitivities
 from .simulate import Integrator, SimulationError, simulate
 from .speed import FourierSpeed
-from .sweeps import sweep
+from .sweeps import Continuation, sweep
 
 __all__ = [
-    "OBJECTIVES", "Bearing", "Collocation", "DesignSettings", "Drive", "FourierSpeed", "Integrator", "KnuckleJoint", "KnucklePress",
+    "OBJECTIVES", "Bearing", "Collocation", "Continuation", "DesignSettings", "Drive", "FourierSpeed", "Integrator", "KnuckleJoint", "KnucklePress",
     "ModelRecommendation", "ModelSpec", "MotorCycle",
     "MultipleShooting", "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams",
     "Counterbalance", "ProcessForce", "RateSearch", "ReversalWarning", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",

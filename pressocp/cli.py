@@ -210,6 +210,11 @@ def _parser() -> argparse.ArgumentParser:
     sw.add_argument("--path", action="store_true",
                     help="the --vary lists (of equal length) are one path, not a grid; optima are warm-started "
                          "from their neighbour's")
+    sw.add_argument("--along", default=None, metavar="KEY",
+                    help="a grid of optima warm-started along this --vary key: its lines cut into segments of "
+                         "--segment points, each solved cold at its first point and from its neighbour's optimum "
+                         "after that, the segments side by side")
+    sw.add_argument("--segment", type=int, default=2, help="points per segment of --along (default 2)")
     sw.add_argument("--speed", type=Path, default=None, help="the speed a simulate sweep evaluates (default: "
                     "each point's rigid design)")
     sw.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
@@ -443,11 +448,21 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
     """Check a sweep's input (every point) and return the job that runs it."""
     from . import jobs, plots
     from .io import atomic_write, output_folder, run_id, write_manifest
-    from .sweeps import points_of, sweep
+    from .sweeps import Continuation, points_of, sweep
     from .workers import process_pool
 
     vary = parse_vary(args.vary, args.path)
     points, _ = points_of(vary)
+    continuation: bool | Continuation = True
+    if args.along is not None:
+        if args.path or args.task != "optimize":
+            raise InputError(f"--along continues a grid of optima; this is {'a --path' if args.path else 'a grid'} "
+                             f"of --task {args.task}")
+        try:
+            continuation = Continuation(args.along, args.segment)
+            continuation.segments(points)
+        except ValueError as err:
+            raise InputError(f"--along/--segment: {err}") from None
     speed = jobs.read_speed(args.speed) if args.speed is not None else None
     if speed is not None and args.task != "simulate":
         raise InputError(f"--speed is the speed a simulate sweep evaluates; --task is {args.task}")
@@ -471,7 +486,8 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
     def sweep_job() -> int:
         pool = None if args.workers is None else process_pool(args.workers)
         try:
-            table = sweep(scenario, vary, args.task, speed, pool, progress=not args.quiet, csv=csv)
+            table = sweep(scenario, vary, args.task, speed, pool, progress=not args.quiet, csv=csv,
+                          continuation=continuation)
         finally:
             if pool is not None:
                 pool.shutdown(cancel_futures=True)

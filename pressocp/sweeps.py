@@ -8,7 +8,9 @@ parallel over any `concurrent.futures.Executor`, as a pandas table.
 Values are named by the scenario's dotted keys (press fields with or without ``press.``; problem,
 model and solver keys with their table). A dict of lists is a grid (every combination); a list of
 dicts is a path, whose optima are warm-started from their neighbour's (continuation, one after the
-other). Points run in worker processes (IPOPT's MUMPS is not thread-safe); a
+other). A grid of optima can be continued along one of its keys (`Continuation`): its lines along
+that key are cut into short segments, each solved cold at its first point and warm from there on,
+the segments side by side. Points run in worker processes (IPOPT's MUMPS is not thread-safe); a
 ``dask.distributed`` ``Client.get_executor()`` runs them on a cluster. A point that fails is a row
 with its error, not a failed sweep. With ``csv=`` the table is written after every point and a
 rerun skips the points already done.
@@ -21,13 +23,14 @@ import json
 import os
 import time
 from collections.abc import Callable, Mapping, Sequence
-from concurrent.futures import Executor, as_completed
-from dataclasses import replace
+from concurrent.futures import FIRST_COMPLETED, Executor, Future, as_completed, wait
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from tqdm.auto import tqdm
 
+from . import checks as chk
 from . import impacts
 from .io import atomic_write
 from .model import ModelSpec
@@ -44,6 +47,49 @@ if TYPE_CHECKING:
 TASKS = ("optimize", "simulate", "impacts")
 #: Columns every row has after the varied values.
 BASE_COLUMNS = ("task", "ok", "error", "wall_time_s")
+
+
+@dataclass(frozen=True)
+class Continuation:
+    """A grid of optima warm-started along one of its keys.
+
+    The points that differ only in `along` form a line, in the order of its values. Each line is cut
+    into segments of `segment` points: the first point of a segment is solved cold, each next one from
+    its neighbour's optimum (`Strategy(mode="continue")`, rescaled to its period; cold again when
+    that chain fails or the neighbour failed). The segments run side by side. Which optimum each
+    point starts from is fixed by the grid, so the table does not depend on the workers.
+
+    On the 75 spm seed, an optimum started from its neighbour at the next wrist-pin clearance (0.05,
+    0.1, 0.2, 0.3 mm) took 63-67 s instead of 145 s cold, to the cold optimum within 0.03 %
+    (docs/decisions/2026-11-28-sweep-continuation.md). Along the stroke rate continuation did not
+    pay: a neighbour's peaks and window fall at other times at another period (docs/measurements.md).
+
+    Attributes
+    ----------
+    along : str
+        A key of the grid (as given in ``vary``).
+    segment : int
+        Points per segment, 1..10000: 1 solves every point cold; a line's length runs it as one path
+        (one after the other).
+    """
+
+    along: str
+    segment: int = 2
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.along, str) or not self.along:
+            raise ValueError(f"Continuation.along must name a key of the grid, got {self.along!r}")
+        chk.integer("Continuation.segment", self.segment, 1, 10_000)
+
+    def segments(self, points: list[dict]) -> list[list[int]]:
+        """Indices of `points` (a grid's, `points_of`) segment by segment, in the order of the grid."""
+        if self.along not in points[0]:
+            raise ValueError(f"Continuation.along is {self.along!r}, not a key of the grid "
+                             f"({', '.join(points[0])})")
+        lines: dict[str, list[int]] = {}
+        for i, p in enumerate(points):
+            lines.setdefault(_key_of({k: v for k, v in p.items() if k != self.along}), []).append(i)
+        return [line[j:j + self.segment] for line in lines.values() for j in range(0, len(line), self.segment)]
 
 
 def points_of(vary: Mapping[str, Sequence] | Sequence[Mapping[str, Any]]) -> tuple[list[dict], bool]:
@@ -166,7 +212,8 @@ def _plain(v: Any) -> Any:
 
 def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence[Mapping[str, Any]],
           task: str = "optimize", speed: FourierSpeed | None = None, executor: Executor | None = None,
-          progress: bool = True, *, csv: str | Path | None = None, continuation: bool = True) -> pd.DataFrame:
+          progress: bool = True, *, csv: str | Path | None = None,
+          continuation: bool | Continuation = True) -> pd.DataFrame:
     """Run `task` at every point of `vary` and tabulate.
 
     Parameters
@@ -191,10 +238,11 @@ def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence
     csv : path, optional
         Write the table there after every point (atomically) and skip the points that an earlier
         run wrote with ``ok`` True.
-    continuation : bool
+    continuation : bool or Continuation
         Along a path of optima, start each from its neighbour's (True) or run the points as
         independent cold starts in parallel, like a grid (False: a path is then just a list of points,
-        e.g. both clearances varied together).
+        e.g. both clearances varied together). A `Continuation` warm-starts a grid of optima along
+        one of its keys; True or False leave a grid's points cold.
 
     Returns
     -------
@@ -215,6 +263,13 @@ def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence
         raise ValueError(f"task must be one of {', '.join(TASKS)}; got {task!r}")
     scenario = as_scenario(base)
     points, is_path = points_of(vary)
+    segments = None
+    if isinstance(continuation, Continuation):
+        if is_path or task != "optimize":
+            raise ValueError(f"a Continuation warm-starts a grid of optima; this sweep is a "
+                             f"{'path' if is_path else 'grid'} of task {task!r} (a path of optima is "
+                             "continued with continuation=True)")
+        segments = continuation.segments(points)
     scenarios = [scenario.with_overrides(p) for p in points]  # every point checked before any solve
     if speed is not None:
         if task != "simulate":
@@ -235,13 +290,27 @@ def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence
             atomic_write(csv, _table(rows, keys).to_csv(index=False))
 
     try:
-        if is_path and task == "optimize" and continuation:  # one after the other, each from its neighbour
+        if segments is not None:
+            run_segments(scenarios, segments, rows, executor, record)
+        elif is_path and task == "optimize" and continuation:  # one after the other, each from its neighbour
             run_path(scenarios, rows, executor, record)
         elif todo:
             run_parallel(task, [scenarios[i] for i in todo], todo, speed, executor, record)
     finally:
         bar.close()
     return _table(rows, keys)
+
+
+def speed_of(row: dict) -> FourierSpeed | None:
+    """The optimum of a row that succeeded (the next point's start), else None."""
+    return FourierSpeed.from_dict(json.loads(row["speed"])) if row.get("ok") and row.get("speed") else None
+
+
+def start_for(previous: FourierSpeed | None, scenario: Scenario) -> FourierSpeed | None:
+    """A neighbour's optimum as `scenario`'s start: rescaled to its period; None when there is none
+    or it has more harmonics than the scenario's problem."""
+    start = None if previous is None else rescale(previous, scenario.problem.period)
+    return None if start is not None and start.n_harmonics > scenario.problem.n_harmonics else start
 
 
 def run_path(scenarios: list[Scenario], rows: dict[int, dict], executor: Executor | None,
@@ -252,15 +321,52 @@ def run_path(scenarios: list[Scenario], rows: dict[int, dict], executor: Executo
     previous = None
     for i, scenario in enumerate(scenarios):
         if i in rows:
-            previous = FourierSpeed.from_dict(json.loads(rows[i]["speed"])) if rows[i].get("speed") else None
+            previous = speed_of({**rows[i], "ok": True})
             continue
-        start = None if previous is None else rescale(previous, scenario.problem.period)
-        if start is not None and start.n_harmonics > scenario.problem.n_harmonics:
-            start = None
+        start = start_for(previous, scenario)
         row = (executor.submit(run_point, "optimize", scenario, None, start).result() if executor is not None
                else run_point("optimize", scenario, None, start))
         record(i, row)
-        previous = FourierSpeed.from_dict(json.loads(row["speed"])) if row.get("ok") else previous
+        previous = speed_of(row) or previous
+
+
+def run_segments(scenarios: list[Scenario], segments: list[list[int]], rows: dict[int, dict],
+                 executor: Executor | None, record: Callable[[int, dict], None]) -> None:
+    """The optima of `scenarios` segment by segment (`Continuation.segments`): every segment's first
+    open point is submitted at once, and each next point when its neighbour's row arrives, started
+    from that neighbour's optimum (cold when the neighbour failed). Points already in `rows` are
+    skipped (their speed starts the next one). In `executor` or in a process pool of its own; an
+    exception (Ctrl-C included) cancels the points not started."""
+    own = executor is None
+    pool = _default_executor(len(segments)) if own else executor
+    pending: dict[Future, tuple[list[int], int]] = {}
+
+    def submit(segment: list[int], k: int, previous: FourierSpeed | None) -> None:
+        while k < len(segment) and segment[k] in rows:  # done in an earlier run
+            previous = speed_of({**rows[segment[k]], "ok": True})
+            k += 1
+        if k < len(segment):
+            scenario = scenarios[segment[k]]
+            start = start_for(previous, scenario)
+            pending[pool.submit(run_point, "optimize", scenario, None, start)] = (segment, k)
+
+    try:
+        for segment in segments:
+            submit(segment, 0, None)
+        while pending:
+            done, _ = wait(list(pending), return_when=FIRST_COMPLETED)
+            for fut in done:
+                segment, k = pending.pop(fut)
+                row = fut.result()
+                record(segment[k], row)
+                submit(segment, k + 1, speed_of(row))
+    except BaseException:
+        for f in pending:
+            f.cancel()
+        raise
+    finally:
+        if own:
+            pool.shutdown(wait=True, cancel_futures=True)
 
 
 def run_parallel(task: str, scenarios: list[Scenario], indices: list[int], speed: FourierSpeed | None,
@@ -292,4 +398,4 @@ def _table(rows: dict[int, dict], keys: list[str]) -> pd.DataFrame:
     return frame[[c for c in first if c in frame] + [c for c in frame if c not in first]]
 
 
-__all__ = ["TASKS", "as_scenario", "points_of", "rescale", "run_point", "sweep"]
+__all__ = ["TASKS", "Continuation", "as_scenario", "points_of", "rescale", "run_point", "sweep"]

@@ -111,6 +111,59 @@ def test_dask_local_cluster_gives_the_same_table(serial):
     assert json.loads(table["speed"].iloc[0])["period"] == 0.8
 
 
+def test_a_grid_continued_along_a_key_runs_segments_cold_then_from_the_neighbour(tmp_path, monkeypatch, serial):
+    """Continuation along the clearance: each line (one slider mass) is cut into segments of two; a
+    segment's first point starts cold, its second from the first's optimum; a failed first point leaves
+    the second cold; a resumed sweep starts a segment's open point from the optimum in the CSV."""
+    starts = {}
+
+    def stub(task, scenario, speed=None, initial=None):
+        key = (scenario.press.wrist_pin.clearance, scenario.press.slider_mass)
+        starts[key] = None if initial is None else initial.a[0]
+        ok = key != (3e-4, 200.0)
+        mark = 1e4 * key[0] + key[1]  # each optimum told apart by its mean speed
+        return {"task": task, "ok": ok, "error": "" if ok else "RuntimeError: x",
+                "speed": json.dumps(po.FourierSpeed(0.8, [mark], [0.0]).to_dict())}
+
+    monkeypatch.setattr(sweep_module, "run_point", stub)
+    vary = {"wrist_pin.clearance": [1e-4, 2e-4, 3e-4, 4e-4, 5e-4], "slider_mass": [100.0, 200.0]}
+    along = sweep_module.Continuation("wrist_pin.clearance")
+    assert along.segments(sweep_module.points_of(vary)[0]) == [[0, 2], [4, 6], [8], [1, 3], [5, 7], [9]]
+    table = po.sweep(RIGID, vary, executor=serial, progress=False, continuation=along)
+    assert len(table) == 10 and table["task"].eq("optimize").all()
+    assert starts == {(1e-4, 100.0): None, (2e-4, 100.0): 1 + 100.0, (3e-4, 100.0): None, (4e-4, 100.0): 3 + 100.0,
+                      (5e-4, 100.0): None, (1e-4, 200.0): None, (2e-4, 200.0): 1 + 200.0, (3e-4, 200.0): None,
+                      (4e-4, 200.0): None, (5e-4, 200.0): None}
+    starts.clear()
+    csv = tmp_path / "sweep.csv"
+    po.sweep(RIGID, {"wrist_pin.clearance": [1e-4]}, executor=serial, progress=False, csv=csv)
+    starts.clear()  # the press's own slider mass, 150 kg
+    po.sweep(RIGID, {"wrist_pin.clearance": [1e-4, 2e-4, 3e-4]}, executor=serial, progress=False, csv=csv,
+             continuation=sweep_module.Continuation("wrist_pin.clearance", segment=3))
+    assert starts == {(2e-4, 150.0): 1 + 150.0, (3e-4, 150.0): 2 + 150.0}
+    for bad, words in ((dict(vary=[{"slider_mass": 100.0}], continuation=along), "path"),
+                       (dict(vary={"slider_mass": [100.0]}, continuation=along), "not a key of the grid"),
+                       (dict(vary=vary, continuation=along, task="simulate", speed=SPEED), "task 'simulate'")):
+        with pytest.raises(ValueError, match=words):
+            po.sweep(RIGID, **{"executor": serial, "progress": False, **bad})
+    with pytest.raises(ValueError, match="segment"):
+        sweep_module.Continuation("slider_mass", segment=0)
+
+
+@pytest.mark.slow  # 40 s
+def test_a_continued_grid_of_optima_on_worker_processes_matches_cold_starts():
+    """Ideal press, 6 harmonics: the grid continued along the slider mass on 2 worker processes gives
+    each point's cold optimum, and its rows say which points started from their neighbour."""
+    base = RIGID.with_overrides({"problem.n_harmonics": 6})
+    vary = {"slider_mass": [100.0, 130.0], "rod_mass": [2.0, 4.0]}
+    with ProcessPoolExecutor(2) as pool:
+        warm = po.sweep(base, vary, executor=pool, progress=False, continuation=po.Continuation("slider_mass"))
+        cold = po.sweep(base, vary, executor=pool, progress=False)
+    assert warm["ok"].all() and cold["ok"].all()
+    assert warm["start"].tolist()[2:] == ["neighbour", "neighbour"] and warm["start"].iloc[:2].isna().all()
+    np.testing.assert_allclose(warm["peak_torque_N_m"], cold["peak_torque_N_m"], rtol=1e-3)
+
+
 @pytest.mark.slow  # 14 s
 def test_a_path_of_optima_starts_each_from_its_neighbour(monkeypatch, serial):
     """On the ideal press with 6 harmonics (seconds): the second optimum of a path starts from the
