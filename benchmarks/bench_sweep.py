@@ -258,7 +258,7 @@ def optima_figure(row: dict) -> None:
             ax.text(i, w, f"{w:.0f}", ha="center", va="bottom", fontsize=7)
         x += len(walls) + 1
     ax.axhline(row["goal_s"], color="tab:red", ls="--", lw=0.8)
-    ax.text(0.5, row["goal_s"], f" goal {row['goal_s']:.0f} s", color="tab:red", fontsize=7, va="bottom")
+    ax.text(x - 0.5, row["goal_s"], f"goal {row['goal_s']:.0f} s", color="tab:red", fontsize=7, va="bottom", ha="right")
     ax.set_xticks([])
     ax.set_xlabel("run (a fresh process each; red: a row not verified)")
     ax.set_ylabel("wall time of the sweep, s")
@@ -266,6 +266,7 @@ def optima_figure(row: dict) -> None:
     ax.legend(fontsize=7, loc="upper right")
     n = len(OPTIMA_CLEARANCES_M) * len(OPTIMA_RATES_SPM)
     ax.set_title(f"{n} optima on 2 workers", fontsize=9)
+    ref = optima_reference(variants)
     for v, (name, var) in enumerate(variants.items()):
         for k, run in enumerate(var["runs"]):
             t = pd.DataFrame(run["rows"])
@@ -273,20 +274,38 @@ def optima_figure(row: dict) -> None:
                 continue
             for j, (rate, g) in enumerate(t.groupby("problem.stroke_rate_spm")):
                 g = g.sort_values("press.wrist_pin.clearance")
+                c = g["press.wrist_pin.clearance"]
+                y = g["peak_torque_N_m"] if ref is None else \
+                    100 * (g["peak_torque_N_m"] / [ref[(rate, x)] for x in c] - 1)
                 bad = ~g["ok"].astype(bool)
-                bx.plot(1e3 * g["press.wrist_pin.clearance"], g["peak_torque_N_m"], "o-" if name == "continued" else "x--",
-                        color=f"C{j}", alpha=0.6, label=f"{rate:g} spm, {name}" if k == 0 else None)
-                bx.plot(1e3 * g["press.wrist_pin.clearance"][bad], g["peak_torque_N_m"][bad], "s", mfc="none", ms=10,
-                        color="C3", label="not verified" if bad.any() else None)
+                bx.plot(1e3 * c, y, "o-" if name == "continued" else "x--", color=f"C{j}", alpha=0.6,
+                        label=f"{rate:g} spm, {name}" if k == 0 else None)
+                bx.plot(1e3 * c[bad], y[bad], "s", mfc="none", ms=10, color="C3",
+                        label="not verified" if bad.any() else None)
     bx.set_xlabel("wrist-pin clearance [mm]")
-    bx.set_ylabel("verified peak torque [N·m]")
-    bx.set_title("every run's optima (re-simulated)", fontsize=9)
+    bx.set_ylabel("verified peak torque [N·m]" if ref is None else "verified peak torque\nagainst the cold median [%]")
+    bx.set_title("every run's optima (re-simulated)" if ref is None else
+                 "every run's optima (re-simulated); the cold grid's median peaks:\n"
+                 + ", ".join(f"{r:g} spm {min(v for (q, _), v in ref.items() if q == r):.1f}–"
+                             f"{max(v for (q, _), v in ref.items() if q == r):.1f} N·m"
+                             for r in sorted({q for q, _ in ref})), fontsize=8)
     bx.grid(alpha=0.3)
     bx.legend(fontsize=7)
     fig.suptitle(f"pressocp sweep --task optimize (continued: --along press.wrist_pin.clearance), "
                  f"{row.get('date', '')[:16]}, {row.get('cpus', '')} cores", fontsize=9)
     fig.tight_layout()
     save(fig, OUT / "sweep_optima.png")
+
+
+def optima_reference(variants: dict) -> dict | None:
+    """The cold grid's median verified peak per (stroke rate, clearance), N·m; None without a cold run."""
+    if "cold" not in variants:
+        return None
+    rows = pd.DataFrame([r for run in variants["cold"]["runs"] for r in run["rows"]])
+    if rows.empty:
+        return None
+    med = rows.groupby(["problem.stroke_rate_spm", "press.wrist_pin.clearance"])["peak_torque_N_m"].median()
+    return {k: float(v) for k, v in med.items()}
 
 
 def main() -> None:
