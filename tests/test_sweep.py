@@ -6,6 +6,8 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pandas as pd
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 import pressocp as po
 from pressocp import sweeps as sweep_module
@@ -148,6 +150,27 @@ def test_a_grid_continued_along_a_key_runs_segments_cold_then_from_the_neighbour
             po.sweep(RIGID, **{"executor": serial, "progress": False, **bad})
     with pytest.raises(ValueError, match="segment"):
         sweep_module.Continuation("slider_mass", segment=0)
+
+
+@given(sizes=st.lists(st.integers(1, 4), min_size=1, max_size=3), along=st.integers(0, 2),
+       segment=st.integers(1, 5))
+def test_segments_cover_each_line_in_order_with_at_most_segment_points(sizes, along, segment):
+    """Any grid: every point is in exactly one segment; a segment's points differ only in the key it
+    continues along, follow that key's values in order, and number at most `segment`."""
+    keys = [f"k{i}" for i in range(len(sizes))]
+    along_key = keys[along % len(keys)]
+    points, _ = sweep_module.points_of({k: list(range(n)) for k, n in zip(keys, sizes)})
+    segments = sweep_module.Continuation(along_key, segment).segments(points)
+    assert sorted(i for seg in segments for i in seg) == list(range(len(points)))
+    for seg in segments:
+        assert 1 <= len(seg) <= segment
+        others = {tuple(v for k, v in points[i].items() if k != along_key) for i in seg}
+        assert len(others) == 1
+        values = [points[i][along_key] for i in seg]
+        assert values == list(range(values[0], values[0] + len(seg)))
+    # a line of n points makes ceil(n / segment) segments
+    n_along = sizes[keys.index(along_key)]
+    assert len(segments) == (len(points) // n_along) * -(-n_along // segment)
 
 
 @pytest.mark.slow  # 40 s
