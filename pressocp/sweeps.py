@@ -23,7 +23,7 @@ import json
 import os
 import time
 from collections.abc import Callable, Mapping, Sequence
-from concurrent.futures import FIRST_COMPLETED, Executor, Future, as_completed, wait
+from concurrent.futures import FIRST_COMPLETED, Executor, Future, wait
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -290,12 +290,11 @@ def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence
             atomic_write(csv, _table(rows, keys).to_csv(index=False))
 
     try:
-        if segments is not None:
-            run_segments(scenarios, segments, rows, executor, record)
-        elif is_path and task == "optimize" and continuation:  # one after the other, each from its neighbour
+        if segments is None and is_path and task == "optimize" and continuation:  # each from its neighbour
             run_path(scenarios, rows, executor, record)
-        elif todo:
-            run_parallel(task, [scenarios[i] for i in todo], todo, speed, executor, record)
+        elif todo:  # a grid: segments of a continuation, or every point on its own
+            run_segments(task, scenarios, [[i] for i in todo] if segments is None else segments, rows, speed,
+                         executor, record)
     finally:
         bar.close()
     return _table(rows, keys)
@@ -330,15 +329,18 @@ def run_path(scenarios: list[Scenario], rows: dict[int, dict], executor: Executo
         previous = speed_of(row) or previous
 
 
-def run_segments(scenarios: list[Scenario], segments: list[list[int]], rows: dict[int, dict],
-                 executor: Executor | None, record: Callable[[int, dict], None]) -> None:
-    """The optima of `scenarios` segment by segment (`Continuation.segments`): every segment's first
-    open point is submitted at once, and each next point when its neighbour's row arrives, started
-    from that neighbour's optimum (cold when the neighbour failed). Points already in `rows` are
-    skipped (their speed starts the next one). In `executor` or in a process pool of its own; an
-    exception (Ctrl-C included) cancels the points not started."""
+def run_segments(task: str, scenarios: list[Scenario], segments: list[list[int]], rows: dict[int, dict],
+                 speed: FourierSpeed | None, executor: Executor | None,
+                 record: Callable[[int, dict], None]) -> None:
+    """`task` at `scenarios` segment by segment, the segments side by side (one point each: a plain
+    grid; `Continuation.segments`: optima continued). Every segment's first open point is submitted
+    at once, and each next point when its neighbour's row arrives, started from that neighbour's
+    optimum (cold when the neighbour failed). Points already in `rows` are skipped (their speed
+    starts the next one). In `executor` or in a process pool of its own (shut down at the end); each
+    row goes to `record` as it arrives; an exception (Ctrl-C included) cancels the points not
+    started."""
     own = executor is None
-    pool = _default_executor(len(segments)) if own else executor
+    pool = _default_executor(sum(any(i not in rows for i in seg) for seg in segments)) if own else executor
     pending: dict[Future, tuple[list[int], int]] = {}
 
     def submit(segment: list[int], k: int, previous: FourierSpeed | None) -> None:
@@ -347,8 +349,8 @@ def run_segments(scenarios: list[Scenario], segments: list[list[int]], rows: dic
             k += 1
         if k < len(segment):
             scenario = scenarios[segment[k]]
-            start = start_for(previous, scenario)
-            pending[pool.submit(run_point, "optimize", scenario, None, start)] = (segment, k)
+            start = start_for(previous, scenario) if k > 0 else None
+            pending[pool.submit(run_point, task, scenario, speed, start)] = (segment, k)
 
     try:
         for segment in segments:
@@ -362,27 +364,6 @@ def run_segments(scenarios: list[Scenario], segments: list[list[int]], rows: dic
                 submit(segment, k + 1, speed_of(row))
     except BaseException:
         for f in pending:
-            f.cancel()
-        raise
-    finally:
-        if own:
-            pool.shutdown(wait=True, cancel_futures=True)
-
-
-def run_parallel(task: str, scenarios: list[Scenario], indices: list[int], speed: FourierSpeed | None,
-                 executor: Executor | None, record: Callable[[int, dict], None]) -> None:
-    """`task` at every one of `scenarios` (the points `indices`) side by side, in `executor` or in a
-    process pool of its own (shut down at the end); each row goes to `record` as it arrives. An
-    exception (Ctrl-C included) cancels the points not started."""
-    own = executor is None
-    pool = _default_executor(len(scenarios)) if own else executor
-    futures = {}
-    try:
-        futures = {pool.submit(run_point, task, sc, speed): i for sc, i in zip(scenarios, indices)}
-        for fut in as_completed(futures):
-            record(futures[fut], fut.result())
-    except BaseException:
-        for f in futures:
             f.cancel()
         raise
     finally:
