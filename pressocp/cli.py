@@ -214,7 +214,7 @@ def _parser() -> argparse.ArgumentParser:
                     help="a grid of optima warm-started along this --vary key: its lines cut into segments of "
                          "--segment points, each solved cold at its first point and from its neighbour's optimum "
                          "after that, the segments side by side")
-    sw.add_argument("--segment", type=int, default=2, help="points per segment of --along (default 2)")
+    sw.add_argument("--segment", type=int, default=None, help="points per segment of --along (default 2)")
     sw.add_argument("--speed", type=Path, default=None, help="the speed a simulate sweep evaluates (default: "
                     "each point's rigid design)")
     sw.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
@@ -454,12 +454,14 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
     vary = parse_vary(args.vary, args.path)
     points, _ = points_of(vary)
     continuation: bool | Continuation = True
+    if args.segment is not None and args.along is None:
+        raise InputError(f"--segment {args.segment} sets the segments of --along KEY, which is not given")
     if args.along is not None:
         if args.path or args.task != "optimize":
             raise InputError(f"--along continues a grid of optima; this is {'a --path' if args.path else 'a grid'} "
                              f"of --task {args.task}")
         try:
-            continuation = Continuation(args.along, args.segment)
+            continuation = Continuation(args.along, 2 if args.segment is None else args.segment)
             continuation.segments(points)
         except ValueError as err:
             raise InputError(f"--along/--segment: {err}") from None

@@ -103,6 +103,8 @@ BAD_ARGS = [
                                      "slider_mass"], ["--along", "optima", "simulate"]),
     ("--segment 0", ["sweep", "--vary", "slider_mass=100,200", "--along", "slider_mass", "--segment", "0"],
      ["Continuation.segment", "0"]),
+    ("--segment without --along", ["sweep", "--vary", "slider_mass=100,200", "--segment", "3"],
+     ["--segment 3", "--along"]),
     ("sweep.csv of another run", ["sweep", "--vary", "slider_mass=100,200", "--out", "{tmp}/done"],
      ["sweep.csv", "--resume"]),
     ("--speed with more harmonics than the problem", ["simulate", "--speed", "{tmp}/speed20.json"],
