@@ -320,7 +320,7 @@ def run_path(scenarios: list[Scenario], rows: dict[int, dict], executor: Executo
     previous = None
     for i, scenario in enumerate(scenarios):
         if i in rows:
-            previous = speed_of({**rows[i], "ok": True})
+            previous = speed_of(rows[i])
             continue
         start = start_for(previous, scenario)
         row = (executor.submit(run_point, "optimize", scenario, None, start).result() if executor is not None
@@ -345,12 +345,11 @@ def run_segments(task: str, scenarios: list[Scenario], segments: list[list[int]]
 
     def submit(segment: list[int], k: int, previous: FourierSpeed | None) -> None:
         while k < len(segment) and segment[k] in rows:  # done in an earlier run
-            previous = speed_of({**rows[segment[k]], "ok": True})
+            previous = speed_of(rows[segment[k]])
             k += 1
         if k < len(segment):
             scenario = scenarios[segment[k]]
-            start = start_for(previous, scenario) if k > 0 else None
-            pending[pool.submit(run_point, task, scenario, speed, start)] = (segment, k)
+            pending[pool.submit(run_point, task, scenario, speed, start_for(previous, scenario))] = (segment, k)
 
     try:
         for segment in segments:
