@@ -259,23 +259,7 @@ def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence
     KeyboardInterrupt
         Ctrl-C: the points done are in `csv` (when given); pending ones are cancelled.
     """
-    if task not in TASKS:
-        raise ValueError(f"task must be one of {', '.join(TASKS)}; got {task!r}")
-    scenario = as_scenario(base)
-    points, is_path = points_of(vary)
-    segments = None
-    if isinstance(continuation, Continuation):
-        if is_path or task != "optimize":
-            raise ValueError(f"a Continuation warm-starts a grid of optima; this sweep is a "
-                             f"{'path' if is_path else 'grid'} of task {task!r} (a path of optima is "
-                             "continued with continuation=True)")
-        segments = continuation.segments(points)
-    scenarios = [scenario.with_overrides(p) for p in points]  # every point checked before any solve
-    if speed is not None:
-        if task != "simulate":
-            raise ValueError(f"speed is the speed a simulate sweep evaluates; task is {task!r}")
-        for p, s in zip(points, scenarios):
-            s.check_speed(speed, f"speed (point {p})")
+    points, is_path, segments, scenarios = _checked(base, vary, task, speed, continuation)
     keys = list(points[0])
     csv = None if csv is None else Path(csv)
     done = _done_rows(csv, keys)
@@ -298,6 +282,31 @@ def sweep(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence
     finally:
         bar.close()
     return _table(rows, keys)
+
+
+def _checked(base: Scenario | SpeedProblem, vary: Mapping[str, Sequence] | Sequence[Mapping[str, Any]], task: str,
+             speed: FourierSpeed | None, continuation: bool | Continuation
+             ) -> tuple[list[dict], bool, list[list[int]] | None, list[Scenario]]:
+    """`sweep`'s input checked before anything runs: its points, whether they are a path, the
+    segments of a `Continuation` (None without one) and every point's scenario."""
+    if task not in TASKS:
+        raise ValueError(f"task must be one of {', '.join(TASKS)}; got {task!r}")
+    scenario = as_scenario(base)
+    points, is_path = points_of(vary)
+    segments = None
+    if isinstance(continuation, Continuation):
+        if is_path or task != "optimize":
+            raise ValueError(f"a Continuation warm-starts a grid of optima; this sweep is a "
+                             f"{'path' if is_path else 'grid'} of task {task!r} (a path of optima is "
+                             "continued with continuation=True)")
+        segments = continuation.segments(points)
+    scenarios = [scenario.with_overrides(p) for p in points]  # every point checked before any solve
+    if speed is not None:
+        if task != "simulate":
+            raise ValueError(f"speed is the speed a simulate sweep evaluates; task is {task!r}")
+        for p, s in zip(points, scenarios):
+            s.check_speed(speed, f"speed (point {p})")
+    return points, is_path, segments, scenarios
 
 
 def speed_of(row: dict) -> FourierSpeed | None:
