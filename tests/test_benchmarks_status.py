@@ -162,12 +162,21 @@ def test_a_row_whose_job_last_stopped_unfinished_is_marked_stale(tmp_path):
         assert ("**stale**" in row.verdict) == marked, (date, row.source, row.verdict)
 
 
-def test_a_suite_run_with_other_jobs_than_today_is_stale(tmp_path):
+def test_a_suite_run_with_other_jobs_than_today_is_not_a_measurement(tmp_path):
+    """A whole run of another suite does not show today's time: not measured, with the jobs' last runs
+    added up (one stopped over budget counts the time it ran) and the jobs never run named."""
     jobs, budget = status.suite_now()
-    (tmp_path / "runs.json").write_text(json.dumps({
-        "suite": {"date": "d6", "jobs": jobs - 3, "wall_time_s": 2.0 * 3600, "failed": []}}))
+    runs = {"suite": {"date": "d6", "jobs": jobs - 3, "wall_time_s": 2.0 * 3600, "failed": []},
+            "figures": {"wall_time_s": 90.0}, "drive": {"wall_time_s": 3600.0, "over_budget": True}}
+    (tmp_path / "runs.json").write_text(json.dumps(runs))
     suite = by_goal(status.rows(tmp_path), "`python -m benchmarks`")[0]
-    assert suite.verdict == f"met; **stale**: the suite has {jobs} jobs now (budgets {budget:g} min), not run whole since"
+    assert suite.verdict == "not measured"
+    assert suite.measured.startswith(f"{jobs - 3} jobs in **120 min**; none failed; the suite has {jobs} jobs now "
+                                     f"(budgets {budget:g} min), not run whole since: the 2 jobs' last runs add up "
+                                     "to 62 min (stopped over budget: drive); not run by the runner yet: ")
+    assert "simulation" in suite.measured and "figures," not in suite.measured
+    (tmp_path / "runs.json").write_text(json.dumps({"suite": {**runs["suite"], "jobs": jobs}}))
+    assert by_goal(status.rows(tmp_path), "`python -m benchmarks`")[0].verdict == "met"
 
 
 def ad_file(path, ad_s, cd_s, ad_error, against):
