@@ -461,7 +461,8 @@ def _prepare_sweep(args: argparse.Namespace, scenario, out: Path):
             raise InputError(f"--along continues a grid of optima; this is {'a --path' if args.path else 'a grid'} "
                              f"of --task {args.task}")
         try:
-            continuation = Continuation(args.along, 2 if args.segment is None else args.segment)
+            continuation = (Continuation(args.along) if args.segment is None
+                            else Continuation(args.along, args.segment))
             continuation.segments(points)
         except ValueError as err:
             raise InputError(f"--along/--segment: {err}") from None
