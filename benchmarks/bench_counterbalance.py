@@ -33,6 +33,7 @@ import numpy as np
 
 import pressocp as po
 from pressocp.io import versions
+from pressocp.journals import contact_losses
 from pressocp.plots import save
 from pressocp.report import stamp
 
@@ -50,13 +51,10 @@ def reversals(problem: po.SpeedProblem, speed: po.FourierSpeed) -> int:
     return int(np.sum(sign != np.roll(sign, 1)))
 
 
-def contact_losses(sim, press: po.PressParams) -> dict[str, int]:
-    """Per joint, how often the journal leaves its bearing wall over the simulated period."""
-    out = {}
-    for joint in ("crank_pin", "wrist_pin"):
-        free = np.asarray(getattr(sim, f"{joint}_eccentricity")) < 1.0  # the ratio |e|/c: below 1 in flight
-        out[joint] = int(np.sum(free & ~np.roll(free, 1)))
-    return out
+def contacts(sim, press: po.PressParams) -> dict[str, dict]:
+    """Per joint, the journal's separations from its bearing wall over the simulated period
+    (`pressocp.journals.contact_losses`: count, longest, deepest, fastest return)."""
+    return {j: c.to_dict() for j, c in contact_losses(sim, press, ("crank_pin", "wrist_pin")).items()}
 
 
 def case(name: str, scenario: po.Scenario, **changes) -> dict:
@@ -71,7 +69,8 @@ def case(name: str, scenario: po.Scenario, **changes) -> dict:
         "peak_torque_N_m": result.peak_torque, "rigid_peak_torque_N_m": result.rigid_peak_torque,
         "counterbalance": final.press.counterbalance.__dict__, "process_force_max_N": final.press.process_force.peak,
         "reversal_side": final.reversal_side(), "rod_load_reversals": reversals(final, result.speed),
-        "contact_losses": contact_losses(result.simulation, final.press),
+        "contact_losses": {j: c["losses"] for j, c in contacts(result.simulation, final.press).items()},
+        "contacts": contacts(result.simulation, final.press),
         "max_ram_speed_violation_m_s": result.max_ram_speed_violation, "wall_time_s": wall,
         "speed": result.speed.to_dict(),
         "stages": [{"name": s.name, "status": s.status, "iterations": s.iterations, "objective": s.objective,

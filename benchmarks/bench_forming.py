@@ -30,7 +30,7 @@ from pressocp.ocp.optimize import checked_request
 from pressocp.plots import save
 from pressocp.report import stamp
 
-from bench_counterbalance import contact_losses, reversals  # a sibling script: this folder is the script's path
+from bench_counterbalance import contacts, reversals  # a sibling script: this folder is the script's path
 
 OUT = Path(__file__).parent / "results"
 
@@ -66,7 +66,8 @@ def main() -> None:
         "ratio_to_floor": result.peak_torque / floor.peak_torque,
         "counterbalance_N": final.press.counterbalance.force, "reversal_side": final.reversal_side(),
         "rod_load_reversals": reversals(final, result.speed),
-        "contact_losses": contact_losses(result.simulation, final.press),
+        "contact_losses": {j: c["losses"] for j, c in contacts(result.simulation, final.press).items()},
+        "contacts": contacts(result.simulation, final.press),
         "max_ram_speed_violation_m_s": result.max_ram_speed_violation, "wall_time_s": wall,
         "speed": result.speed.to_dict(),
         "stages": [{"name": s.name, "status": s.status, "iterations": s.iterations, "objective": s.objective,

@@ -46,6 +46,7 @@ from pathlib import Path
 import numpy as np
 
 from pressocp import PressParams, Scenario, SpeedProblem, design_speed
+from pressocp.journals import contact_losses
 from pressocp.model import ModelSpec
 from pressocp.report import stamp
 from pressocp.simulate import Integrator, periodic_state, simulate
@@ -95,16 +96,9 @@ def cycle(spec: ModelSpec, rtol: float, repeat: int, t_end: float, method: str =
 
 def impacts(sim, press: PressParams, joints: tuple[str, ...] = ("crank_pin", "wrist_pin")) -> dict:
     """Per clearance joint of `joints`: how often it leaves its bearing wall in the cycle, and its largest
-    radial speed (m/s) as it reaches the wall again (from the samples either side of the return)."""
-    out = {}
-    dt = float(sim.t[1] - sim.t[0])
-    for joint in joints:
-        eps = np.asarray(getattr(sim, f"{joint}_eccentricity"))
-        free = eps < 1.0  # |e|/c below 1: in flight
-        back = np.flatnonzero(~free & np.roll(free, 1))
-        speed = [(eps[k] - eps[k - 1]) * getattr(press, joint).clearance / dt for k in back]
-        out[joint] = {"losses": int(back.size), "return_speed_m_s": max(speed, default=0.0)}
-    return out
+    radial speed (m/s) as it reaches the wall again (`pressocp.journals.contact_losses`)."""
+    return {j: {"losses": c.losses, "return_speed_m_s": c.return_speed}
+            for j, c in contact_losses(sim, press, joints).items()}
 
 
 def periodic_scene(spec: ModelSpec, speed, repeat: int, press: PressParams) -> dict:

@@ -519,6 +519,17 @@ def counterbalance_rows(res: Results) -> list[Row]:
     return rows
 
 
+def flights(contacts: dict | None) -> str:
+    """The deepest separation and fastest return of a job's ``contacts`` record (`pressocp.journals`),
+    as " (deepest ... µm, back at up to ... mm/s)"; "" without a record or a separation."""
+    lost = [c for c in (contacts or {}).values() if c["losses"]]
+    if not lost:
+        return ""
+    deep = max(lost, key=lambda c: c["depth"])
+    return (f" (deepest {deep['depth'] * 1e6:.2g} µm, {deep['depth_ratio']:.2%} of the clearance; back at the wall at "
+            f"up to {max(c['return_speed'] for c in lost) * 1e3:.2g} mm/s)")
+
+
 def forming_row(res: Results) -> Row:
     """#32: the forming press with its 60 kN force: verified without journal impacts with an
     optimised counterbalance, within 1.5 x its rigid floor; said up front without one (job forming)."""
@@ -532,7 +543,8 @@ def forming_row(res: Results) -> Row:
     text = (f"{'verified' if d['verified'] else 'NOT verified'} {d['peak_torque_N_m'] / 1e3:.2f} kN·m with a "
             f"{d['counterbalance_N'] / 1e3:.1f} kN counterbalance, {d['ratio_to_floor']:.2f} x the rigid floor "
             f"({d['rigid_floor_without_counterbalance_N_m'] / 1e3:.2f} kN·m), {d['rod_load_reversals']} rod-load "
-            f"reversals, {losses} contact losses, {d['wall_time_s']:.0f} s; without a counterbalance: "
+            f"reversals, {losses} contact losses{flights(d.get('contacts'))}, {d['wall_time_s']:.0f} s; without a "
+            "counterbalance: "
             + ("warned before any solve" if d["warning_without_counterbalance"] else "no warning")
             + ("" if converged else f"; IPOPT did not converge ({d['status']}, iteration limit "
                f"{d.get('max_iter') or 'the default'}): the answer is the best verified iterate, not an optimum"))

@@ -14,6 +14,7 @@ import numpy as np
 
 from . import impacts
 from .design import design_speed
+from .journals import contact_losses, describe_contacts
 from .io import SUMMARY_NAME, RunMismatch, atomic_write, check_run_file, versions, write_json
 from .objectives import get as get_objective
 from .params import PressParams
@@ -166,6 +167,13 @@ def _motor_figure(out: Path, problem: SpeedProblem, motors: dict, summary: dict,
     return [save(plot_torque_speed(problem.drive, motors, title), out / "motor.png")]
 
 
+def _contacts_line(sim: SimResult, press: PressParams, scenario: Scenario) -> list[str]:
+    """The report's line on the journals' separations from their walls (`describe_contacts`); none
+    without clearance joints."""
+    joints = scenario.model.clearance
+    return [f"  {describe_contacts(contact_losses(sim, press, joints))}"] if joints else []
+
+
 def _finish(job: str, out: Path, summary: dict, text: str, details: str, files: list[Path], ok: bool) -> JobReport:
     """Write report.txt and summary.json (last, so a complete summary means a complete run)."""
     files.append(atomic_write(out / "report.txt", text + "\n\n" + details + "\n"))
@@ -208,6 +216,7 @@ def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobRep
         f"  peak torque {summary['peak_torque_N_m']:.1f} N·m, "
         f"{100 * (summary['peak_torque_N_m'] / summary['initial_peak_torque_N_m'] - 1):+.1f} % against the design; "
         f"floor (rigid press optimum) {result.rigid_peak_torque:.1f} N·m; {result.wall_time:.0f} s",
+        *_contacts_line(sim, problem.press, scenario),
         *([f"  counterbalance {format_force(problem.press.counterbalance.force)} at bottom dead centre, chosen with "
            f"the speed in [{', '.join(format_force(f) for f in scenario.problem.counterbalance_range)}]"]
           if scenario.problem.counterbalance_range else []),
@@ -247,6 +256,7 @@ def simulate_job(scenario: Scenario, out: Path, speed: FourierSpeed | None = Non
     text = "\n".join([f"{scenario.name}: {source} on the {where}", f"  {describe_problem(problem)}", "",
                       format_table(load_table([("ideal joints", ideal), ("model", sim)])), "",
                       f"  periodic: {periodic}; ram speed within {100 * error:.2f} % over the window",
+                      *_contacts_line(sim, problem.press, scenario),
                       *(["", drive_text(problem, motors)] if motors else [])])
     return _finish("simulate", out, summary, text, f"speed: {speed!r}", files, periodic is True)
 

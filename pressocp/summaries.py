@@ -7,9 +7,11 @@ from __future__ import annotations
 import numpy as np
 
 from .drive import MotorCycle
+from .journals import contact_losses
 from .objectives import get as get_objective
 from .ocp.ocp_result import OcpResult
 from .verify import is_periodic, ram_speed_error, rigid_reference, verify_speed
+from .params import PressParams
 from .problem import SpeedProblem
 from .report import format_table, peak_summary
 from .result import SimResult
@@ -50,6 +52,7 @@ def optimum_summary(scenario: Scenario, result: OcpResult, ideal: SimResult | No
         "rigid_peak_torque_N_m": result.rigid_peak_torque,
         "max_ram_speed_error": ram_speed_error(result.simulation, problem),
         "max_ram_speed_violation_m_s": result.max_ram_speed_violation, "window_t_s": [result.t1, result.t2],
+        **contact_summary(result.simulation, problem.press, scenario.model.clearance),
         "min_omega_rad_s": result.min_omega, "iterations": result.iterations, "wall_time_s": result.wall_time,
         "stages": [{"name": s.name, "model": s.model, "status": s.status, "success": s.success,
                     "superseded": s.superseded, "iterations": s.iterations, "wall_time_s": s.wall_time,
@@ -82,8 +85,20 @@ def simulation_summary(scenario: Scenario, sim: SimResult, ideal: SimResult, sou
     ecc = {f"min_{j}_eccentricity": v for j, v in sim.min_eccentricities(scenario.model.clearance).items()}
     return {"job": "simulate", "scenario": scenario.name, "model": scenario.model.describe(), "speed": source,
             **problem_summary(problem), "periodic": is_periodic(sim), **peak_summary(sim),
-            **peak_summary(ideal, "ideal_joints_"), **ecc, "max_ram_speed_error": ram_speed_error(sim, problem),
+            **peak_summary(ideal, "ideal_joints_"), **ecc, **contact_summary(sim, problem.press, scenario.model.clearance),
+            "max_ram_speed_error": ram_speed_error(sim, problem),
             "objective_value": problem.objective_value(sim), "rtol": scenario.solver.verify_rtol}
+
+
+def contact_summary(sim: SimResult, press: PressParams, joints: tuple[str, ...]) -> dict:
+    """Flat keys of each clearance joint's separations from its bearing wall over the response
+    (`pressocp.journals.contact_losses`): ``<joint>_contact_losses`` (a cycle), ``<joint>_longest_flight_s``,
+    ``<joint>_flight_depth_m`` and ``<joint>_return_speed_m_s`` (the fastest landing: the impact)."""
+    out = {}
+    for j, c in contact_losses(sim, press, joints).items():
+        out.update({f"{j}_contact_losses": c.losses, f"{j}_longest_flight_s": c.flight_time,
+                    f"{j}_flight_depth_m": c.depth, f"{j}_return_speed_m_s": c.return_speed})
+    return out
 
 
 def simulate_speed(scenario: Scenario, speed: FourierSpeed) -> tuple[SimResult, SimResult]:

@@ -253,3 +253,11 @@ def test_rod_goals_on_the_periodic_scenes(tmp_path):
     cycle, agreement = rows(5e-4)
     assert cycle.verdict == "met" and "2 modes) at rtol 1e-06: **0.40 s**" in cycle.measured
     assert agreement.verdict == "met" and "Simeon within 0.40%" in agreement.measured
+
+
+def test_a_jobs_flights_name_the_deepest_and_the_fastest():
+    """The forming row's words on the journals' separations, from the job's ``contacts`` record."""
+    assert status.flights(None) == "" and status.flights({"crank_pin": {"losses": 0}}) == ""
+    text = status.flights({"crank_pin": {"losses": 2, "depth": 1.4e-6, "depth_ratio": 0.0056, "return_speed": 2e-3},
+                           "wrist_pin": {"losses": 1, "depth": 1e-7, "depth_ratio": 0.001, "return_speed": 5e-3}})
+    assert text == " (deepest 1.4 µm, 0.56% of the clearance; back at the wall at up to 5 mm/s)"
