@@ -9,6 +9,7 @@ from .design import DesignSettings, SpeedDesign, design_speed
 from .drive import Drive, MotorCycle, motor_cycle
 from .mechanism import (KnuckleJoint, KnucklePress, SixBar, SixBarPress, SliderCrank, WorkingZone,
                         constant_speed_zone)
+from .journals import ContactLosses, contact_losses
 from .model import ModelSpec, PressModel, build_model
 from .objectives import OBJECTIVES, Objective
 from .ocp import (Collocation, MultipleShooting, OcpResult, OptimumSensitivities, Rigid, SensitivityError,
@@ -27,13 +28,13 @@ from .speed import FourierSpeed
 from .sweeps import Continuation, sweep
 
 __all__ = [
-    "OBJECTIVES", "Bearing", "Collocation", "Continuation", "DesignSettings", "Drive", "FourierSpeed", "Integrator", "KnuckleJoint", "KnucklePress",
+    "OBJECTIVES", "Bearing", "Collocation", "ContactLosses", "Continuation", "DesignSettings", "Drive", "FourierSpeed", "Integrator", "KnuckleJoint", "KnucklePress",
     "ModelRecommendation", "ModelSpec", "MotorCycle",
     "MultipleShooting", "Objective", "OcpResult", "OptimumSensitivities", "PressModel", "PressParams",
     "Counterbalance", "ProcessForce", "RateSearch", "ReversalWarning", "Rigid", "Scenario", "ScenarioError", "SensitivityError", "SimResult", "SimulationError",
     "SixBar", "SixBarPress", "SliderCrank",
     "SpeedDesign", "SpeedProblem", "StageResult", "Strategy", "Transcription", "TranscriptionRecommendation", "WarmStart", "WorkingZone", "build_model",
-    "constant_speed_zone", "crank_angle_at_height",
+    "constant_speed_zone", "contact_losses", "crank_angle_at_height",
     "design_speed", "hertz_internal_stiffness", "max_stroke_rate", "motor_cycle", "optimize_speed", "optimum_sensitivities", "recommend_model", "recommend_transcription",
     "rigid_inverse_dynamics", "rigid_kinematics", "rigid_response", "sensitivities", "Sensitivities", "simulate",
     "sweep",
