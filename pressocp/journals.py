@@ -98,7 +98,8 @@ def describe_contacts(found: Mapping[str, ContactLosses]) -> str:
         if not c.losses:
             parts.append(f"{name} on its wall throughout")
             continue
-        parts.append(f"{name} leaves its wall {c.losses} times a cycle (longest {1e3 * c.flight_time:.2g} ms, "
+        times = "once" if c.losses == 1 else f"{c.losses} times"
+        parts.append(f"{name} leaves its wall {times} a cycle (longest {1e3 * c.flight_time:.2g} ms, "
                      f"{1e6 * c.depth:.2g} µm = {100 * c.depth_ratio:.2g} % of its clearance, back at up to "
                      f"{1e3 * c.return_speed:.2g} mm/s)")
     return "journals: " + "; ".join(parts) if parts else "no clearance joints"
