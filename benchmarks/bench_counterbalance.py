@@ -64,13 +64,13 @@ def case(name: str, scenario: po.Scenario, **changes) -> dict:
                                progress=False)
     wall = time.perf_counter() - t0
     final = result.problem
+    found = contacts(result.simulation, final.press)
     record = {
         "case": name, "success": result.success, "verified": result.verified, "status": result.status,
         "peak_torque_N_m": result.peak_torque, "rigid_peak_torque_N_m": result.rigid_peak_torque,
         "counterbalance": final.press.counterbalance.__dict__, "process_force_max_N": final.press.process_force.peak,
         "reversal_side": final.reversal_side(), "rod_load_reversals": reversals(final, result.speed),
-        "contact_losses": {j: c["losses"] for j, c in contacts(result.simulation, final.press).items()},
-        "contacts": contacts(result.simulation, final.press),
+        "contact_losses": {j: c["losses"] for j, c in found.items()}, "contacts": found,
         "max_ram_speed_violation_m_s": result.max_ram_speed_violation, "wall_time_s": wall,
         "speed": result.speed.to_dict(),
         "stages": [{"name": s.name, "status": s.status, "iterations": s.iterations, "objective": s.objective,

@@ -57,6 +57,7 @@ def main() -> None:
     result = po.optimize_speed(scenario.problem, scenario.build_model(), transcription, progress=False)
     wall = time.perf_counter() - t0
     final = result.problem
+    found = contacts(result.simulation, final.press)
     record = {
         "date_run": stamp(), "versions": versions(), "warning_without_counterbalance": said,
         "warning_seconds": said_in, "max_iter": args.max_iter,
@@ -66,8 +67,7 @@ def main() -> None:
         "ratio_to_floor": result.peak_torque / floor.peak_torque,
         "counterbalance_N": final.press.counterbalance.force, "reversal_side": final.reversal_side(),
         "rod_load_reversals": reversals(final, result.speed),
-        "contact_losses": {j: c["losses"] for j, c in contacts(result.simulation, final.press).items()},
-        "contacts": contacts(result.simulation, final.press),
+        "contact_losses": {j: c["losses"] for j, c in found.items()}, "contacts": found,
         "max_ram_speed_violation_m_s": result.max_ram_speed_violation, "wall_time_s": wall,
         "speed": result.speed.to_dict(),
         "stages": [{"name": s.name, "status": s.status, "iterations": s.iterations, "objective": s.objective,
