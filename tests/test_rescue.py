@@ -117,3 +117,46 @@ def test_loses_contact_reads_the_check_against_the_transcriptions_wall_setting()
     st.check = replace(st.check, min_eccentricity=None)  # no clearance joint
     assert not loses_contact(st, po.Collocation())
     assert np.isfinite(MARGIN_FACTOR)
+
+
+@dataclass(frozen=True)
+class Recording(Stubborn):
+    """`Stubborn` that marks its `as_start` form and records every solve's (name, start form, scaled)."""
+
+    start_form: bool = False
+    log: list = None
+
+    def solve(self, problem, model, start, name="target", progress=False):
+        self.log.append((name, self.start_form, self.scaled))
+        return super().solve(problem, model, start, name, progress)
+
+    def as_start(self):
+        return replace(self, start_form=True)
+
+
+def test_only_the_stage_a_polish_restarts_from_is_solved_in_its_start_form(monkeypatch):
+    """`Strategy.state_chain`: the last stage of the chain is solved by `Transcription.as_start` when
+    polish rounds follow, the stages before it and a chain without polish by the transcription itself;
+    the transcription handed on (to the polish) is never the start form, rescaled when the stage was."""
+    monkeypatch.setattr(Strategy, "followed", lambda self, problem, model, tr, first, progress: ([first], tr))
+    chain = [("soft", None), ("target", None)]
+    log: list = []
+    _, tr = Strategy(polish_rounds=1, workers=1).state_chain(None, chain, Recording(scaled=True, log=log),
+                                                             speed_of(1.0), False)
+    assert log == [("soft", False, True), ("target", True, True)] and not tr.start_form
+    log.clear()
+    Strategy(polish_rounds=0, workers=1).state_chain(None, chain, Recording(scaled=True, log=log), speed_of(1.0), False)
+    assert log == [("soft", False, True), ("target", False, True)]
+    log.clear()  # the start form does not converge: rescaled (still the start form); the polish gets the plain one
+    stages, tr = Strategy(polish_rounds=1, workers=1).state_chain(None, chain[1:], Recording(log=log), speed_of(1.0),
+                                                                  False)
+    assert log == [("target", True, False), ("target_rescaled", True, True)]
+    assert stages[-1].success and tr.scaled and not tr.start_form
+
+
+def test_collocation_as_start_stops_ipopt_earlier_unless_the_user_set_the_tolerances():
+    tr = po.Collocation()
+    assert tr.as_start().ipopt["ipopt.tol"] == 1e-4 and tr.as_start().ipopt["ipopt.acceptable_tol"] == 1e-2
+    assert "ipopt.tol" not in tr.ipopt  # the transcription itself is unchanged
+    assert po.Collocation(ipopt={"ipopt.tol": 1e-8}).as_start().ipopt["ipopt.tol"] == 1e-8
+    assert po.Rigid().as_start() == po.Rigid() and po.MultipleShooting().as_start() == po.MultipleShooting()
