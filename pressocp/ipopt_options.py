@@ -58,8 +58,9 @@ IPOPT_COLLOCATION = {"ipopt.hessian_approximation": "exact", "ipopt.constr_mult_
 #: On top of `IPOPT_COLLOCATION`, a collocation stage whose answer only starts a polish round
 #: (`Transcription.as_start`): IPOPT stops at an overall error of 1e-4, or at 1e-2 held for 3
 #: iterations. The polish restarts the barrier from the answer's re-simulated response, so the
-#: digits the last iterations add are not kept: on the 75 spm seed the target stages took 31-33
-#: iterations instead of 45-53 and the polished answer was the same (145.14407 N m verified).
+#: digits the last iterations add are not kept: on the 75 spm seed the target stages took 32-34
+#: iterations instead of 45-53 and the polished answer was the same (145.1442 N m verified against
+#: 145.1441), the call 62 s instead of 83 s (medians of 3).
 #: Not the polish itself: at these tolerances it stopped 0.15 % above its converged objective
 #: (docs/decisions/2026-11-28-start-stage-tolerance.md).
 IPOPT_START = {"ipopt.tol": 1e-4, "ipopt.acceptable_tol": 1e-2, "ipopt.acceptable_iter": 3}
