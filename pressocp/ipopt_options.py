@@ -22,13 +22,6 @@ IPOPT_RIGID = {**IPOPT_BASE, "ipopt.mu_strategy": "adaptive"}
 #: started from the acceptable iterate itself did not converge on large_press, NR at margin 0.02;
 #: docs/decisions/2026-11-28-rigid-acceptable.md).
 IPOPT_RIGID_ACCEPTABLE = {"ipopt.acceptable_tol": 1e-4, "ipopt.acceptable_iter": 3}
-#: On top of `IPOPT_RIGID`, the no-reversal stage: IPOPT's probing oracle for the adaptive barrier
-#: parameter. The stage starts at the rigid optimum with the rod's load on the wrong side of its
-#: margin; with the default oracle (quality function) the barrier parameter jumped between 1e-6
-#: and 0.1 and the steps were cut to a few % for 44 iterations. On press75 (margins 0.02, 0.05)
-#: probing took 37 and 37 iterations instead of 63 and 59, to the same optimum (to 1e-11); on the
-#: rigid stage itself it took 87 instead of 45, so it is this stage's only.
-IPOPT_NO_REVERSAL = {"ipopt.mu_oracle": "probing"}
 #: Transcriptions with states, warm-started at a good point: a limited-memory Hessian (an exact one
 #: would need adjoint sensitivities through the integrators, which fail on contact in IDAS; collocation
 #: asks for the exact one), a small initial barrier parameter and
@@ -54,16 +47,6 @@ IPOPT_WARM_START = {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-7,
 #: verified optimum 145.16 and 145.14 N m; the adaptive strategy took 161).
 IPOPT_COLLOCATION = {"ipopt.hessian_approximation": "exact", "ipopt.constr_mult_init_max": 0.0,
                      "ipopt.mumps_scaling": 0, "ipopt.mu_init": 1e-5}
-
-#: On top of `IPOPT_COLLOCATION`, a collocation stage whose answer only starts a polish round
-#: (`Transcription.as_start`): IPOPT stops at an overall error of 1e-4, or at 1e-2 held for 3
-#: iterations. The polish restarts the barrier from the answer's re-simulated response, so the
-#: digits the last iterations add are not kept: on the 75 spm seed the target stages took 32-34
-#: iterations instead of 45-53 and the polished answer was the same (145.1442 N m verified against
-#: 145.1441), the call 62 s instead of 83 s (medians of 3).
-#: Not the polish itself: at these tolerances it stopped 0.15 % above its converged objective
-#: (docs/decisions/2026-11-28-start-stage-tolerance.md).
-IPOPT_START = {"ipopt.tol": 1e-4, "ipopt.acceptable_tol": 1e-2, "ipopt.acceptable_iter": 3}
 
 #: What `Collocation.rescaled` adds: MUMPS's automatic scaling of the KKT matrix (twice the cost per
 #: linear solve), and IPOPT's acceptable level at 1e-3. forming40 (60 kN over the window, 23.9 kN

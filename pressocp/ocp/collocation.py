@@ -28,7 +28,7 @@ import numpy as np
 from .. import checks as chk
 from ..compile_cache import check_jit, compile_seconds, function_options, oracle_options, use_jit
 from ..interrupt import compiling
-from ..ipopt_options import IPOPT_COLLOCATION, IPOPT_RESCALED, IPOPT_START
+from ..ipopt_options import IPOPT_COLLOCATION, IPOPT_RESCALED
 from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
 from ..speed import FourierSpeed
@@ -272,11 +272,6 @@ class Collocation(StateSettings):
             return None
         return replace(self, elements=int(d["elements"]), degree=int(d.get("degree", self.degree)), backoff=1.0,
                        ipopt={**self.ipopt, "ipopt.max_iter": RELAX_ITERATIONS})
-
-    def as_start(self) -> "Collocation":
-        """This transcription stopping IPOPT at `IPOPT_START`'s tolerances (options given in ``ipopt``
-        win)."""
-        return replace(self, ipopt={**IPOPT_START, **self.ipopt})
 
     def rescaled(self) -> "Collocation | None":
         """This transcription with MUMPS scaling the KKT matrix and IPOPT's acceptable level at 1e-3

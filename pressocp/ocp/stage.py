@@ -262,11 +262,6 @@ class Transcription:
         when there is no such re-solve."""
         return None
 
-    def as_start(self) -> "Transcription":
-        """The settings of a stage whose answer only starts a polish round (the strategy's target stage
-        when polish rounds follow): this transcription itself, or one that stops IPOPT earlier."""
-        return self
-
     def rescaled(self) -> "Transcription | None":
         """The same transcription with its linear solver scaling the KKT system, for a second solve
         from the same start after a stage that did not converge, or None when it has no such setting

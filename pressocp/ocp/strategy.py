@@ -55,7 +55,7 @@ from ..simulate import SimulationError, for_repeated_use
 from ..speed import FourierSpeed
 from .candidates import run_candidates, run_flexible_candidates
 from .rigid_stage import Rigid
-from ..ipopt_options import IPOPT_NO_REVERSAL, IPOPT_RIGID_ACCEPTABLE
+from ..ipopt_options import IPOPT_RIGID_ACCEPTABLE
 from .shooting import MultipleShooting
 from .stage import Check, StageResult, Transcription, WarmStart, settings_repr, standing_stage
 from ..verify import IMPACT_RATIO, is_periodic, ram_speed_violation, rigid_reference, screen, verify_speed
@@ -264,11 +264,6 @@ class Strategy:
         by its re-simulation; press60: 6 iterations instead of 75, 76.1239 against 76.1244 N m)."""
         return replace(self.rigid, ipopt={**IPOPT_RIGID_ACCEPTABLE, **self.rigid.ipopt})
 
-    @property
-    def no_reversal(self) -> Rigid:
-        """`rigid` with the no-reversal stage's barrier oracle (`IPOPT_NO_REVERSAL`)."""
-        return replace(self.rigid, ipopt={**IPOPT_NO_REVERSAL, **self.rigid.ipopt})
-
     def rigid_tight(self, problem: SpeedProblem, model: PressModel, rigid: StageResult,
                     progress: bool) -> StageResult:
         """The rigid stage's answer at `Rigid`'s own tolerance: `rigid` itself when IPOPT converged
@@ -370,7 +365,7 @@ class Strategy:
         start = rigid
         held = None if margin is None else problem.without_reversal(margin)
         if neighbour is None and not rigid.check.verified and held is not None:
-            nr = self.no_reversal.solve(held, base, WarmStart(rigid.speed), "no_reversal", progress)
+            nr = self.rigid.solve(held, base, WarmStart(rigid.speed), "no_reversal", progress)
             stages.append(nr)
             if candidate and not nr.success:
                 return stages
@@ -409,8 +404,7 @@ class Strategy:
             held = problem.without_reversal(margin)
             if held is None:
                 break
-            raised = self.no_reversal.solve(held, base, WarmStart(start.speed), f"no_reversal_raised_{k + 1}",
-                                            progress)
+            raised = self.rigid.solve(held, base, WarmStart(start.speed), f"no_reversal_raised_{k + 1}", progress)
             raised.details["tension_margin"] = margin
             note = (f"{solved[-1].name} did not converge ({solved[-1].status}) from {start.name}, whose journals leave "
                     f"their walls on this model (|e|/c down to {start.check.min_eccentricity:.4g}); the chain ran again "
@@ -434,16 +428,11 @@ class Strategy:
         """The stages on models with states (`chain`: names and models, the last the target) from
         `speed`, each from the last one's answer, rescued when it does not converge (`rescued`) and
         followed up (`followed`), except the last when polish rounds follow (a polish round that is
-        kept makes its follow-ups moot; that stage is solved by `Transcription.as_start`, whose answer
-        the polish restarts from); it stops at a stage that does not converge. Returns the stages and
-        the transcription of the last one (not its `as_start` form)."""
+        kept makes its follow-ups moot); it stops at a stage that does not converge. Returns the stages
+        and the transcription of the last one."""
         stages: list[StageResult] = []
         for k, (name, m) in enumerate(chain):
-            starts_polish = k == len(chain) - 1 and self.polish_rounds > 0
-            used = transcription.as_start() if starts_polish else transcription
-            solved, last = self.rescued(problem, m, used, WarmStart(speed), name, progress)
-            if last is not used:  # rescaled: the stages that follow take the rescaled form too
-                transcription = transcription.rescaled() or last
+            solved, transcription = self.rescued(problem, m, transcription, WarmStart(speed), name, progress)
             if k < len(chain) - 1 or not self.polish_rounds:
                 more, transcription = self.followed(problem, m, transcription, solved[-1], progress)
                 solved = solved[:-1] + more
