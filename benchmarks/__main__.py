@@ -97,8 +97,8 @@ JOBS = (
         "the bundled scenarios' default calls, each in a fresh process, compile cache empty then filled"),
     Job("speed_cold", "bench_speed.py", ("--scenarios", "press75", "--repeat", "3", "--cold-all", "--label", "cold"),
         4, "press75's default call, each run in a fresh process with an empty compile cache"),
-    Job("verification", "bench_verification.py", (), 1,
-        "the seed optimum's final verification, this version (with --before-python: against another)"),
+    Job("verification", "bench_verification.py", ("--before-commit", "bd45b21"), 2,
+        "the seed optimum's final verification, this version against bd45b21 (the package when #29 was filed)"),
     Job("drive", "bench_drive.py", ("--max-iter", "600"), 40,
         "press75 (counterbalance optimised) with a servo drive between the floor and today's optimum: the envelope "
         "held; a weak motor named"),

@@ -1,14 +1,18 @@
 """The final verification of the seed optimum: its periodic re-simulation at rtol 1e-9, now and before.
 
-    python benchmarks/bench_verification.py [--before-python EXE] [--repeat 3]
+    python benchmarks/bench_verification.py [--before-commit SHA | --before-python EXE] [--repeat 3]
 
 The seed optimum (`results/seed_optimum_speed.json`, the 75 spm default call's answer) re-simulated on
 the clearance model by `verify_speed(model, speed, 1e-9)` from rest (the periodic search started
-from centred journals), as the default call's verification does when no stage's state is at hand.
+from centred journals), as the default call's verification does when no stage's state is at hand:
+on the model as the optimiser verifies with it (`pressocp.simulate.for_repeated_use`: compiled where
+a C compiler is found), or on the model as built where a version has no such function.
 Each interpreter runs in a fresh process from a temporary folder: one call to warm up (integrator
 construction, the compiled outputs' link), then `--repeat` timed calls; the median is reported. With
 ``--before-python`` (a virtual environment with an earlier version installed) both run in this one
-invocation, alternately, so the ratio is measured in one run. Writes ``results/verification.json``
+invocation, so the ratio is measured in one run; ``--before-commit`` does the same with this
+checkout's package at an earlier commit (extracted by ``git archive`` into a temporary folder and
+put first on ``PYTHONPATH``, run by this interpreter with today's dependencies). Writes ``results/verification.json``
 and ``results/verification.png`` with the date and machine.
 """
 
@@ -16,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import statistics
 import subprocess
 import sys
@@ -33,11 +38,20 @@ CHILD = """
 import json, sys, time
 import pressocp as po
 from pressocp.model import build_model
-from pressocp.verify import verify_speed
+try:
+    from pressocp.verify import verify_speed
+except ImportError:  # before 2026-11-26 it lived in pressocp.ocp
+    from pressocp.ocp.verify import verify_speed
 from pressocp.speed import FourierSpeed
 problem = po.Scenario.load("press75").problem
 speed = FourierSpeed.from_dict(json.loads(open(sys.argv[1]).read()))
 model = build_model(problem.press, n_harmonics=problem.n_harmonics)
+try:
+    from pressocp.simulate import for_repeated_use
+except ImportError:  # a version before the optimiser's checks ran compiled
+    for_repeated_use = None
+if for_repeated_use is not None:
+    model = for_repeated_use(model)
 t0 = time.perf_counter()
 sim = verify_speed(model, speed, 1e-9)
 first = time.perf_counter() - t0
@@ -52,16 +66,27 @@ print("RESULT" + json.dumps({"first_s": first, "times_s": times, "peaks": {n: si
 """
 
 
-def run(python: str, repeat: int) -> dict:
-    """One fresh process of `python` verifying the seed optimum; its times and peaks."""
+def run(python: str, repeat: int, source: Path | None = None) -> dict:
+    """One fresh process of `python` verifying the seed optimum (with the package from `source` first on
+    ``PYTHONPATH`` when given); its times and peaks."""
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(source), os.environ.get("PYTHONPATH", "")])} if source else None
     with tempfile.TemporaryDirectory() as cwd:  # not this checkout: `python -c` imports from its cwd
-        out = subprocess.run([python, "-c", CHILD, str(SPEED), str(repeat)], capture_output=True, text=True, cwd=cwd)
+        out = subprocess.run([python, "-c", CHILD, str(SPEED), str(repeat)], capture_output=True, text=True, cwd=cwd,
+                             env=env)
     line = [x for x in out.stdout.splitlines() if x.startswith("RESULT")]
     if out.returncode != 0 or not line:
         raise RuntimeError(f"{python} failed:\n{(out.stderr or out.stdout)[-2000:]}")
     r = json.loads(line[0][len("RESULT"):])
     r["median_s"] = statistics.median(r["times_s"])
     return r
+
+
+def package_at(commit: str, folder: Path) -> Path:
+    """This checkout's ``pressocp`` package at `commit`, extracted into `folder` (``git archive``)."""
+    repo = Path(__file__).resolve().parent.parent
+    tar = subprocess.run(["git", "-C", str(repo), "archive", commit, "pressocp"], capture_output=True, check=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(folder)], input=tar, check=True)
+    return folder
 
 
 def figure(row: dict, path: Path) -> None:
@@ -92,7 +117,9 @@ def figure(row: dict, path: Path) -> None:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--before-python", default=None, help="interpreter with the earlier version installed")
+    before = ap.add_mutually_exclusive_group()
+    before.add_argument("--before-python", default=None, help="interpreter with the earlier version installed")
+    before.add_argument("--before-commit", default=None, help="an earlier commit of this checkout's package")
     ap.add_argument("--repeat", type=int, default=3, help="timed calls per process (median)")
     ap.add_argument("--replot", action="store_true", help="redraw the figure from results/verification.json")
     a = ap.parse_args()
@@ -104,8 +131,12 @@ def main() -> None:
     runs = {"after": run(sys.executable, a.repeat)}
     if a.before_python:
         runs["before"] = run(a.before_python, a.repeat)
-    row = {**stamp(), "what": "verify_speed(model, seed optimum, rtol 1e-9) from rest, fresh process each side",
-           "runs": runs, "before_python": a.before_python}
+    if a.before_commit:
+        with tempfile.TemporaryDirectory() as folder:
+            runs["before"] = run(sys.executable, a.repeat, package_at(a.before_commit, Path(folder)))
+    row = {**stamp(), "what": "verify_speed(model, seed optimum, rtol 1e-9) from rest, fresh process each side, "
+                              "on the model as the optimiser verifies with it",
+           "runs": runs, "before_python": a.before_python, "before_commit": a.before_commit}
     if "before" in runs:
         b, n = runs["before"], runs["after"]
         row["ratio"] = b["median_s"] / n["median_s"]
