@@ -12,8 +12,8 @@ construction, the compiled outputs' link), then `--repeat` timed calls; the medi
 ``--before-python`` (a virtual environment with an earlier version installed) both run in this one
 invocation, so the ratio is measured in one run; ``--before-commit`` does the same with this
 checkout's package at an earlier commit (extracted by ``git archive`` into a temporary folder and
-put first on ``PYTHONPATH``, run by this interpreter with today's dependencies). Writes ``results/verification.json``
-and ``results/verification.png`` with the date and machine.
+put first on ``PYTHONPATH``, run by this interpreter with today's dependencies). Writes
+``results/verification.json`` and ``results/verification.png`` with the date and machine.
 """
 
 from __future__ import annotations
@@ -69,7 +69,9 @@ print("RESULT" + json.dumps({"first_s": first, "times_s": times, "peaks": {n: si
 def run(python: str, repeat: int, source: Path | None = None) -> dict:
     """One fresh process of `python` verifying the seed optimum (with the package from `source` first on
     ``PYTHONPATH`` when given); its times and peaks."""
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(source), os.environ.get("PYTHONPATH", "")])} if source else None
+    env = None
+    if source is not None:
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(source), os.environ.get("PYTHONPATH")]))}
     with tempfile.TemporaryDirectory() as cwd:  # not this checkout: `python -c` imports from its cwd
         out = subprocess.run([python, "-c", CHILD, str(SPEED), str(repeat)], capture_output=True, text=True, cwd=cwd,
                              env=env)
@@ -84,8 +86,10 @@ def run(python: str, repeat: int, source: Path | None = None) -> dict:
 def package_at(commit: str, folder: Path) -> Path:
     """This checkout's ``pressocp`` package at `commit`, extracted into `folder` (``git archive``)."""
     repo = Path(__file__).resolve().parent.parent
-    tar = subprocess.run(["git", "-C", str(repo), "archive", commit, "pressocp"], capture_output=True, check=True).stdout
-    subprocess.run(["tar", "-x", "-C", str(folder)], input=tar, check=True)
+    git = subprocess.run(["git", "-C", str(repo), "archive", commit, "pressocp"], capture_output=True)
+    if git.returncode != 0:  # e.g. a shallow clone without that commit
+        raise RuntimeError(f"--before-commit {commit}: git archive failed: {git.stderr.decode().strip()}")
+    subprocess.run(["tar", "-x", "-C", str(folder)], input=git.stdout, check=True)
     return folder
 
 
