@@ -16,8 +16,10 @@ compiles its sensitivity equations in any case). At a peak's time the difference
 
 Every derivative is compared with central differences at rtol `REFERENCE_RTOL`; a method's error is
 its largest relative difference over parameters and rival peaks. Each timing is the median of
-`--repeat` runs in this process (the first AD run includes any compile of its right-hand side, the
-cache being warm after it). The goal compares the cheapest setting of each method whose error is
+`--repeat` runs in this process: a repeated call's. Each method keeps what it builds with the model
+it is given (AD: the parameterised model and CasADi's derivative functions; central differences:
+their integrators), so the first run at each rtol includes that building (and the first AD run any
+compile of its right-hand side); `times_s` lists every run. The goal compares the cheapest setting of each method whose error is
 within `GOAL_ERROR`.
 
     python benchmarks/bench_sensitivity_seed.py [--repeat 3] [--replot]
@@ -59,26 +61,29 @@ GOAL_RATIO = 3.0
 PERIODIC_TOL = 1e3  # x rtol, as `po.sensitivities` searches its periodic state
 
 
-def central_differences(press: po.PressParams, speed: po.FourierSpeed, peaks: dict[str, np.ndarray],
+def central_differences(model: po.PressModel, speed: po.FourierSpeed, peaks: dict[str, np.ndarray],
                         rtol: float) -> dict[str, list[float]]:
     """d|torque|/dp at each parameter's rival peak times (s within the cycle): the nominal periodic
     state (`periodic_state`, as `po.sensitivities` finds its own), then for each parameter two
-    perturbed periodic responses on one model that carries the parameters as inputs (built once),
-    each settled cycle by cycle from the nominal state, |torque| read at the peak times (CVODES,
-    explicit form, no work quadratures)."""
-    model = replace(po.build_model(press, parameters=PARAMETERS), jit=True)
+    perturbed periodic responses on `model`, which carries the parameters as inputs, each settled
+    cycle by cycle from the nominal state, |torque| read at the peak times (CVODES, explicit form,
+    no work quadratures). Its integrators are kept in ``model.functions`` for the next call at the
+    same rtol, as `po.sensitivities` keeps its derivatives with the model it is given."""
     tol = PERIODIC_TOL * rtol
     x_nominal = periodic_state(model, speed, Integrator("cvodes", rtol), tol=tol)[0]
-    opts = {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**8}
-    dae = integrator_dae(model, True, False)  # compiled, as `po.sensitivities` runs its own
-    cycle = ca.integrator("cycle", "cvodes", dae, 0.0, speed.period, opts)
     times = np.unique(np.concatenate(list(peaks.values())))
-    to_peaks = ca.integrator("to_peaks", "cvodes", dae, 0.0, [float(t) for t in times], opts)
+    key = ("central_differences", rtol, tuple(times))
+    if key not in model.functions:
+        opts = {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**8}
+        dae = integrator_dae(model, True, False)  # compiled, as `po.sensitivities` runs its own
+        model.functions[key] = (ca.integrator("cycle", "cvodes", dae, 0.0, speed.period, opts),
+                                ca.integrator("to_peaks", "cvodes", dae, 0.0, [float(t) for t in times], opts))
+    cycle, to_peaks = model.functions[key]
     k = OUTPUT_NAMES.index("torque")
     p0 = model.parameters(speed)
     out = {}
     for i, name in enumerate(PARAMETERS):
-        h = STEP * press.value(name)
+        h = STEP * model.params.value(name)
         values = []
         for sign in (1.0, -1.0):
             p = p0.copy()
@@ -138,8 +143,9 @@ def measure(repeat: int) -> dict:
               flush=True)
     finest = ad[AD_RTOLS[-1]][0]
     peaks = {n: np.array(sorted(finest[n])) for n in PARAMETERS}
+    cd_model = replace(po.build_model(press, parameters=PARAMETERS), jit=True)  # built once, as the AD's
     t0 = time.perf_counter()
-    reference = central_differences(press, speed, peaks, REFERENCE_RTOL)
+    reference = central_differences(cd_model, speed, peaks, REFERENCE_RTOL)
     ref_s = time.perf_counter() - t0
     print(f"reference (central differences, rtol {REFERENCE_RTOL:g}): {ref_s:.1f} s", flush=True)
     rows = []
@@ -152,7 +158,7 @@ def measure(repeat: int) -> dict:
         times, d = [], None
         for _ in range(repeat):
             t0 = time.perf_counter()
-            d = central_differences(press, speed, peaks, rtol)
+            d = central_differences(cd_model, speed, peaks, rtol)
             times.append(time.perf_counter() - t0)
         err, where = largest_error(d, reference)
         rows.append({"method": "central differences", "rtol": rtol, "times_s": times,

@@ -153,6 +153,17 @@ def sensitivity_dae(dae: dict) -> dict | ca.Function:
     return calling(compiled_dae(dae)) if use_jit("auto", "the sensitivities' right-hand side") else dae
 
 
+def parameter_scale(values: np.ndarray) -> np.ndarray:
+    """|p| per parameter, 1 where p = 0: the unit of the sensitivity directions. A direction in SI
+    units can be far from the states' size (a metre of clearance is 1e4 clearances, a N/m of contact
+    stiffness 1e-8 of it), and CVODES's error control weighs the directions' states with the
+    states' tolerance: on the seed optimum SI seeds took 59 680 steps for the 11-direction cycle,
+    seeds of this unit 37 385, the derivatives the same
+    (docs/decisions/2026-11-29-sensitivity-seeds-and-reuse.md)."""
+    values = np.abs(np.asarray(values, dtype=float))
+    return np.where(values > 0.0, values, 1.0)
+
+
 def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tuple[float, int]], x0: np.ndarray,
                      n_parameters: int, rtol: float, periodic: bool) -> tuple[np.ndarray, np.ndarray]:
     """Outputs y at given times and sign(y) dy/dp, by forward sensitivities of one period from `x0`.
@@ -182,17 +193,25 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
     grid = [*times, T] if not times or times[-1] < T else times
     pv = msym.parameters(speed)
     n_speed = pv.size - n_parameters
-    dae = msym.dae(explicit=True, work=False)
-    F = ca.integrator("period", "cvodes", sensitivity_dae(dae), 0.0, grid,
+    if "sensitivity_dae" not in msym.functions:  # one build for the run at rtol and the estimate's
+        msym.functions["sensitivity_dae"] = sensitivity_dae(msym.dae(explicit=True, work=False))
+    F = ca.integrator("period", "cvodes", msym.functions["sensitivity_dae"], 0.0, grid,
                       {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**7, **SENSITIVITY_OPTIONS})
-    X0, Pp = ca.MX.sym("x0", msym.nx), ca.MX.sym("p", n_parameters)
-    pfull = ca.vertcat(ca.DM(pv[:n_speed]), Pp)
+    # differentiated with respect to q = p / scale: the directions' states are then of the states'
+    # own size, and the error control weighs them alike
+    scale = parameter_scale(pv[n_speed:])
+    X0, Q = ca.MX.sym("x0", msym.nx), ca.MX.sym("q", n_parameters)
+    pfull = ca.vertcat(ca.DM(pv[:n_speed]), Q * ca.DM(scale))
     X = F(x0=X0, p=pfull)["xf"]
     outs = [X[:, -1]] + [msym.outputs(t, X0 if t == 0.0 else X[:, grid.index(t)], pfull)[i] for t, i in targets]
     g = ca.vertcat(*outs)
-    J = ca.Function("J", [X0, Pp], [g, ca.jacobian(g, ca.vertcat(X0, Pp))], {"ad_weight": 0.0, "ad_weight_sp": 0.0})
-    g_value, jac = (np.asarray(v) for v in J(x0, pv[n_speed:]))
+    J = ca.Function("J", [X0, Q], [g, ca.jacobian(g, ca.vertcat(X0, Q))], {"ad_weight": 0.0, "ad_weight_sp": 0.0})
+    # holding J holds the derivative functions CasADi built of the compiled DAE, which it would
+    # otherwise free and build again (about 0.8 s) for the next integrator of this model
+    msym.functions["sensitivity_jacobian"] = J
+    g_value, jac = (np.asarray(v) for v in J(x0, np.ones(n_parameters)))
     nx = msym.nx
+    jac[:, nx:] /= scale
     dx0 = (np.linalg.solve(np.eye(nx) - jac[:nx, :nx], jac[:nx, nx:]) if periodic
            else np.zeros((nx, n_parameters)))
     y = g_value.ravel()[nx:]
@@ -240,13 +259,21 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
             raise ValueError(f"quantity {q!r} is not one of {', '.join(QUANTITIES)}")
     if model.is_rigid:
         raise ValueError("the model has no states: differentiate the closed-form rigid response instead")
-    msym = build_model(model.params, model.rod, model.clearance, model.n_elements, model.n_harmonics, names,
-                       n_modes=model.n_modes, mechanism=model.mechanism)
+    # kept with the model: a study differentiating one model again reuses its built derivatives (about
+    # 1 s of building per call)
+    key = ("sensitivity_model", names, model.params)
+    if key not in model.functions:
+        model.functions[key] = build_model(model.params, model.rod, model.clearance, model.n_elements,
+                                           model.n_harmonics, names, n_modes=model.n_modes,
+                                           mechanism=model.mechanism)
+    msym = model.functions[key]
     pv = msym.parameters(speed)
     T = speed.period
     model = for_repeated_use(model)  # three periodic runs of it: compiled, as the sensitivities are
-    x0 = periodic_state(model, speed, Integrator("cvodes", rtol), tol=PERIODIC_TOL * rtol)[0] if periodic else model.x0
-    res = simulate(model, speed, integrator=Integrator(method="cvodes", rtol=rtol), n_out=SAMPLES, x0=x0, work=False)
+    # periodic: the search's last cycle is the sampled response (one cycle fewer than a search and a run)
+    res = simulate(model, speed, periodic=periodic, n_out=SAMPLES, work=False,
+                   integrator=Integrator("cvodes", rtol, periodic_tol=PERIODIC_TOL * rtol))
+    x0 = res.states[:, 0] / model.x_scale
     t_rel = res.t - res.t[0]
     peaks = {q: [min(max(tq, 0.0), T) for tq in peak_times(t_rel, getattr(res, QUANTITIES[q]), T)]
              for q in quantities}
