@@ -174,3 +174,23 @@ def test_without_a_looser_run_every_derivative_is_unverified(monkeypatch):
     row = s.table.iloc[0]
     assert np.isinf(row["error_estimate"]) and not row["resolved"] and 0.4 < row["derivative"] < 0.6
     assert "failed" in s.unverified and "residual 3e-05" in s.unverified
+
+
+@pytest.mark.slow  # 19 s with the compile cache warm, 74 s cold
+def test_a_second_call_on_one_model_reuses_its_derivatives_and_answers_the_same():
+    """What a call builds is kept with the model (the parameterised model, keyed by the parameters):
+    a second call gives the same numbers, and another parameter set on the same model gets its own
+    model, not the first's."""
+    press = po.PressParams()
+    speed = po.FourierSpeed.constant(0.8)
+    model = po.build_model(press)
+    first = sensitivities(model, speed, ("slider_mass",), rtol=1e-8)
+    kept = [k for k in model.functions if k[0] == "sensitivity_model"]
+    second = sensitivities(model, speed, ("slider_mass",), rtol=1e-8)
+    assert [k for k in model.functions if k[0] == "sensitivity_model"] == kept
+    cols = ["derivative", "value", "time", "error_estimate"]
+    assert second.table[cols].to_numpy().tolist() == first.table[cols].to_numpy().tolist()
+    both = sensitivities(model, speed, ("wrist_pin.clearance", "slider_mass"), rtol=1e-8)
+    assert len([k for k in model.functions if k[0] == "sensitivity_model"]) == 2
+    assert both.derivative("peak_torque", "slider_mass") == pytest.approx(first.derivative("peak_torque", "slider_mass"),
+                                                                          rel=1e-6)
