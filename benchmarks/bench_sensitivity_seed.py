@@ -19,8 +19,8 @@ its largest relative difference over parameters and rival peaks. Each timing is 
 `--repeat` runs in this process: a repeated call's. Each method keeps what it builds with the model
 it is given (AD: the parameterised model and CasADi's derivative functions; central differences:
 their integrators), so the first run at each rtol includes that building (and the first AD run any
-compile of its right-hand side); `times_s` lists every run. The goal compares the cheapest setting of each method whose error is
-within `GOAL_ERROR`.
+compile of its right-hand side); `times_s` lists every run. The goal compares the cheapest setting
+of each method whose error is within `GOAL_ERROR`.
 
     python benchmarks/bench_sensitivity_seed.py [--repeat 3] [--replot]
 
