@@ -242,7 +242,8 @@ def _parser() -> argparse.ArgumentParser:
 
 def flag_reason(summary: dict) -> str:
     """Why a job's results are flagged, from its summary: not converged (IPOPT's status), or not
-    verified (the re-simulation not periodic, the ram speed out of tolerance), else its status."""
+    verified (the re-simulation not periodic, the ram speed out of tolerance, a limit exceeded), else
+    its status."""
     if summary.get("converged") is False:
         return f"not converged ({summary.get('status')})"
     periodic = summary.get("periodic")
@@ -252,6 +253,8 @@ def flag_reason(summary: dict) -> str:
             why.append(f"the re-simulation is not periodic ({periodic})")
         if summary.get("max_ram_speed_violation_m_s", 0.0) > 0.0:
             why.append(f"the ram speed leaves its tolerance by {summary['max_ram_speed_violation_m_s']:.3g} m/s")
+        for name, excess in summary.get("limits_exceeded", {}).items():
+            why.append(f"the re-simulation exceeds {name} by {100 * excess:.3g} %")
         return "not verified" + (f": {'; '.join(why)}" if why else "")
     return str(summary.get("status", periodic))
 

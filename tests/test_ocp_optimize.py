@@ -516,3 +516,48 @@ def test_a_candidate_whose_no_reversal_stage_fails_ends_there(smooth):
     assert all(not s.success and "Maximum_Iterations_Exceeded" in s.status for s in stages)
     assert all("did not converge, as every candidate's did" in s.superseded for s in stages[:2])
     assert len(starts) == 1 and starts[0] is rigid.speed
+
+
+def test_an_answer_over_a_limit_is_not_verified(smooth):
+    """The NLP holds the pin-force cap and the drive's ratings at its samples only, so the
+    re-simulation is checked against them too. With a cap 1/1.25 of the answer's re-simulated pin-force
+    peak (taken here from the arrays), the excess is 25 %, the result is not verified and says why,
+    a reloaded file written before the limits were saved gets the cap's excess from its peaks, a
+    candidate's verified value is +inf, and the grid check asks for a finer grid. A cap above the peak
+    is no limit exceeded."""
+    from pressocp import Drive
+    from pressocp.cli import flag_reason
+    from pressocp.ocp.candidates import verified_value
+    from pressocp.verify import limits_exceeded, motor_cycle_of, unverified_reason
+
+    sim, speed = smooth.simulation, smooth.speed
+    pin = max(np.max(np.abs(sim.crank_pin_force)), np.max(np.abs(sim.wrist_pin_force)))
+    capped = SMOOTH.replace(max_pin_force=pin / 1.25)
+    limits = limits_exceeded(capped, speed, sim)
+    assert limits.keys() == {"max_pin_force"} and limits["max_pin_force"] == pytest.approx(0.25, rel=1e-12)
+    assert limits_exceeded(SMOOTH.replace(max_pin_force=1.001 * pin), speed, sim) == {}
+    assert "max_pin_force by 25 %" in unverified_reason(capped, speed, sim)
+    assert unverified_reason(SMOOTH, speed, sim) == ""
+
+    over = dataclasses.replace(smooth, problem=capped, limits=limits)
+    assert smooth.verified and not over.verified
+    old = over.to_dict()
+    del old["verification"]["limits"]
+    assert OcpResult.from_dict(json.loads(json.dumps(old))).limits == pytest.approx(limits)
+    summary = {"converged": True, "verified": False, "periodic": True, "max_ram_speed_violation_m_s": 0.0,
+               "limits_exceeded": limits}
+    assert flag_reason(summary) == "not verified: the re-simulation exceeds max_pin_force by 25 %"
+
+    stage = dataclasses.replace(smooth.stages[0], simulation=sim, speed=speed, success=True,
+                                objective=SMOOTH.objective_value(sim))
+    assert verified_value(stage, SMOOTH) == pytest.approx(smooth.peak_torque, rel=1e-12)
+    assert verified_value(stage, capped) == np.inf
+    why, viol = Strategy().grid_error(stage, capped)
+    assert "max_pin_force" in why and viol == 0.0
+    assert Strategy().grid_error(stage, SMOOTH) == ("", 0.0)
+
+    # a drive whose continuous rating is 1/1.2 of the answer's RMS motor torque
+    drive = Drive(gear_ratio=10.0, peak_torque=1e3, continuous_torque=1.0, max_speed=3000.0)
+    rms = motor_cycle_of(SMOOTH.replace(drive=drive), speed, sim).rms_torque
+    weak = SMOOTH.replace(drive=dataclasses.replace(drive, continuous_torque=rms / 1.2))
+    assert limits_exceeded(weak, speed, sim) == {"drive_rms": pytest.approx(0.2, rel=1e-9)}

@@ -6,7 +6,7 @@ everywhere (75 spm seed, `docs/decisions/2026-11-25-candidate-starts.md`; the sl
 no-reversal start (`Strategy.tension_margin`, one margin per candidate), and the flexible chain of a
 rod between ideal joints from the rigid optimum at each ram-speed backoff
 (`Strategy.flexible_backoffs`); each candidate's answer is re-simulated at the strategy's tolerance,
-and the lowest verified objective (periodic, ram speed in tolerance) wins. Candidates run in spawned
+and the lowest verified objective (periodic, ram speed in tolerance, no limit exceeded) wins. Candidates run in spawned
 worker processes (`pressocp.workers`), two at a time on two cores; IPOPT is not safe in threads.
 """
 
@@ -24,7 +24,7 @@ from ..model import ModelSpec
 from ..problem import SpeedProblem
 from ..workers import parallel_workers, process_pool
 from .stage import StageResult, Transcription
-from ..verify import is_periodic, ram_speed_violation
+from ..verify import unverified_reason
 
 if TYPE_CHECKING:
     from .strategy import Strategy
@@ -78,10 +78,11 @@ def verified_and_named(strategy: "Strategy", model, stages: list[StageResult], s
 
 
 def verified_value(stage: StageResult, problem: SpeedProblem) -> float:
-    """The objective of a candidate's answer on its re-simulation when that is periodic with the ram
-    speed in tolerance and the stage converged; +inf otherwise."""
+    """The objective of a candidate's answer on its re-simulation when the stage converged and that
+    re-simulation verifies it (periodic, the ram speed in tolerance, no limit exceeded:
+    `unverified_reason`); +inf otherwise."""
     sim = stage.simulation
-    if not stage.success or sim is None or is_periodic(sim) is not True or ram_speed_violation(sim, problem) > 0.0:
+    if not stage.success or sim is None or unverified_reason(problem, stage.speed, sim):
         return float("inf")
     return problem.objective_value(sim)
 

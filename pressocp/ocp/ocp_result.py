@@ -18,7 +18,7 @@ from ..speed import FourierSpeed
 from .nlp import EVALUATIONS
 from .stage import StageResult
 from ..simulate import for_repeated_use
-from ..verify import verify_speed
+from ..verify import cap_excess, verify_speed
 
 #: Version of the JSON layout written by `OcpResult.to_json`.
 FORMAT = 1
@@ -64,6 +64,10 @@ class OcpResult:
         True: the verification found a periodic steady state; otherwise why not.
     max_ram_speed_violation : float
         max(|v - ram_speed| - tol, 0) over the re-simulated ram's height window, m/s.
+    limits : dict
+        The problem's limits the re-simulation exceeds (the pin-force cap, the drive's ratings), each
+        with its excess as a share of the limit (`pressocp.verify.limits_exceeded`); empty when every
+        limit holds. The NLP holds them at its samples only.
     min_omega : float
         Smallest crank speed over the period, rad/s.
     iterations : int
@@ -111,6 +115,7 @@ class OcpResult:
     simulation: SimResult | None = field(default=None, repr=False)
     initial_simulation: SimResult | None = field(default=None, repr=False)
     timing: dict = field(default_factory=dict)
+    limits: dict = field(default_factory=dict)
 
     # Views -------------------------------------------------------------------------------------
     @property
@@ -130,8 +135,9 @@ class OcpResult:
 
     @property
     def verified(self) -> bool:
-        """Periodic re-simulation found, ram speed in tolerance over the model's window."""
-        return self.periodic is True and self.max_ram_speed_violation <= 0.0
+        """Periodic re-simulation found, ram speed in tolerance over the model's window, no limit of the
+        problem exceeded on it (`limits`)."""
+        return self.periodic is True and self.max_ram_speed_violation <= 0.0 and not self.limits
 
     @property
     def rigid(self) -> StageResult:
@@ -202,7 +208,7 @@ class OcpResult:
             "peaks": self.peaks, "initial_peaks": self.initial_peaks, "rigid_peak_torque": self.rigid_peak_torque,
             "t1": self.t1, "t2": self.t2, "success": self.success, "status": self.status,
             "verification": {"periodic": self.periodic, "max_ram_speed_violation": self.max_ram_speed_violation,
-                             "rtol": self.verify_rtol},
+                             "rtol": self.verify_rtol, "limits": self.limits},
             "min_omega": self.min_omega, "iterations": self.iterations, "wall_time": self.wall_time,
             "timing": self.timing, "stages": [s.to_dict() for s in self.stages],
         }
@@ -213,17 +219,21 @@ class OcpResult:
 
     @classmethod
     def from_dict(cls, data: dict) -> "OcpResult":
-        """Inverse of `to_dict` (no time series: `resimulate` recomputes them)."""
+        """Inverse of `to_dict` (no time series: `resimulate` recomputes them). A file without the
+        verification's ``limits`` (written before they were checked) gets the pin-force cap's from its
+        saved peaks; a drive's need the re-simulation (`resimulate`, `pressocp.verify.limits_exceeded`)."""
         if data.get("format") != FORMAT:
             raise ValueError(f"unknown result format {data.get('format')!r} (this pressocp reads {FORMAT})")
         d = dict(data)
         ver = d.pop("verification")
         d.pop("format")
-        return cls(problem=SpeedProblem.from_dict(d.pop("problem")), model=ModelSpec.from_dict(d.pop("model")),
+        problem = SpeedProblem.from_dict(d.pop("problem"))
+        return cls(problem=problem, model=ModelSpec.from_dict(d.pop("model")),
                    speed=FourierSpeed.from_dict(d.pop("speed")),
                    initial_speed=FourierSpeed.from_dict(d.pop("initial_speed")),
                    stages=[StageResult.from_dict(s) for s in d.pop("stages")], periodic=ver["periodic"],
-                   max_ram_speed_violation=ver["max_ram_speed_violation"], verify_rtol=ver["rtol"], **d)
+                   max_ram_speed_violation=ver["max_ram_speed_violation"], verify_rtol=ver["rtol"],
+                   limits=ver["limits"] if "limits" in ver else cap_excess(problem, d["peaks"]), **d)
 
     @classmethod
     def from_json(cls, path: str | Path) -> "OcpResult":

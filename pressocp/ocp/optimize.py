@@ -24,8 +24,8 @@ from .ocp_result import OcpResult, peaks_of
 from .stage import StageResult, Transcription, WarmStart, standing_stage
 from .strategy import Strategy
 from ..mechanism.ideal import ideal_response
-from ..verify import (is_periodic, motor_cycle_of, ram_speed_violation, rigid_reference, screen, verify_speed,
-                      window_times)
+from ..verify import (describe_excess, is_periodic, limits_exceeded, motor_cycle_of, ram_speed_violation,
+                      rigid_reference, screen, verify_speed, window_times)
 
 
 #: Tolerance of the initial speed's response. It usually impacts, and its 4th cycle from rest is then
@@ -91,6 +91,7 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     reuse = answer.simulation is not None and answer.model == model.spec.describe()
     sim = answer.simulation if reuse else verify_speed(for_repeated_use(model), answer.speed, strat.verify_rtol)
     t1, t2 = window_times(sim, problem)
+    limits = limits_exceeded(problem, answer.speed, sim)
     wall = time.perf_counter() - t_start
     timing.update(verification=time.perf_counter() - t_verify, other=t_chain - t_start,
                   verification_compile=compile_seconds() - c_verify)
@@ -100,11 +101,12 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
         peaks=peaks_of(sim), initial_peaks=peaks_of(init_sim), rigid_peak_torque=_rigid_peak(chain[0], problem),
         t1=t1, t2=t2, success=found.success,
         status=outcome_status(answer, found, earlier) + (drive_floor(problem, strat, initial, found)
-                                                         or ("" if found.success else drive_shortfall(found.violations))),
+                                                         or ("" if found.success else drive_shortfall(found.violations)))
+        + (f"; not verified: {describe_excess(limits)}" if limits else ""),
         periodic=is_periodic(sim), max_ram_speed_violation=max(ram_speed_violation(sim, problem), 0.0),
         min_omega=answer.speed.min_speed(), iterations=sum(s.iterations for s in stages),
         wall_time=wall, stages=stages, verify_rtol=strat.verify_rtol, simulation=sim,
-        initial_simulation=init_sim, timing=timing)
+        initial_simulation=init_sim, timing=timing, limits=limits)
 
 
 def checked_request(problem: SpeedProblem, model: PressModel | None, transcription: Transcription | None,

@@ -88,13 +88,16 @@ class Check:
     peak_torque : float
         N m on that model.
     verified : bool
-        Periodic, ratio within the strategy's limit and the ram speed in tolerance.
+        Periodic, ratio within the strategy's limit, the ram speed in tolerance and no limit exceeded.
     min_rod_tension : float or None
         Smaller axial rod tension of the two pins on the rigid press, N (negative: the joint forces
         reverse); rigid stages only.
     min_eccentricity : float or None
         Smallest journal eccentricity ratio |e|/c of the clearance joints over the re-simulated cycle
         (< 1: a journal left its bearing wall); None without clearance joints.
+    limits : dict
+        The problem's limits (pin-force cap, drive) the re-simulation exceeds, with the excess as a
+        share of each (`pressocp.verify.limits_exceeded`).
     """
 
     model: str
@@ -106,6 +109,7 @@ class Check:
     verified: bool
     min_rod_tension: float | None = None
     min_eccentricity: float | None = None
+    limits: dict = field(default_factory=dict)
 
 
 @dataclass

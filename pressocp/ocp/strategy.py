@@ -23,18 +23,21 @@
    (``no_reversal_raised_k``, at most `MARGIN_RAISES` times).
 5. ``polish_k``: the last stage's NLP solved again from its own answer, without multipliers. IPOPT's
    barrier restarts there and can leave the local optimum the first pass stopped at. A round is kept
-   only when its periodic re-simulation lowers the objective with the ram speed in tolerance; the
-   first round that does not, or that gains no more than ``polish_gain``, ends the polishing.
+   only when its periodic re-simulation lowers the objective with the ram speed in tolerance and no
+   limit exceeded; the first round that does not, or that gains no more than ``polish_gain``, ends
+   the polishing.
 6. ``flexible`` (a flexible target rod): the rigid-rod answer re-simulated on the flexible rod;
    only when it does not hold there is the problem solved on it, then polished (`on_flexible_rod`).
 7. ``refine_k`` (opt-in): trust-region rounds of multiple shooting, each kept only when its
-   periodic re-simulation lowers the objective with the ram speed in tolerance.
+   periodic re-simulation lowers the objective with the ram speed in tolerance and no limit
+   exceeded.
 
 In "auto" mode a rigid optimum that is verified on the target model (periodic, objective within
-``verified_ratio`` of its rigid-press value, ram speed in tolerance over the model's own window)
-is the answer and stages 2-5 are skipped; "all" runs them from it. The no-reversal optimum is only
-a start: its extra constraint is a rigid-press stand-in for "no impact", and the clearance model's
-own optimum (journals kept on their walls) is lower.
+``verified_ratio`` of its rigid-press value, ram speed in tolerance over the model's own window, no
+limit of the problem exceeded: its pin-force cap, its drive's ratings) is the answer and stages 2-5
+are skipped; "all" runs them from it. The no-reversal optimum is only a start: its extra constraint
+is a rigid-press stand-in for "no impact", and the clearance model's own optimum (journals kept on
+their walls) is lower.
 """
 
 from __future__ import annotations
@@ -58,7 +61,8 @@ from .rigid_stage import Rigid
 from ..ipopt_options import IPOPT_RIGID_ACCEPTABLE
 from .shooting import MultipleShooting
 from .stage import Check, StageResult, Transcription, WarmStart, settings_repr, standing_stage
-from ..verify import IMPACT_RATIO, is_periodic, ram_speed_violation, rigid_reference, screen, verify_speed
+from ..verify import (IMPACT_RATIO, describe_excess, is_periodic, limits_exceeded, ram_speed_violation,
+                      rigid_reference, screen, unverified_reason, verify_speed)
 
 MODES = ("auto", "all", "continue")
 #: Checks of a stage's answer run at this tolerance (the final verification at `Strategy.verify_rtol`).
@@ -131,7 +135,8 @@ class Strategy:
         Processes for the candidate chains, 1..64 (1: one after the other in this process).
     verified_ratio : float
         A rigid-press answer is verified on a model when its objective there is within this factor
-        of its rigid-press value (and it is periodic with the ram speed in tolerance).
+        of its rigid-press value (and it is periodic with the ram speed in tolerance and no limit
+        exceeded).
     soft_factor : float or None
         Contact-stiffness divisor of the soft stage, for transcriptions that need one (multiple
         shooting), in (1, 1e8); None skips it.
@@ -320,8 +325,8 @@ class Strategy:
         """The flexible rod after the rigid-rod answer `last` (solved on `base`): that answer
         re-simulated on `model` (periodic at `verify_rtol`, its search started from the rigid-rod
         journal states with the rod undeformed). In "auto" and "continue" mode, when it is periodic
-        with the ram speed in tolerance and its objective within `verified_ratio` of the rigid rod's,
-        the flexible stage is skipped (its record holds that re-simulation, which the final
+        with the ram speed in tolerance, no limit exceeded, and its objective within `verified_ratio`
+        of the rigid rod's, the flexible stage is skipped (its record holds that re-simulation, which the final
         verification reuses); otherwise the flexible stage starts from it, then the polish rounds."""
         value = problem.objective_value
         t0 = time.perf_counter()
@@ -330,9 +335,11 @@ class Strategy:
         sim = verify_speed(model, last.speed, self.verify_rtol, x0=x0)
         ratio = value(sim) / value(on_base)
         viol = max(ram_speed_violation(sim, problem), 0.0)
+        limits = limits_exceeded(problem, last.speed, sim)
         check = Check(model=model.spec.describe(), objective=value(sim), ratio=float(ratio), periodic=is_periodic(sim),
-                      ram_speed_violation=viol, peak_torque=sim.peak("torque"),
-                      verified=bool(is_periodic(sim) is True and ratio <= self.verified_ratio and viol <= 0.0))
+                      ram_speed_violation=viol, peak_torque=sim.peak("torque"), limits=limits,
+                      verified=bool(is_periodic(sim) is True and ratio <= self.verified_ratio and viol <= 0.0
+                                    and not limits))
         seconds = time.perf_counter() - t0
         if self.mode in ("auto", "continue") and check.verified:
             reason = (f"the rigid-rod answer meets the constraints on the flexible rod and its objective there is "
@@ -543,8 +550,9 @@ class Strategy:
     def grid_error(self, stage: StageResult, problem: SpeedProblem) -> tuple[str, float]:
         """Why `stage`'s re-simulation (`verify_stage`, run before) does not confirm its NLP ("" when it
         does), and by how much the re-simulated ram speed leaves its tolerance (m/s, 0 when it does
-        not). Not confirmed: not periodic, the ram speed out of tolerance, or the objective more than
-        `grid_tol` from the NLP's."""
+        not). Not confirmed: not periodic, the ram speed out of tolerance, the objective more than
+        `grid_tol` from the NLP's, or a limit the NLP holds at its samples exceeded between them
+        (`limits_exceeded`: a finer grid follows)."""
         sim = stage.simulation
         periodic = is_periodic(sim)
         if periodic is not True:
@@ -555,7 +563,7 @@ class Strategy:
         viol = ram_speed_violation(sim, problem)
         if viol > 0.0:
             return f"the re-simulated ram speed leaves its tolerance by {viol:.2g} m/s", viol
-        return "", 0.0
+        return describe_excess(limits_exceeded(problem, stage.speed, sim)), 0.0
 
     def solve_refined(self, problem: SpeedProblem, model: PressModel, transcription: Transcription, start: WarmStart,
                       name: str, progress: bool, rescue: bool = True) -> tuple[list[StageResult], Transcription]:
@@ -632,10 +640,11 @@ class Strategy:
         viol = max(ram_speed_violation(sim, problem), 0.0)
         periodic = is_periodic(sim)
         ne = ideal_inverse_dynamics(problem.press, problem.mechanism, *stage.speed.evaluate(dense.t))
+        limits = limits_exceeded(problem, stage.speed, sim)
         add_time(stage, "checks", time.perf_counter() - t0)
         return Check(model=model.spec.describe(), objective=problem.objective_value(sim), ratio=ratio,
-                     periodic=periodic, ram_speed_violation=viol, peak_torque=sim.peak("torque"),
-                     verified=bool(periodic is True and ratio <= self.verified_ratio and viol <= 0.0),
+                     periodic=periodic, ram_speed_violation=viol, peak_torque=sim.peak("torque"), limits=limits,
+                     verified=bool(periodic is True and ratio <= self.verified_ratio and viol <= 0.0 and not limits),
                      min_rod_tension=float(min(ne["crank_pin_tension"].min(), ne["wrist_pin_tension"].min())),
                      min_eccentricity=min(sim.min_eccentricities(model.clearance).values(), default=None))
 
@@ -660,7 +669,7 @@ class Strategy:
         # an answer whose re-simulation is not periodic with the ram speed in tolerance sets no bar to
         # beat, but a periodic one still measures a round's gain
         reference = value(first) if is_periodic(first) is True else np.inf
-        best = reference if ram_speed_violation(first, problem) <= 0.0 else np.inf
+        best = reference if not unverified_reason(problem, last.speed, first) else np.inf
         if best <= floor:
             follow, _ = self.followed(problem, model, transcription, last, progress)
             reason = (f"{last.name}'s answer re-simulates at {best:.6g}, at or below the rigid press's optimum "
@@ -707,14 +716,16 @@ class Strategy:
         """A re-solve `st` of the standing answer (a polish round, the relaxed re-solve), re-simulated on
         `model` (`verify_stage`) and judged against `best`, the standing answer's verified objective
         (inf: none to beat): its re-simulation, its objective there, and why it is not kept ("" when it
-        is: periodic, the ram speed in tolerance, lower than `best`). One that did not converge cannot be
+        is: periodic, the ram speed in tolerance, no limit exceeded (`unverified_reason`), lower than
+        `best`). One that did not converge cannot be
         kept and is not re-simulated: (None, None, IPOPT's status)."""
         if not st.success:
             return None, None, st.status
         cand = self.verify_stage(model, st)
         new = problem.objective_value(cand)
-        if is_periodic(cand) is not True or ram_speed_violation(cand, problem) > 0.0:
-            return cand, new, "its re-simulation is not periodic with the ram speed in tolerance"
+        why = unverified_reason(problem, st.speed, cand)
+        if why:
+            return cand, new, why
         return cand, new, "" if new < best else f"re-simulated {new:.6g} against {best:.6g}"
 
     def relax(self, problem: SpeedProblem, model: PressModel, last: StageResult, transcription: Transcription,
@@ -738,7 +749,7 @@ class Strategy:
         t0 = time.perf_counter()
         before = self.verify_stage(model, last)
         viol = ram_speed_violation(before, problem)
-        if is_periodic(before) is not True or viol > 0.0:
+        if unverified_reason(problem, last.speed, before):
             return [], before
         # the shares of the tolerance held (a transcription's ``backoff``): the answer's NLP's, the re-solve's
         held, share = last.details.get("backoff"), getattr(tr, "backoff", None)
@@ -767,8 +778,8 @@ class Strategy:
                progress: bool) -> list[StageResult]:
         """Trust-region rounds of multiple shooting on `model` from `last`'s answer. A round's final
         iterate is accepted (and the region grows) only when its periodic re-simulation lowers the
-        objective with the ram speed in tolerance; otherwise the region shrinks. Each round's node
-        states come from the verifying re-simulation of the current speed."""
+        objective with the ram speed in tolerance and no limit exceeded; otherwise the region shrinks.
+        Each round's node states come from the verifying re-simulation of the current speed."""
         shooting = transcription.shooting() or MultipleShooting("cvodes")
         speed, step, rounds = last.speed, self.refine_step, []
         sim = verify_speed(for_repeated_use(model), speed, CHECK_RTOL)
@@ -787,7 +798,7 @@ class Strategy:
             cand, ratio = screen(for_repeated_use(model), st.last_speed, best, problem.objective, CHECK_RTOL,
                                  drive=problem.drive)
             viol = max(ram_speed_violation(cand, problem), 0.0)
-            accepted = bool(is_periodic(cand) is True and ratio < 1.0 and viol <= 0.0)
+            accepted = bool(ratio < 1.0 and not unverified_reason(problem, st.last_speed, cand))
             value = ratio * best
             st.details.update(coefficient_step=step, accepted=accepted, verified_value=value, ram_speed_violation=viol)
             st.wall_time = time.perf_counter() - t0
