@@ -84,6 +84,7 @@ def summary(r, case: str, call: dict) -> dict:
         "normal_force_reduction_pct": 100 * (1 - so.peak("slider_normal_force") / si.peak("slider_normal_force")),
         "max_speed_change_rel": max_relative_change(r.speed, r.initial_speed),
         "max_ram_speed_violation": r.max_ram_speed_violation, "verified": r.verified, "periodic": r.periodic,
+        "limits_exceeded": r.limits,
         "min_omega": r.min_omega, "t1": r.t1, "t2": r.t2, "rigid_t1": r.rigid.t1,
         "periodic_verified": so.stats.get("periodic", {}),
         "stages": [s.to_dict() for s in r.stages], "objective_history": r.history,
