@@ -289,15 +289,16 @@ def check_writable(folder: Path, what: str) -> None:
 def _prepare(args: argparse.Namespace):
     """Check the input and return the job to run (a callable giving its exit code). Every bad value
     raises here, before anything is solved."""
-    from .io import MANIFEST_NAME, NotRegularFile, check_regular, output_folder
+    from .io import MANIFEST_NAME, NotRegularFile, check_regular, output_folder, refuse_if_busy
 
     if args.command == "scenario":
         return _prepare_scenario(args)
     if args.command == "compare":
         return _prepare_compare(args)
 
-    scenario = load_scenario(args.scenario, args.set)
     out: Path = args.out
+    refuse_if_busy(out)  # a folder another run writes: refused before anything else is read
+    scenario = load_scenario(args.scenario, args.set)
     if out.exists() and not out.is_dir():
         raise InputError(f"--out {out} is a file, not a folder")
     check_writable(out, f"--out {out}")

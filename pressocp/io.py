@@ -61,10 +61,8 @@ def run_id() -> str:
     return f"{time.strftime('%Y%m%dT%H%M%S')}-{uuid.uuid4().hex[:8]}"
 
 
-@contextmanager
-def hold(out: Path, timeout: float = 0.0) -> Iterator[None]:
-    """Hold the output folder `out`'s lock (a `filelock` lock file, `LOCK_NAME`, released when the
-    holder ends or dies) and name the holder in `OWNER_NAME`. Raises `OutputBusy`, naming the holder,
+def acquire(out: Path, timeout: float = 0.0):
+    """`out`'s lock (`LOCK_NAME`, a `filelock.FileLock`), acquired; `OutputBusy`, naming the holder,
     when another process holds it after `timeout` seconds."""
     from filelock import FileLock, Timeout
 
@@ -74,6 +72,24 @@ def hold(out: Path, timeout: float = 0.0) -> Iterator[None]:
     except Timeout:
         raise OutputBusy(f"{out} is being written by another pressocp run{lock_holder(out)} (lock file "
                          f"{out / LOCK_NAME}): wait for it to end, or pass another --out") from None
+    return lock
+
+
+def refuse_if_busy(out: Path) -> None:
+    """`OutputBusy`, naming the holder, when another run holds the folder `out` now; nothing when it
+    is free or has no lock file (nothing is created). A job checks this before it reads its input,
+    so that a second run into a busy folder is refused at once (`output_folder` takes the lock for
+    the run itself)."""
+    if (out / LOCK_NAME).is_file():
+        acquire(out).release()
+
+
+@contextmanager
+def hold(out: Path, timeout: float = 0.0) -> Iterator[None]:
+    """Hold the output folder `out`'s lock (a `filelock` lock file, `LOCK_NAME`, released when the
+    holder ends or dies) and name the holder in `OWNER_NAME`. Raises `OutputBusy`, naming the holder,
+    when another process holds it after `timeout` seconds."""
+    lock = acquire(out, timeout)
     try:
         atomic_write(out / OWNER_NAME, json.dumps({"pid": os.getpid(), "host": platform.node(),
                                                    "started": time.strftime("%Y-%m-%d %H:%M:%S"),

@@ -192,7 +192,8 @@ def test_a_flagged_result_says_why():
 def test_an_output_folder_holds_one_run(tmp_path, capsys):
     """A run replaces the previous run's files (a folder written before manifests: those its
     summary.json lists, never a path out of the folder); other files stay. While a run holds the
-    folder's lock, a second run into it exits 2 before writing anything."""
+    folder's lock, a second run into it exits 2 before writing anything, and before it reads its
+    input."""
     from filelock import FileLock
 
     from pressocp.io import LOCK_NAME
@@ -205,6 +206,9 @@ def test_an_output_folder_holds_one_run(tmp_path, capsys):
     (tmp_path / "outside.txt").write_text("outside")
     with FileLock(str(out / LOCK_NAME)):
         assert main(["design", "--out", str(out), "-q"]) == 2
+        assert "being written by another pressocp run" in capsys.readouterr().err
+        # refused before the input is read: a scenario that does not exist is not reached
+        assert main(["design", "no_such_scenario", "--out", str(out), "-q"]) == 2
         assert "being written by another pressocp run" in capsys.readouterr().err
         assert (out / "old.png").exists()  # nothing touched
     assert main(["design", "--out", str(out), "-q"]) == 0
