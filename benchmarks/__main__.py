@@ -141,7 +141,7 @@ JOBS = (
         "clearance (`--along`), a fresh process per run"),
     Job("sweep_parallel", "bench_sweep.py", ("parallel",), 4, "sweep speed-up, 1/2 workers and dask"),
     Job("fuzz", "bench_fuzz.py", (), 6, "600 generated presses, scenario dicts and files, command lines, and 60 command lines run as processes; unit slips"),
-    Job("transaction", "bench_transaction.py", (), 5,
+    Job("transaction", "bench_transaction.py", (), 7,
         "SIGINT and SIGKILL at random moments of optimize into a used --out (20 trials); two runs at once"),
     Job("transaction_sigint", "bench_transaction.py", ("--sigint-window", "2", "6"), 4,
         "Ctrl-C while press60's compiles and links run (20 trials): exit 130, no worker traceback"),
