@@ -326,8 +326,9 @@ class Strategy:
         re-simulated on `model` (periodic at `verify_rtol`, its search started from the rigid-rod
         journal states with the rod undeformed). In "auto" and "continue" mode, when it is periodic
         with the ram speed in tolerance, no limit exceeded, and its objective within `verified_ratio`
-        of the rigid rod's, the flexible stage is skipped (its record holds that re-simulation, which the final
-        verification reuses); otherwise the flexible stage starts from it, then the polish rounds."""
+        of the rigid rod's, the flexible stage is skipped (its record holds that re-simulation, which
+        the final verification reuses); otherwise the flexible stage starts from it, then the polish
+        rounds."""
         value = problem.objective_value
         t0 = time.perf_counter()
         on_base = self.verify_stage(base, last)
@@ -666,8 +667,8 @@ class Strategy:
         # both re-simulated alike, at the final verification's tolerance: an optimum holds the ram
         # speed to within a few 1e-5 m/s of its tolerance, about the error of a check at rtol 1e-7
         first = self.verify_stage(model, last)
-        # an answer whose re-simulation is not periodic with the ram speed in tolerance sets no bar to
-        # beat, but a periodic one still measures a round's gain
+        # an answer whose re-simulation does not verify it sets no bar to beat, but a periodic one
+        # still measures a round's gain
         reference = value(first) if is_periodic(first) is True else np.inf
         best = reference if not unverified_reason(problem, last.speed, first) else np.inf
         if best <= floor:
@@ -717,8 +718,8 @@ class Strategy:
         `model` (`verify_stage`) and judged against `best`, the standing answer's verified objective
         (inf: none to beat): its re-simulation, its objective there, and why it is not kept ("" when it
         is: periodic, the ram speed in tolerance, no limit exceeded (`unverified_reason`), lower than
-        `best`). One that did not converge cannot be
-        kept and is not re-simulated: (None, None, IPOPT's status)."""
+        `best`). One that did not converge cannot be kept and is not re-simulated: (None, None,
+        IPOPT's status)."""
         if not st.success:
             return None, None, st.status
         cand = self.verify_stage(model, st)
