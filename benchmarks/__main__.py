@@ -124,7 +124,7 @@ JOBS = (
         "75 spm default call on the flexible rod with clearances (about 2 min a call)"),
     Job("ocp_slender", "bench_ocp.py", ("slender",), 3, "slender rod: the flexible stage runs"),
     Job("model_levels", "bench_model_levels.py", (), 8, "error and cost of each model level across scenes"),
-    Job("collocation", "bench_collocation.py", ("--jit",), 5, "collocation element sweep"),
+    Job("collocation", "bench_collocation.py", ("--jit",), 12, "collocation element sweep"),
     Job("transcriptions_smooth", "bench_transcriptions.py", ("--case", "smooth", "--shooting-wall", "240"), 11,
         "transcriptions from one start, smooth case (shooting capped at 4 min: its first iterations)"),
     Job("reversal", "bench_reversal.py", (), 4, "rod-tension bound against impacts"),
