@@ -253,8 +253,10 @@ def flag_reason(summary: dict) -> str:
             why.append(f"the re-simulation is not periodic ({periodic})")
         if summary.get("max_ram_speed_violation_m_s", 0.0) > 0.0:
             why.append(f"the ram speed leaves its tolerance by {summary['max_ram_speed_violation_m_s']:.3g} m/s")
-        for name, excess in summary.get("limits_exceeded", {}).items():
-            why.append(f"the re-simulation exceeds {name} by {100 * excess:.3g} %")
+        if summary.get("limits_exceeded"):
+            from .verify import describe_excess
+
+            why.append(describe_excess(summary["limits_exceeded"]))
         return "not verified" + (f": {'; '.join(why)}" if why else "")
     return str(summary.get("status", periodic))
 

@@ -28,7 +28,7 @@ from .drive import MotorCycle
 from .model import PressModel
 from .ocp import OcpResult, Strategy, optimize_speed
 from .problem import SpeedProblem
-from .verify import motor_cycle_of
+from .verify import cap_excess, motor_cycle_of
 
 
 @dataclass(frozen=True)
@@ -152,8 +152,7 @@ def try_rate(problem: SpeedProblem, model: PressModel | None, rate_spm: float, s
     margins = {"peak_torque_margin": motor.peak_torque_margin, "rms_margin": motor.rms_margin,
                "speed_margin": motor.speed_margin, "max_pin_force": pin}
     failed: dict = {k: v for k, v in margins.items() if k.endswith("margin") and v < 0.0}
-    if problem.max_pin_force is not None and pin > problem.max_pin_force:
-        failed["max_pin_force"] = 1.0 - pin / problem.max_pin_force
+    failed.update({name: -excess for name, excess in cap_excess(problem, result.peaks).items()})
     if not result.verified:
         failed["verified"] = result.status
     return RateTrial(rate_spm, not failed, failed, margins, result.peak_torque, time.perf_counter() - t0, result,

@@ -6,8 +6,9 @@ everywhere (75 spm seed, `docs/decisions/2026-11-25-candidate-starts.md`; the sl
 no-reversal start (`Strategy.tension_margin`, one margin per candidate), and the flexible chain of a
 rod between ideal joints from the rigid optimum at each ram-speed backoff
 (`Strategy.flexible_backoffs`); each candidate's answer is re-simulated at the strategy's tolerance,
-and the lowest verified objective (periodic, ram speed in tolerance, no limit exceeded) wins. Candidates run in spawned
-worker processes (`pressocp.workers`), two at a time on two cores; IPOPT is not safe in threads.
+and the lowest verified objective (periodic, ram speed in tolerance, no limit exceeded) wins.
+Candidates run in spawned worker processes (`pressocp.workers`), two at a time on two cores; IPOPT
+is not safe in threads.
 """
 
 from __future__ import annotations
