@@ -53,6 +53,27 @@ def test_speed_goals(tmp_path):
     assert second.verdict == "**not met**" and "at most 1.20 s" in second.measured
 
 
+def test_a_speed_up_is_taken_on_one_vm(tmp_path):
+    """The newest "after" row ran on a VM with no "before" row: the ratio pairs the rows of the VM that
+    has both, and the row names it; a time's row names its VM."""
+    def on(row, vm):
+        row["run"]["platform"] = f"Linux-6.18.44-fc-{vm}-x86_64-with-glibc2.36"
+        return row
+    write_jsonl(tmp_path / "speed.jsonl", [
+        on(speed_row("press60", "before", [30.0], [76.0], "d0"), "v1"),
+        on(speed_row("press60", "after", [12.0] * 3, [76.0] * 3, "d1"), "v1"),       # 2.5 x on v1
+        on(speed_row("press60", "before", [90.0], [76.0], "d2"), "v2"),
+        on(speed_row("press60", "after", [50.0] * 3, [76.0] * 3, "d3"), "v2"),       # 1.8 x on v2
+        on(speed_row("press60", "after", [10.0] * 3, [76.0] * 3, "d4"), "v3"),       # 9 x against v2's before
+        on(speed_row("press75", "after", [40.0] * 3, [145.0] * 3, "d5"), "v3"),
+    ])
+    rows = status.rows(tmp_path)
+    press60 = by_goal(rows, "press60")[0]
+    assert press60.verdict == "**not met**" and "(1.8 ×)" in press60.measured and "both on …-v2" in press60.measured
+    assert "before d2, after d3" in press60.source
+    assert "on …-v3" in by_goal(rows, "press75 default call")[0].measured
+
+
 def test_suite_sweep_and_verification_goals(tmp_path):
     (tmp_path / "runs.json").write_text(json.dumps({
         "suite": {"date": "d6", "jobs": status.suite_now()[0], "wall_time_s": 2.5 * 3600, "failed": []},
