@@ -88,7 +88,7 @@ JOBS = (
         "every integrator, 4-element rod, smooth scene"),
     Job("work_precision_8", "bench_work_precision.py",
         ("--models", "flexible-8", "--scenes", "smooth", "--reference-rtol", "1e-10",
-         "--reference-check", "scipy-radau", "1e-10", "--reference-timeout", "1800"), 5,
+         "--reference-check", "scipy-radau", "1e-10", "--reference-timeout", "1800"), 8,
         "8-element rod, smooth scene (CVODES 1e-10 reference, checked)"),
     Job("stability", "bench_stability.py", (), 5, "stability maps of the fixed-step integrators"),
     Job("ocp_default", "bench_ocp.py", ("default", "--repeat", "3"), 2, "default call, 60 spm scene"),

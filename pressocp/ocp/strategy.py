@@ -82,6 +82,25 @@ REFINE_GROW, REFINE_SHRINK = 1.5, 0.4
 #: Share of the ram-speed tolerance given up, beyond the measured excess, when a stage is re-solved
 #: with the held share lowered (`Strategy.solve_refined`), and how many times that is done.
 TIGHTEN_MARGIN, MAX_TIGHTEN = 0.02, 3
+#: A relaxed re-solve runs only when it adds at least this share of the ram-speed tolerance to what
+#: the answer's NLP held (`relaxed_share`).
+RELAX_MIN_GAIN = 0.01
+
+
+def relaxed_share(held: float, share: float, past: float) -> float | None:
+    """The share of the ram-speed tolerance a relaxed re-solve holds, or None when it is not worth
+    one. `held` is what the answer's NLP held, `share` what the relaxed transcription would hold, and
+    `past` how far the answer's re-simulated ram strays past `held` (shares of the tolerance;
+    negative: inside it). A re-solve is expected to stray as far past its own bounds, so `share` is
+    kept while ``share + past <= 1``; beyond that it holds ``1 - 2 past``, leaving the stray once
+    more as margin, and it is not worth running when that adds less than `RELAX_MIN_GAIN` to `held`.
+    The rule has no step at a stray of zero (it is continuous there for `share` = 1), so a
+    re-simulation that differs by a hair from machine to machine does not decide whether the
+    re-solve runs (docs/decisions/2026-11-29-relaxed-share.md)."""
+    if share + past <= 1.0:
+        return share
+    fit = 1.0 - 2.0 * past
+    return fit if fit >= held + RELAX_MIN_GAIN else None
 
 
 def soft_params(params: PressParams, factor: float) -> PressParams:
@@ -737,12 +756,14 @@ class Strategy:
         bounds. Kept when its periodic re-simulation on `model` lowers the objective with the ram speed
         still in tolerance (large_press: 487.585 to 487.509 N m; press60's rigid optimum: 76.153 to
         76.125 N m); otherwise recorded as not kept. Nothing runs when the transcription has no such
-        re-solve or the answer has no NLP point. It is skipped (a ``relaxed`` record says why) when the
-        answer's re-simulated ram already strays so far past the share its NLP holds that the same
-        stray past the relaxed share would leave the tolerance: the 75 spm seed's answers re-simulate
-        at 0.98 of it holding 0.95, and their relaxed re-solves stopped at their 8-iteration limit
-        (about 4.5 s each), with 52 iterations not kept. Returns the stages (none, the kept one, or one not
-        kept) and the standing answer's re-simulation on `model` (None when no re-solve was possible)."""
+        re-solve or the answer has no NLP point. When the answer's re-simulated ram already strays so
+        far past the share its NLP holds that the same stray past the relaxed share would leave the
+        tolerance, the re-solve holds less (`relaxed_share`, through the transcription's
+        ``tightened``), or is skipped (a ``relaxed`` record says why) when that gains too little: the
+        75 spm seed's answers re-simulate at 0.98 of it holding 0.95, and their relaxed re-solves
+        stopped at their 8-iteration limit (about 4.5 s each), with 52 iterations not kept. Returns
+        the stages (none, the kept one, or one not kept) and the standing answer's re-simulation on
+        `model` (None when no re-solve was possible)."""
         tr = None if last is None or not last.success else transcription.relaxed(last)
         if tr is None:
             return [], None
@@ -754,13 +775,21 @@ class Strategy:
             return [], before
         # the shares of the tolerance held (a transcription's ``backoff``): the answer's NLP's, the re-solve's
         held, share = last.details.get("backoff"), getattr(tr, "backoff", None)
-        if held is not None and share is not None and viol + (share - held) * problem.tol > 0.0:
-            reason = (f"the answer's re-simulated ram strays {viol / problem.tol + 1.0 - held:.3g} of the tolerance past "
-                      f"the {held:g} its NLP holds; holding {share:g} would take it out of tolerance")
-            skipped = StageResult.skipped("relaxed", reason, model.spec.describe(), last)
-            skipped.simulation = before
-            add_time(skipped, "checks", time.perf_counter() - t0)
-            return [skipped], before
+        if held is not None and share is not None:
+            past = viol / problem.tol + 1.0 - held
+            fit = relaxed_share(held, share, past)
+            fitted = tr if fit == share else (tr.tightened(share - fit) if fit is not None else None)
+            if fitted is None:
+                reason = (f"the answer's re-simulated ram strays {past:.3g} of the tolerance past the {held:g} its "
+                          f"NLP holds; holding {share:g} would take it out of tolerance"
+                          + (f", and holding {fit:.3g} (the stray left once more as margin) cannot be set"
+                             if fit is not None else
+                             f", and leaving the stray once more as margin adds less than {RELAX_MIN_GAIN:g}"))
+                skipped = StageResult.skipped("relaxed", reason, model.spec.describe(), last)
+                skipped.simulation = before
+                add_time(skipped, "checks", time.perf_counter() - t0)
+                return [skipped], before
+            tr = fitted
         best, checks = value(before), time.perf_counter() - t0
         st = tr.solve(problem, model, WarmStart(last.speed, point=last.nlp), "relaxed", progress)
         t0 = time.perf_counter()
