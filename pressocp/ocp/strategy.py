@@ -778,13 +778,12 @@ class Strategy:
         if held is not None and share is not None:
             past = viol / problem.tol + 1.0 - held
             fit = relaxed_share(held, share, past)
-            fitted = tr if fit == share else (tr.tightened(share - fit) if fit is not None else None)
+            fitted = None if fit is None else tr if fit == share else tr.tightened(share - fit)
             if fitted is None:
+                why = (f"leaving the stray once more as margin adds less than {RELAX_MIN_GAIN:g}" if fit is None
+                       else f"holding {fit:.3g} (the stray left once more as margin) cannot be set")
                 reason = (f"the answer's re-simulated ram strays {past:.3g} of the tolerance past the {held:g} its "
-                          f"NLP holds; holding {share:g} would take it out of tolerance"
-                          + (f", and holding {fit:.3g} (the stray left once more as margin) cannot be set"
-                             if fit is not None else
-                             f", and leaving the stray once more as margin adds less than {RELAX_MIN_GAIN:g}"))
+                          f"NLP holds; holding {share:g} would take it out of tolerance, and {why}")
                 skipped = StageResult.skipped("relaxed", reason, model.spec.describe(), last)
                 skipped.simulation = before
                 add_time(skipped, "checks", time.perf_counter() - t0)
