@@ -108,6 +108,8 @@ def trial(scenario: str, out: Path, delay: float, sig: signal.Signals, before: s
     worker = "concurrent/futures/process.py" in err and "KeyboardInterrupt" in err
     row.update(state=state, run_id=run, traceback="Traceback" in err and not startup and not worker,
                startup_interrupt=startup, worker_tracebacks=worker)
+    if row["traceback"] or proc.returncode not in (0, 130, -signal.SIGINT):
+        row["stderr_tail"] = err[-4000:]  # where it failed, for the record
     return row
 
 

@@ -11,7 +11,7 @@ import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-from .compile_cache import compile_interrupted
+from .compile_cache import compile_interrupted, compile_statuses
 
 
 @contextmanager
@@ -52,16 +52,35 @@ def interrupt_deferred() -> Iterator[None]:
         raise KeyboardInterrupt
 
 
+#: CasADi's errors for a compile or link command that did not exit with 0.
+COMPILE_FAILURES = ("Compilation failed", "Linking failed")
+
+
+def killed_before_it_ran(error: RuntimeError, before: int) -> bool:
+    """Whether `error` is a compile or link command's failure (`COMPILE_FAILURES`) whose command never
+    recorded an exit code: none of the codes recorded since the first `before` ones
+    (`pressocp.compile_cache.compile_statuses`) is the failure. The command's shell was then killed
+    before it ran the caching compiler, in its first milliseconds, before its trap of SIGINT was set:
+    by a Ctrl-C that reached the whole process group, which CasADi's ``system()`` hid from this
+    process."""
+    if not any(text in str(error) for text in COMPILE_FAILURES):
+        return False
+    since = compile_statuses()[before:]
+    return not since or since[-1] == 0
+
+
 @contextmanager
 def compiling() -> Iterator[None]:
     """Around a CasADi call that may run the C compiler (a JIT function's construction, or an NLP's
     whose derivatives are compiled): a Ctrl-C that stopped the compile, which the caller cannot see
-    (`pressocp.compile_cache.compile_interrupted`), raises `KeyboardInterrupt`, whether the call failed
-    ("Compilation failed", "Linking failed") or returned."""
+    (`pressocp.compile_cache.compile_interrupted`, or a compile killed before it ran:
+    `killed_before_it_ran`), raises `KeyboardInterrupt`, whether the call failed ("Compilation
+    failed", "Linking failed") or returned."""
+    before = len(compile_statuses())
     try:
         yield
-    except RuntimeError:
-        if compile_interrupted():
+    except RuntimeError as err:
+        if compile_interrupted() or killed_before_it_ran(err, before):
             raise KeyboardInterrupt from None
         raise
     if compile_interrupted():

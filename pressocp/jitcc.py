@@ -12,6 +12,9 @@ per step and no compiler or linker run (the link took 0.1-0.25 s of each functio
 2-core machine). Any other command (several inputs, a source it cannot read) runs the compiler as it
 is. The wall time of every compile it does run is appended to the file named by
 ``$PRESSOCP_COMPILE_LOG``, the calling process's record of its compile time (a link is not timed).
+The exit code of every command it runs to its end, a cache hit included, is appended to the file named
+by ``$PRESSOCP_COMPILE_STATUS``: a failed command whose code is missing there never reached this
+script (`pressocp.interrupt.compiling`).
 
 An entry is one file: a header line with the SHA-256 of the object code, then the object code. An
 entry whose object code does not match its header (truncated, corrupt) is deleted and rebuilt,
@@ -170,8 +173,33 @@ def record_interrupts() -> None:
     signal.signal(signal.SIGINT, stop)
 
 
+def record_status(code: int) -> None:
+    """Append `code`, this command's exit code, to the file named by ``$PRESSOCP_COMPILE_STATUS``
+    (when set)."""
+    log = os.environ.get("PRESSOCP_COMPILE_STATUS")
+    if log:
+        try:
+            with open(log, "a") as f:
+                f.write(f"{code}\n")
+        except OSError:
+            pass
+
+
+def main(argv: list[str]) -> int:
+    """The command line (see the module's docstring); its exit code, recorded (`record_status`) also
+    when the compiler could not be run."""
+    code = 2
+    try:
+        if len(argv) < 2:
+            print("usage: python jitcc.py CACHE_DIR COMPILER ARG...", file=sys.stderr)
+            return code
+        code = 1  # until the compiler's own code is known: an exception below is a failure
+        code = compile_cached(argv[0], argv[1], argv[2:])
+        return code
+    finally:
+        record_status(code)
+
+
 if __name__ == "__main__":
     record_interrupts()
-    if len(sys.argv) < 3:
-        sys.exit("usage: python jitcc.py CACHE_DIR COMPILER ARG...")
-    sys.exit(compile_cached(sys.argv[1], sys.argv[2], sys.argv[3:]))
+    sys.exit(main(sys.argv[1:]))

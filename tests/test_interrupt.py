@@ -7,12 +7,15 @@ signal could land in a compile and the solve return (seen under load in CI). A t
 reaches the compiler's process too, which records it for the caller (tested below)."""
 
 import os
+import shlex
+import shutil
 import signal
 import subprocess
 import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 CHILD = """
@@ -82,6 +85,45 @@ def test_a_ctrl_c_during_a_compile_is_not_lost(tmp_path):
     with pytest.raises(RuntimeError, match="not a compile"):  # no flag: the error stands
         with compiling():
             raise RuntimeError("not a compile")
+
+
+@pytest.mark.skipif(os.name != "posix" or shutil.which("cc") is None and shutil.which("gcc") is None,
+                    reason="needs /bin/sh and a C compiler")
+def test_a_compile_killed_before_its_shell_set_its_trap_is_a_ctrl_c(tmp_path, monkeypatch):
+    """A Ctrl-C in the compile shell's first milliseconds, before its trap of SIGINT is set, kills the
+    shell: CasADi reports "Compilation failed" and its system() hid the signal from this process. Here
+    the shell sends itself SIGINT before the trap. No exit code was recorded for that command, so
+    `compiling` raises KeyboardInterrupt. A compiler that runs and fails records its code, and its
+    error stands; so does a failure after other compiles succeeded."""
+    import casadi as ca
+
+    from pressocp import compile_cache
+    from pressocp.interrupt import compiling
+
+    monkeypatch.setenv(compile_cache.CACHE_ENV, str(tmp_path / "cache"))
+    options = compile_cache.jit_options()
+    command = options["jit_options"]["compiler"]
+    script = Path(compile_cache.__file__).with_name("jitcc.py")
+    failing = compile_cache.RECORD_INTERRUPT + " ".join(
+        shlex.quote(str(a)) for a in (sys.executable, "-I", "-S", script, compile_cache.NO_CACHE, "false"))
+    x = ca.SX.sym("x")
+
+    def build(name: str, compiler: str) -> ca.Function:
+        jit = {**options["jit_options"], "compiler": compiler}
+        return ca.Function(name, [x], [ca.sin(x) * x], {**options, "jit_options": jit})
+
+    with pytest.raises(KeyboardInterrupt):
+        with compiling():
+            build("killed_at_start", "kill -INT $$; " + command)
+    with pytest.raises(RuntimeError, match="Compilation failed"):
+        with compiling():
+            build("fails", failing)
+    with compiling():  # a compile that works: its code is recorded, nothing is raised
+        assert float(build("works", command)(2.0)) == pytest.approx(2.0 * np.sin(2.0))
+    assert compile_cache.compile_statuses()[-2:] == [0, 0]  # its compile and its link
+    with pytest.raises(RuntimeError, match="Compilation failed"):
+        with compiling():
+            build("fails_later", failing)
 
 
 def test_a_ctrl_c_before_the_compiler_handles_it_is_recorded_by_its_shell(tmp_path):
