@@ -17,16 +17,14 @@ Runs the default call (both clearances, rigid rod, the default chain) of:
 For each: the verified peak torque, the chosen force, the wall time, the rod-load reversals of the
 answer on the ideal press (sign changes of the axial load at the wrist pin over a period) and the
 journals' contact losses on the verifying simulation (entries of the eccentricity below the
-clearance, per joint). Single runs, not medians: the results are answers, not times. The cases run
-in ``--workers`` worker processes at once (default 2, `pressocp.workers.process_pool`: one native
-thread each), so a case's wall time is taken with another case on the other core; ``cases_at_once``
-in the JSON says how many. Writes ``results/counterbalance.json`` and ``results/counterbalance.png``.
+clearance, per joint). Single runs, not medians: the results are answers, not times; the machine's
+load is recorded with the date. Writes ``results/counterbalance.json`` and
+``results/counterbalance.png``.
 """
 
 from __future__ import annotations
 
 import argparse
-import importlib
 import json
 import time
 from pathlib import Path
@@ -38,16 +36,10 @@ from pressocp.io import versions
 from pressocp.journals import contact_losses
 from pressocp.plots import save
 from pressocp.report import stamp
-from pressocp.workers import process_pool
 
 OUT = Path(__file__).parent / "results"
 #: Range of the counterbalance's force, N (8 x the hanging weight of ram and rod).
 RANGE = (0.0, 12000.0)
-#: Each case's work, s: the sum of its stages' wall times (its two candidate chains ran side by side),
-#: idle 2-core VM, 2026-11-29. A case in a worker runs its candidates one after the other, so the
-#: longest cases are given to the workers first and the two workers finish close together.
-EXPECTED_S = {"none": 55.0, "constant": 358.0, "gas": 654.0, "drawing": 318.0, "drawing_constant": 247.0,
-              "drawing_curve": 245.0}
 
 
 def reversals(problem: po.SpeedProblem, speed: po.FourierSpeed) -> int:
@@ -85,16 +77,7 @@ def case(name: str, scenario: po.Scenario, **changes) -> dict:
                     "wall_time_s": s.wall_time} for s in result.stages]}
     print(json.dumps({k: record[k] for k in ("case", "verified", "peak_torque_N_m", "counterbalance",
                                               "rod_load_reversals", "contact_losses", "wall_time_s")}), flush=True)
-    return record | {"_curves": curves(result.simulation)}
-
-
-def curves(sim) -> dict[str, np.ndarray]:
-    """The figure's curves of a verifying simulation, by crank angle over one turn (deg, 0 at top dead
-    centre): motor torque (N·m) and wrist-pin force (kN)."""
-    deg = np.degrees(np.mod(sim.theta, 2 * np.pi))
-    order = np.argsort(deg)
-    return {"deg": deg[order], "torque": np.asarray(sim.torque)[order],
-            "wrist_pin_kN": np.asarray(sim.wrist_pin_force)[order] / 1e3}
+    return record | {"_result": result}
 
 
 def figure(records: list[dict]):
@@ -102,9 +85,13 @@ def figure(records: list[dict]):
 
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.2))
     for r in records:
-        c = r["_curves"]
-        ax.plot(c["deg"], c["torque"], lw=1, label=f"{r['case']}: {r['peak_torque_N_m']:.1f} N·m")
-        bx.plot(c["deg"], c["wrist_pin_kN"], lw=1, label=r["case"])
+        res = r["_result"]
+        sim = res.simulation
+        deg = np.degrees(np.mod(sim.theta, 2 * np.pi))
+        order = np.argsort(deg)
+        label = f"{r['case']}: {r['peak_torque_N_m']:.1f} N·m"
+        ax.plot(deg[order], sim.torque[order], lw=1, label=label)
+        bx.plot(deg[order], np.asarray(sim.wrist_pin_force)[order] / 1e3, lw=1, label=r["case"])
     ax.set(xlabel="crank angle, deg (0: top dead centre)", ylabel="motor torque at the crank, N·m",
            title="verified optima (re-simulated, both clearances)")
     bx.set(xlabel="crank angle, deg", ylabel="wrist-pin force, kN", title="wrist-pin force")
@@ -117,32 +104,20 @@ def figure(records: list[dict]):
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--skip-constant", action="store_true", help="skip the constant-against-curve pair")
-    ap.add_argument("--workers", type=int, default=2, help="cases run at once, each in its own process (1: in "
-                                                           "this process, one after another)")
     args = ap.parse_args()
     OUT.mkdir(exist_ok=True)
     press75, drawing = po.Scenario.load("press75"), po.Scenario.load("drawing75")
     gas = press75.press.replace(counterbalance=po.Counterbalance(gas_length=0.3, exponent=1.4))
-    cases = [("none", press75, {}), ("constant", press75, {"counterbalance_range": RANGE}),
-             ("gas", press75, {"press": gas, "counterbalance_range": RANGE}), ("drawing", drawing, {})]
+    records = [case("none", press75), case("constant", press75, counterbalance_range=RANGE),
+               case("gas", press75, press=gas, counterbalance_range=RANGE), case("drawing", drawing)]
     if not args.skip_constant:
         constant = po.ProcessForce(force=1000.0, h_top=0.07, h_bottom=0.03)
         curve = po.ProcessForce(heights=(0.03, 0.07), forces=(1000.0, 1000.0))
-        cases += [("drawing_constant", press75, {"press": press75.press.replace(process_force=constant)}),
-                  ("drawing_curve", press75, {"press": press75.press.replace(process_force=curve)})]
-    if args.workers <= 1:
-        records = [case(name, scenario, **changes) for name, scenario, changes in cases]
-    else:
-        # the workers import this file as a module (they do not import ``__main__``), from the
-        # benchmarks folder that spawn puts on their path; the longest cases are submitted first
-        task = importlib.import_module(Path(__file__).stem).case
-        with process_pool(args.workers) as pool:
-            futures = {name: pool.submit(task, name, scenario, **changes) for name, scenario, changes in
-                       sorted(cases, key=lambda c: -EXPECTED_S.get(c[0], 0.0))}
-            records = [futures[name].result() for name, _, _ in cases]
+        records += [case("drawing_constant", press75, press=press75.press.replace(process_force=constant)),
+                    case("drawing_curve", press75, press=press75.press.replace(process_force=curve))]
     fig = figure(records[:4])
-    out = {"date_run": stamp(), "versions": versions(), "range_N": list(RANGE), "cases_at_once": max(1, args.workers),
-           "cases": [{k: v for k, v in r.items() if k != "_curves"} for r in records]}
+    out = {"date_run": stamp(), "versions": versions(), "range_N": list(RANGE),
+           "cases": [{k: v for k, v in r.items() if k != "_result"} for r in records]}
     by = {r["case"]: r for r in out["cases"]}
     out["counterbalance_lowers_peak"] = bool(
         min(by["constant"]["peak_torque_N_m"], by["gas"]["peak_torque_N_m"]) < by["none"]["peak_torque_N_m"]

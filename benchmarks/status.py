@@ -531,14 +531,12 @@ def counterbalance_rows(res: Results) -> list[Row]:
                 + (f" with {cb['force']:.0f} N" if cb["force"] else "")
                 + f", {c['rod_load_reversals']} rod-load reversals, contact losses (crank/wrist pin) {losses}, {c['wall_time_s']:.0f} s")
 
-    at_once = d.get("cases_at_once", 1)
-    times = f"; wall times with {at_once} cases at once on {at_once} workers" if at_once > 1 else ""
-    first = "; ".join(line(by[k]) for k in ("none", "constant", "gas") if k in by) + times
+    first = "; ".join(line(by[k]) for k in ("none", "constant", "gas") if k in by)
     rows = [Row(32, goals[0], first, verdict(bool(d["counterbalance_lowers_peak"])), when)]
     if "drawing_curve" in by:
         rel, draw = d["curve_against_constant"], by["drawing"]
         text = (f"curve against constant {rel:+.4%}; {line(by['drawing_constant'])}; {line(by['drawing_curve'])}; "
-                f"{line(draw)}{times}")
+                f"{line(draw)}")
         rows.append(Row(32, goals[1], text, verdict(abs(rel) <= 1e-3 and draw["verified"]), when))
     return rows
 

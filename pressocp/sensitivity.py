@@ -35,6 +35,7 @@ import casadi as ca
 import numpy as np
 
 from .compile_cache import use_jit
+from .interrupt import compiling
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
 from .simulate import (Integrator, SimulationError, calling, compiled_dae, for_repeated_use, periodic_state,
@@ -195,17 +196,18 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
     n_speed = pv.size - n_parameters
     if "sensitivity_dae" not in msym.functions:  # one build for the run at rtol and the estimate's
         msym.functions["sensitivity_dae"] = sensitivity_dae(msym.dae(explicit=True, work=False))
-    F = ca.integrator("period", "cvodes", msym.functions["sensitivity_dae"], 0.0, grid,
-                      {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**7, **SENSITIVITY_OPTIONS})
     # differentiated with respect to q = p / scale: the directions' states are then of the states'
     # own size, and the error control weighs them alike
     scale = parameter_scale(pv[n_speed:])
     X0, Q = ca.MX.sym("x0", msym.nx), ca.MX.sym("q", n_parameters)
     pfull = ca.vertcat(ca.DM(pv[:n_speed]), Q * ca.DM(scale))
-    X = F(x0=X0, p=pfull)["xf"]
-    outs = [X[:, -1]] + [msym.outputs(t, X0 if t == 0.0 else X[:, grid.index(t)], pfull)[i] for t, i in targets]
-    g = ca.vertcat(*outs)
-    J = ca.Function("J", [X0, Q], [g, ca.jacobian(g, ca.vertcat(X0, Q))], {"ad_weight": 0.0, "ad_weight_sp": 0.0})
+    with compiling():  # the compiled DAE's derivatives are compiled as these are built
+        F = ca.integrator("period", "cvodes", msym.functions["sensitivity_dae"], 0.0, grid,
+                          {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**7, **SENSITIVITY_OPTIONS})
+        X = F(x0=X0, p=pfull)["xf"]
+        outs = [X[:, -1]] + [msym.outputs(t, X0 if t == 0.0 else X[:, grid.index(t)], pfull)[i] for t, i in targets]
+        g = ca.vertcat(*outs)
+        J = ca.Function("J", [X0, Q], [g, ca.jacobian(g, ca.vertcat(X0, Q))], {"ad_weight": 0.0, "ad_weight_sp": 0.0})
     # holding J holds the derivative functions CasADi built of the compiled DAE, which it would
     # otherwise free and build again (about 0.8 s) for the next integrator of this model
     msym.functions["sensitivity_jacobian"] = J

@@ -124,7 +124,8 @@ def _integrator(model: PressModel, integ: Integrator, grid: np.ndarray, work: bo
     if key not in kept:
         if len(kept) >= KEPT_INTEGRATORS:
             kept.pop(next(iter(kept)))
-        kept[key] = _build_integrator(model, integ, grid, work)
+        with compiling():  # SUNDIALS's Jacobian of a compiled DAE is compiled here
+            kept[key] = _build_integrator(model, integ, grid, work)
     return kept[key]
 
 

@@ -17,7 +17,7 @@ import pytest
 import pressocp as po
 from pressocp.ocp.kkt import kkt_sensitivity, resolve_tracking
 from pressocp.ocp.nlp import ParametricPoint
-from pressocp.ocp.stage import WarmStart, standing_stage
+from pressocp.ocp.stage import WarmStart, standing_stage, transcription_from
 
 
 def solved_point(f, g, x, p, pv, lbg, ubg, lbx=None, ubx=None):
@@ -171,13 +171,15 @@ def test_collocation_answer_derivative_matches_re_solved_optima():
     r = po.optimize_speed(SMALL, transcription=tr, strategy=po.Strategy("all", rigid=RIGID, verify_rtol=1e-8),
                           progress=False)
     # the target's answer re-simulates below the rigid floor here (journals on their walls: 75.949
-    # against 75.970 N m), so no polish round runs from it and the target's answer stands
+    # against 75.970 N m), so no polish round runs from it; the target's answer stands, or its relaxed
+    # re-solve (more of the ram-speed tolerance held, `Strategy.relax`) when that verifies lower
     kept = standing_stage(r.stages)
     polish = next(st for st in r.stages if st.name == "polish_1")
-    assert r.success and kept.name == "target" and kept.transcription.startswith("Collocation")
+    assert r.success and kept.name in ("target", "relaxed") and kept.transcription.startswith("Collocation")
     assert polish.was_skipped and "at or below the rigid press's optimum" in polish.status
     s = po.optimum_sensitivities(r, ("slider_mass", "wrist_pin.clearance"))
-    assert s.stage == "target"
+    assert s.stage == kept.name
+    nlp = transcription_from(kept.settings)  # the NLP whose optimum is differentiated, re-solved at p +- dp
 
     def central(name, rel):
         p = SMALL.press.value(name)
@@ -186,7 +188,7 @@ def test_collocation_answer_derivative_matches_re_solved_optima():
             v = p * (1 + sg * rel)
             press = SMALL.press.replace(slider_mass=v) if name == "slider_mass" else SMALL.press.replace(
                 wrist_pin=replace(SMALL.press.wrist_pin, clearance=v))
-            J.append(resolved(SMALL.replace(press=press), tr, po.build_model(press, n_harmonics=4), r.speed))
+            J.append(resolved(SMALL.replace(press=press), nlp, po.build_model(press, n_harmonics=4), r.speed))
         return (J[0] - J[1]) / (2 * rel * p), p / s.objective
 
     fd, scale = central("slider_mass", 0.01)

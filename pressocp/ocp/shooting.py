@@ -18,6 +18,7 @@ from .. import checks as chk
 from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
 from ..compile_cache import check_jit, use_jit
+from ..interrupt import compiling
 from ..simulate import HINT, SimulationError, calling, compiled_dae, first_line
 from .nlp import Constraints, UniformPartition
 from .stage import StageResult, WarmStart
@@ -92,7 +93,8 @@ def interval_function(model: PressModel, grid: ShootingGrid, names: tuple[str, .
     opts = {"reltol": rtol, "abstol": rtol if atol is None else atol, "max_num_steps": max_steps}
     if integrator == "idas":
         opts.update(calc_ic=True)
-    F = ca.integrator("shooting_" + integrator, integrator, dae, 0.0, grid.local, opts)
+    with compiling():  # SUNDIALS's Jacobian of a compiled DAE is compiled here
+        F = ca.integrator("shooting_" + integrator, integrator, dae, 0.0, grid.local, opts)
     x0, p, ts = ca.MX.sym("x0", model.nx), ca.MX.sym("p", model.p.numel()), ca.MX.sym("t0")
     X = F(x0=x0, p=ca.vertcat(p, ts))["xf"]
     S = grid.samples
