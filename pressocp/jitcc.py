@@ -111,14 +111,20 @@ def timed_call(command: list[str]) -> int:
     set), which the calling process reads as its compile time. Returns the exit code."""
     t0 = time.perf_counter()
     code = call(command)
-    log = os.environ.get("PRESSOCP_COMPILE_LOG")
+    append_line("PRESSOCP_COMPILE_LOG", f"{time.perf_counter() - t0:.6f}")
+    return code
+
+
+def append_line(variable: str, line: str) -> None:
+    """Append `line` to the file named by the environment variable `variable` (when set); a file that
+    cannot be written is left alone (the caller's record only)."""
+    log = os.environ.get(variable)
     if log:
         try:
             with open(log, "a") as f:
-                f.write(f"{time.perf_counter() - t0:.6f}\n")
+                f.write(line + "\n")
         except OSError:
             pass
-    return code
 
 
 def compile_cached(cache: str, compiler: str, args: list[str]) -> int:
@@ -176,13 +182,7 @@ def record_interrupts() -> None:
 def record_status(code: int) -> None:
     """Append `code`, this command's exit code, to the file named by ``$PRESSOCP_COMPILE_STATUS``
     (when set)."""
-    log = os.environ.get("PRESSOCP_COMPILE_STATUS")
-    if log:
-        try:
-            with open(log, "a") as f:
-                f.write(f"{code}\n")
-        except OSError:
-            pass
+    append_line("PRESSOCP_COMPILE_STATUS", str(code))
 
 
 def main(argv: list[str]) -> int:
