@@ -38,6 +38,8 @@ FIGURES = {
 }
 #: The journal orbits of a response pair on a model with clearance (`plot_journal_orbits`).
 JOURNALS = "journals.png"
+#: Characters of a stage's status in the report's stage table; a longer one goes to a note below it.
+STATUS_WIDTH = 40
 #: Every file a job may write into its folder (checked to be placeable before a job runs).
 OUTPUT_NAMES = ("results.csv", "speed.json", "result.json", *FIGURES, JOURNALS, "motor.png", "design.png",
                 "impacts.png", "report.txt", SUMMARY_NAME)
@@ -222,15 +224,32 @@ def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobRep
           if scenario.problem.counterbalance_range else []),
         *(["", drive_text(problem, motors)] if motors else []),
     ])
+    statuses, notes = footnoted([s.status + (f" ({s.superseded})" if s.superseded else "") for s in result.stages])
     stages = format_table([["stage", "model", "status", "iterations", "time, s", f"objective, {unit}"],
-                           *([s.name, s.model, s.status + (f" ({s.superseded})" if s.superseded else ""),
-                              str(s.iterations), f"{s.wall_time:.1f}", f"{s.objective:.4g}"]
-                             for s in result.stages)])
+                           *([s.name, s.model, status, str(s.iterations), f"{s.wall_time:.1f}", f"{s.objective:.4g}"]
+                             for s, status in zip(result.stages, statuses))])
     details = "\n".join([f"transcription: {result.transcription}", f"strategy: {result.strategy}",
                          f"verification: periodic CVODES re-simulation, rtol {result.verify_rtol:g}", "", stages,
+                         *notes,
                          "", "where the time went, s (stages named stage@margin are candidate chains that ran side by "
                          f"side; the call took {result.wall_time:.0f} s):", time_table_text(result)])
     return _finish("optimize", out, summary, text, details, files, result.success and result.verified)
+
+
+def footnoted(texts: list[str], width: int = STATUS_WIDTH) -> tuple[list[str], list[str]]:
+    """Each of `texts` for a table column: as it is when it has at most `width` characters, else its
+    first part (up to its first colon or parenthesis) and a note number; and the notes' lines, one per
+    distinct long text, in order ("[1] the whole text")."""
+    numbers: dict[str, int] = {}
+    column = []
+    for text in texts:
+        if len(text) <= width:
+            column.append(text)
+            continue
+        n = numbers.setdefault(text, len(numbers) + 1)
+        head = text.split(":")[0].split(" (")[0].strip()
+        column.append(f"{head[:width]} [{n}]")
+    return column, [f"[{n}] {text}" for text, n in numbers.items()]
 
 
 def simulate_job(scenario: Scenario, out: Path, speed: FourierSpeed | None = None,

@@ -126,3 +126,15 @@ def test_sweep_command_writes_table_and_figure(tmp_path, capsys):
     assert main(["sweep", "--task", "simulate", "--vary", "slider_mass=100:200:2", "--vary",
                  "wrist_pin.clearance=1e-4,2e-4", "--set", "model.clearance=[]", "--set", "problem.n_harmonics=6",
                  "--workers", "1", "--out", str(out), "--resume", "--quiet"]) == 0
+
+
+def test_long_stage_statuses_go_to_notes_below_the_table():
+    """A status longer than the column's width is cut at its first colon or parenthesis and numbered;
+    the whole text is a note below the table, once for identical texts."""
+    from pressocp.jobs import footnoted
+
+    long = "skipped: the answer's re-simulated ram strays 0.0391 of the tolerance past the 0.95 its NLP holds"
+    kept = "Solve_Succeeded (candidate not kept: its answer re-simulates at 145.809 against 145.144)"
+    column, notes = footnoted(["Solve_Succeeded", kept, long, kept], width=40)
+    assert column == ["Solve_Succeeded", "Solve_Succeeded [1]", "skipped [2]", "Solve_Succeeded [1]"]
+    assert notes == [f"[1] {kept}", f"[2] {long}"]
