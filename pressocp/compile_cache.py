@@ -125,9 +125,16 @@ def set_cache_dir(path: str | os.PathLike | None) -> None:
     os.environ[CACHE_ENV] = "off" if path is None else os.fspath(path)
 
 
+def process_file(kind: str) -> Path:
+    """A file of this process's compiles in the system's temporary folder, named by `kind` and the
+    process id: what its compile commands leave for it (`interrupt_flag`, `compile_log`,
+    `compile_status_log`)."""
+    return Path(tempfile.gettempdir()) / f"pressocp-compile-{kind}-{os.getpid()}"
+
+
 def interrupt_flag() -> Path:
     """This process's flag file for a compile stopped by SIGINT (`INTERRUPT_ENV`)."""
-    return Path(tempfile.gettempdir()) / f"pressocp-compile-interrupted-{os.getpid()}"
+    return process_file("interrupted")
 
 
 def compile_interrupted() -> bool:
@@ -145,7 +152,7 @@ def compile_interrupted() -> bool:
 
 def compile_log() -> Path:
     """This process's log of compile times (`COMPILE_LOG_ENV`)."""
-    return Path(tempfile.gettempdir()) / f"pressocp-compile-seconds-{os.getpid()}"
+    return process_file("seconds")
 
 
 def compile_seconds() -> float:
@@ -160,7 +167,7 @@ def compile_seconds() -> float:
 
 def compile_status_log() -> Path:
     """This process's log of its compile commands' exit codes (`COMPILE_STATUS_ENV`)."""
-    return Path(tempfile.gettempdir()) / f"pressocp-compile-status-{os.getpid()}"
+    return process_file("status")
 
 
 def compile_statuses() -> list[int]:
