@@ -33,7 +33,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import pandas as pd  # noqa: E402
 
 import pressocp as po  # noqa: E402
-from pressocp.plots import plot_sweep, plot_tornado, plot_wear, save  # noqa: E402
+from pressocp.plots import key_values, plot_sweep, plot_tornado, plot_wear, save  # noqa: E402
 from pressocp.studies import wear_study  # noqa: E402
 from goals import GOAL_FLOOR_RATIO  # noqa: E402
 
@@ -84,7 +84,8 @@ def optima_figure(table, case: str) -> None:
                      else f"75 spm scenario: optima against {key}")
     ax = fig.axes[0]
     ok = table[table["ok"].astype(bool)].sort_values(key)
-    ax.plot(ok[key], GOAL_FLOOR_RATIO * ok["rigid_peak_torque_N_m"], "--", color="tab:red", lw=0.8,
+    x = key_values(key, ok[key], table[key])  # in the axis's unit, as plot_sweep draws the points
+    ax.plot(x, GOAL_FLOOR_RATIO * ok["rigid_peak_torque_N_m"], "--", color="tab:red", lw=0.8,
             label=f"goal: {GOAL_FLOOR_RATIO:.2f} × floor")
     ax.legend(fontsize=7)
     save(fig, OUT / f"study_{case}.png")
