@@ -177,3 +177,48 @@ def test_a_grid_is_refined_twice_up_to_the_finest():
     assert tr.refined(0.8).refined(0.8).elements == 1600 and tr.refined(0.8).refined(0.8).refined(0.8) is None
     assert Collocation().grid(0.05).elements == 100 and Collocation().refined(0.05) is None
     assert Collocation().grid(0.8, "flexible").elements == 1600 and Collocation().refined(0.8, "flexible") is None
+
+
+@pytest.mark.parametrize("d", [1, 2, 3, 4])
+def test_a_coarse_grids_states_are_carried_exactly_where_they_are_polynomials(d):
+    """Each element of the coarse grid holds its own polynomial of degree d (random coefficients): its
+    values at the coarse points, carried to an even split of the grid, equal the polynomials evaluated
+    at the fine points (numpy's polyval, not the Lagrange basis of the code under test)."""
+    rng, leg = np.random.default_rng(d), np.polynomial.legendre.Legendre
+    coarse = CollocationGrid(0.8, 7, d)
+    coefficients = rng.normal(size=(2, coarse.elements, d + 1))  # 2 rows, per element, highest power first
+
+    tau = np.concatenate([[0.0], (np.sort((leg.basis(d) - leg.basis(d - 1)).roots().real) + 1) / 2])  # Radau IIA
+
+    def values(split: int) -> np.ndarray:
+        """The polynomials at the points of the grid of `split` x the elements: point j of fine element m
+        lies in coarse element m // split, at local time (m % split + tau_j) / split."""
+        out = [[np.polyval(coefficients[r, m // split], (m % split + t) / split)
+                for m in range(split * coarse.elements) for t in tau] for r in range(2)]
+        return np.array(out)
+
+    for split in (2, 3):
+        fine = CollocationGrid(0.8, split * coarse.elements, d)
+        np.testing.assert_allclose(coarse.interpolate(values(1), fine), values(split), atol=1e-11)
+    assert coarse.interpolate(values(1), CollocationGrid(0.8, 10, d)) is None  # 10 is no split of 7
+    assert coarse.interpolate(values(1), CollocationGrid(0.8, 14, d % 4 + 1)) is None  # another degree
+
+
+def test_a_refined_grid_starts_at_the_coarse_solutions_states_and_converges():
+    """The smooth clearance case solved on 100 elements, then on 200 from that solution: the finer
+    stage starts at the carried states (no simulation), their collocation defect is small (the
+    defect of the re-simulated response at 200 elements is the yardstick), and it converges to an
+    optimum whose re-simulation confirms its peak."""
+    model = build_model(SMOOTH.press, n_harmonics=4)
+    rig = Rigid(samples=200).solve(SMOOTH, model)
+    coarse = Collocation(elements=100, jit=False).solve(SMOOTH, model, WarmStart(rig.speed))
+    assert coarse.success and coarse.nlp is not None, coarse.status
+    fine = Collocation(elements=200, jit=False).solve(SMOOTH, model, WarmStart(coarse.speed, point=coarse.nlp))
+    assert fine.details.get("interpolated_from_elements") == 100 and "periodic_warm_start" not in fine.details
+    x0, _ = periodic_state(model, coarse.speed, integrator=Integrator(method="cvodes", rtol=1e-10))
+    grid = CollocationGrid(SMOOTH.period, 200, 3)
+    simulated = collocation_defect(model, coarse.speed, states_at(model, coarse.speed, x0, grid.points, 1e-10), grid)
+    assert fine.details["defect_start"] < 10.0 * simulated + 1e-6, (fine.details["defect_start"], simulated)
+    assert fine.success, fine.status
+    sim = verify_speed(model, fine.speed, 1e-9)
+    assert sim.peak("torque") == pytest.approx(fine.objective, rel=5e-3)
