@@ -33,7 +33,7 @@ from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
 from ..speed import FourierSpeed
 from .nlp import Constraints, UniformPartition, crank_motion, crank_scale, scaled_crank_start, tie
-from .stage import NlpPoint, StageResult, WarmStart
+from .stage import StageResult, WarmStart
 from .states import (StageRun, StateNlp, StateSettings, check_states, keep_contact, sample_outputs, solve_states,
                      warm_states)
 
@@ -119,26 +119,6 @@ class CollocationGrid(UniformPartition):
         """Times of the Radau points (where the loads are sampled), element by element, s."""
         return self.points[self.radau]
 
-    def interpolate(self, states: np.ndarray, finer: "CollocationGrid") -> np.ndarray | None:
-        """`states` (rows x `points`) carried to the points of `finer` by this grid's collocation
-        polynomials (each element's degree-d polynomial through its start and Radau values); None when
-        `finer` is not this grid split evenly (same period and degree, a multiple of the elements).
-        Exact for states polynomial of degree d in each of this grid's elements."""
-        if finer.degree != self.degree or finer.elements % self.elements or finer.period != self.period:
-            return None
-        tau = radau_matrices(self.degree)[0]
-        split = finer.elements // self.elements
-        m = np.repeat(np.arange(finer.elements), tau.size)  # each fine point's element, and in it:
-        k, s = m // split, (m % split + np.tile(tau, finer.elements)) / split  # its coarse element, local time
-        basis = np.ones((tau.size, s.size))
-        for j in range(tau.size):
-            for m in range(tau.size):
-                if m != j:
-                    basis[j] *= (s - tau[m]) / (tau[j] - tau[m])
-        values = np.asarray(states, float).reshape(-1, self.points.size)[:, :, None]
-        nodes = k[:, None] * (self.degree + 1) + np.arange(tau.size)[None, :]  # each fine point's element nodes
-        return np.einsum("rpj,jp->rp", values[:, nodes, 0], basis)
-
     def layout(self, nx: int, nw: int) -> tuple[np.ndarray, np.ndarray]:
         """Positions in one variable vector of a state (nx rows) at every point and of nw more
         variables at every Radau point, stored point by point: (nx x K(d+1), nw x Kd) indices.
@@ -149,24 +129,6 @@ class CollocationGrid(UniformPartition):
         zi = first.ravel()[None, :] + np.arange(nx)[:, None]
         wi = first[:, 1:].ravel()[None, :] + nx + np.arange(nw)[:, None]
         return zi, wi
-
-
-def point_states(point: NlpPoint, nx: int, n_harmonics: int) -> np.ndarray:
-    """The scaled states (nx x the points of its grid) of a collocation NLP's solution."""
-    grid = CollocationGrid(1.0, *point.grid)
-    return point.w[2 * n_harmonics + 1 :][grid.layout(nx, 3)[0]]
-
-
-def carried_states(point: NlpPoint | None, grid: CollocationGrid, nx: int, n_harmonics: int) -> np.ndarray | None:
-    """A collocation solution's scaled states carried to `grid` (`CollocationGrid.interpolate`): None
-    when `point` is not a collocation solution on a grid that `grid` splits evenly."""
-    g = None if point is None else point.grid
-    if not (isinstance(g, tuple) and len(g) == 2 and all(isinstance(v, (int, np.integer)) for v in g)):
-        return None
-    coarse = CollocationGrid(grid.period, int(g[0]), int(g[1]))
-    if coarse.elements >= grid.elements:
-        return None
-    return coarse.interpolate(point_states(point, nx, n_harmonics), grid)
 
 
 def point_function(model: PressModel, names: tuple[str, ...], jit: bool = False) -> ca.Function:
@@ -340,10 +302,8 @@ class Collocation(StateSettings):
 
     def solve(self, problem: SpeedProblem, model: PressModel, start: WarmStart, name: str = "target",
               progress: bool = False, *, states: np.ndarray | None = None) -> StageResult:
-        """One collocation stage on `model`, warm-started at the start speed's periodic response, or at
-        `states` (scaled, nx x the grid's points) when given, or at ``start.point``: with its
-        multipliers when on this grid, its states carried by their collocation polynomials when on a
-        grid this one splits evenly (`CollocationGrid.interpolate`; no simulation either way). A model that carries press
+        """One collocation stage on `model`, warm-started at the start speed's periodic response (or
+        at `states`, scaled, nx x the grid's points, when given). A model that carries press
         parameters (``build_model(..., parameters=...)``) puts them into the NLP's p, and the stage
         holds the NLP at its solution (``StageResult.point``)."""
         check_states(problem, model)
@@ -355,15 +315,12 @@ class Collocation(StateSettings):
         c = ca.MX.sym("c", 2 * n)
         zi, wi = grid.layout(model.nx, 3)
         point = start.point if start.point is not None and start.point.grid == (K, d) else None
-        coarse = None if point is not None else carried_states(start.point, grid, model.nx, n)
         if states is not None:
             warm = {"periodic_warm_start": False, "reason": "states given"}
-        elif coarse is not None:  # a coarser grid's solution: its state polynomials, no simulation
-            states, warm = coarse, {"interpolated_from_elements": start.point.grid[0]}
         elif point is None:
             states, warm = warm_states(model, start, grid.points, 1e-9)
         else:  # the same NLP's solution: its states, and no simulation
-            states, warm = point_states(point, model.nx, n), {"primal_dual_warm_start": True}
+            states, warm = point.w[2 * n + 1 :][zi], {"primal_dual_warm_start": True}
         X = ca.MX.sym("X", zi.size + wi.size)
         Z, Wv = X[zi.ravel(order="F").tolist()].reshape(zi.shape), X[wi.ravel(order="F").tolist()].reshape(wi.shape)
         W = Wv * ca.DM(crank_scale(T))

@@ -62,8 +62,6 @@ class WarmStart:
     point : NlpPoint, optional
         A solution of the same NLP with its multipliers: a transcription on the same grid starts
         there, primal and dual (no simulation, and IPOPT stays at that optimum when nothing moved).
-        Collocation on a finer grid (an even split of the point's) starts at the point's states
-        carried by its collocation polynomials, without multipliers.
     """
 
     speed: FourierSpeed
