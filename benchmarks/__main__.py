@@ -199,6 +199,21 @@ def load_runs() -> dict:
     return json.loads(RUNS.read_text()) if RUNS.exists() else {}
 
 
+def latest_total(runs: dict, jobs: tuple[Job, ...] | list[Job]) -> str:
+    """What the latest run of each of `jobs` adds up to: an estimate of one run of them all (the
+    runs may come from different days and machines, which it names), without the runner's own
+    calibrations."""
+    done = [runs[j.name] for j in jobs if j.name in runs]
+    if not done:
+        return f"none of the {len(jobs)} benchmarks has run yet"
+    dates = sorted(r["date"][:10] for r in done)
+    platforms = sorted({r.get("platform", r["machine"]) for r in done})
+    span = dates[0] if dates[0] == dates[-1] else f"{dates[0]} to {dates[-1]}"
+    return (f"the latest runs of {len(done)} of the {len(jobs)} benchmarks add up to "
+            f"{sum(r['wall_time_s'] for r in done) / 60:.0f} min (budgets {sum(j.minutes for j in jobs):g} min; "
+            f"run {span}, on {len(platforms)} machine{'s' if len(platforms) > 1 else ''}: {', '.join(platforms)})")
+
+
 def table(runs: dict) -> str:
     """The markdown table of the latest run of each benchmark, in `JOBS` order."""
     lines = []
@@ -208,6 +223,8 @@ def table(runs: dict) -> str:
         lines += [f"Last run of the whole suite: {suite['date']} on {suite['machine']} ({suite['cpus']} CPUs), "
                   f"{suite['jobs']} benchmarks in **{suite['wall_time_s'] / 60:.0f} min** "
                   f"(budgets {suite['budget_min']:g} min); failed or over budget: {failed}.", ""]
+    suite_jobs = [j for j in JOBS if not j.archive]
+    lines += [f"Suite: {latest_total(runs, suite_jobs)}.", ""]
     lines += ["| benchmark | command | date | machine (CPUs) | wall time | status | files refreshed |",
               "|---|---|---|---|---|---|---|"]
     for job in JOBS:
@@ -321,9 +338,12 @@ def main(argv: list[str] | None = None) -> int:
             and j.name not in args.skip]
     whole = args.only is None and not args.skip and not args.archive
     if args.list or args.dry_run:
+        runs = load_runs()
         for j in jobs:
-            print(f"{j.name:28s} {j.minutes:>4g} min  {' '.join([j.script, *j.args])}  ({j.what})")
-        print(f"{len(jobs)} benchmarks, budgets {sum(j.minutes for j in jobs):g} min on 2 cores")
+            r = runs.get(j.name)
+            last = f"last {r['wall_time_s'] / 60:5.1f} min {r['date'][:10]}" if r else "not run yet        "
+            print(f"{j.name:28s} {j.minutes:>4g} min  {last}  {' '.join([j.script, *j.args])}  ({j.what})")
+        print(f"{len(jobs)} benchmarks on 2 cores: {latest_total(runs, jobs)}")
         return 0
     failed, started, wall0 = [], stamp(), time.perf_counter()
     for j in jobs:

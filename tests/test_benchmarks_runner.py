@@ -19,7 +19,7 @@ def test_every_benchmark_script_exists():
         assert (ROOT / "benchmarks" / job.script).is_file(), job.script
 
 
-def test_runs_are_recorded_and_the_table_rewritten(tmp_path, monkeypatch):
+def test_runs_are_recorded_and_the_table_rewritten(tmp_path, monkeypatch, capsys):
     results = tmp_path / "results"
     results.mkdir()
     readme = tmp_path / "README.md"
@@ -56,6 +56,8 @@ def test_runs_are_recorded_and_the_table_rewritten(tmp_path, monkeypatch):
     assert text.count(runner.BEGIN) == 1 and "**failed (3)**" in text and "`x.json`" in text
     assert text.count(runner.goal_status.BEGIN) == 1 and "| #28 |" in text  # the goals, from tmp_path's results
     assert (results / "logs" / "ok.log").exists()
+    total = sum(runs[k]["wall_time_s"] for k in ("ok", "bad", "same")) / 60  # the archived job is left out
+    assert f"Suite: the latest runs of 3 of the 3 benchmarks add up to {total:.0f} min (budgets 0.3 min; run " in text
     assert runner.main(["--only", "ok"]) == 0  # rewritten in place, the failed run still listed
     again = readme.read_text()
     assert again.count(runner.BEGIN) == 1 and "**failed (3)**" in again
@@ -64,6 +66,11 @@ def test_runs_are_recorded_and_the_table_rewritten(tmp_path, monkeypatch):
     assert runner.main(["--archive"]) == 0 and (results / "a.json").exists()
     runs = json.loads((results / "runs.json").read_text())
     assert runs["arch"]["exit_status"] == 0 and runs[runner.SUITE] == suite
+    capsys.readouterr()
+    assert runner.main(["--list"]) == 0  # each job's latest run, and what they add up to
+    listed = capsys.readouterr().out
+    assert "not run yet" not in listed and listed.count("last ") == 3
+    assert "3 benchmarks on 2 cores: the latest runs of 3 of the 3 benchmarks add up to" in listed
     runs["bad"]["note"] = "stopped by hand"
     assert "**failed (3)**: stopped by hand |" in runner.table(runs)
 
