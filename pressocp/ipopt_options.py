@@ -39,6 +39,15 @@ IPOPT_WARM_START = {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-7,
                     "ipopt.warm_start_bound_frac": 1e-9, "ipopt.warm_start_slack_bound_push": 1e-9,
                     "ipopt.warm_start_slack_bound_frac": 1e-9, "ipopt.warm_start_mult_bound_push": 1e-9}
 
+#: IPOPT options of a primal-dual warm start from a coarser grid's solution carried to a finer one
+#: (`pressocp.ocp.prolong`): `IPOPT_WARM_START` with the collocation NLP's own initial barrier
+#: parameter. The carried states do not meet the finer grid's collocation equations (scaled
+#: infeasibility 0.3-0.8 on the 75 spm seed with 0.02 mm clearances), and at mu = 1e-7 IPOPT went
+#: through restoration phases: two refined stages took 130 and 195 iterations at 1e-7, 81 and 101 at
+#: 1e-5, 184 at 1e-3, and 200 (not converged) and 110 from the re-simulated response without
+#: multipliers (docs/decisions/2026-11-29-refined-multipliers.md).
+IPOPT_CARRIED_START = {**IPOPT_WARM_START, "ipopt.mu_init": 1e-5}
+
 #: IPOPT options of the collocation NLP on top of `IPOPT_WARM`: the exact Hessian, zero initial
 #: constraint multipliers instead of IPOPT's least-squares estimate (an extra linear solve that
 #: changed nothing), no MUMPS scaling (its automatic choice made every linear solve dearer) and an

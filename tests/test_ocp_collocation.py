@@ -171,6 +171,43 @@ def test_primal_dual_warm_start_stays_at_the_optimum_and_follows_tightened_bound
     assert np.max(np.abs(v[band] - SMOOTH.ram_speed)) <= SMOOTH.tol * (1 + 1e-6)
 
 
+@pytest.mark.parametrize("d", [1, 2, 3, 4])
+def test_a_coarse_grids_states_are_carried_exactly_where_they_are_polynomials(d):
+    """Each element of the coarse grid holds its own polynomial of degree d (random coefficients): its
+    values at the coarse points, carried to an even split of the grid, equal the polynomials evaluated
+    at the fine points (numpy's polyval, not the Lagrange basis of the code under test)."""
+    rng, leg = np.random.default_rng(d), np.polynomial.legendre.Legendre
+    coarse = CollocationGrid(0.8, 7, d)
+    coefficients = rng.normal(size=(2, coarse.elements, d + 1))  # 2 rows, per element, highest power first
+
+    tau = np.concatenate([[0.0], (np.sort((leg.basis(d) - leg.basis(d - 1)).roots().real) + 1) / 2])  # Radau IIA
+
+    def values(split: int) -> np.ndarray:
+        """The polynomials at the points of the grid of `split` x the elements: point j of fine element m
+        lies in coarse element m // split, at local time (m % split + tau_j) / split."""
+        out = [[np.polyval(coefficients[r, m // split], (m % split + t) / split)
+                for m in range(split * coarse.elements) for t in tau] for r in range(2)]
+        return np.array(out)
+
+    for split in (2, 3):
+        fine = CollocationGrid(0.8, split * coarse.elements, d)
+        np.testing.assert_allclose(coarse.interpolate(values(1), fine), values(split), atol=1e-11)
+    for other in (CollocationGrid(0.8, 10, d), CollocationGrid(0.8, 14, d % 4 + 1), CollocationGrid(0.9, 14, d)):
+        assert not coarse.splits(other)  # 10 is no split of 7; another degree; another period
+        with pytest.raises(ValueError, match="no even split"):
+            coarse.interpolate(values(1), other)
+
+
+def test_radau_weights_integrate_polynomials_of_degree_2d_minus_2_exactly():
+    """h b_r over the grid integrate t^k exactly for k <= 2d - 2 (Radau quadrature, of order 2d - 1),
+    against the antiderivative, and not t^(2d - 1) on one element."""
+    g = CollocationGrid(0.8, 5, 3)
+    for k in range(5):
+        assert g.weights @ g.times**k == pytest.approx(0.8 ** (k + 1) / (k + 1), rel=1e-12)
+    one = CollocationGrid(1.0, 1, 3)
+    assert one.weights @ one.times**5 != pytest.approx(1 / 6, rel=1e-6)
+
+
 def test_a_grid_is_refined_twice_up_to_the_finest():
     tr = Collocation()
     assert tr.grid(0.8).elements == 400 and tr.refined(0.8).elements == 800

@@ -33,7 +33,8 @@ from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
 from ..speed import FourierSpeed
 from .nlp import Constraints, UniformPartition, crank_motion, crank_scale, scaled_crank_start, tie
-from .stage import StageResult, WarmStart
+from .prolong import Samples, carried_multipliers
+from .stage import NlpPoint, StageResult, WarmStart
 from .states import (StageRun, StateNlp, StateSettings, check_states, keep_contact, sample_outputs, solve_states,
                      warm_states)
 
@@ -119,6 +120,42 @@ class CollocationGrid(UniformPartition):
         """Times of the Radau points (where the loads are sampled), element by element, s."""
         return self.points[self.radau]
 
+    @property
+    def weights(self) -> np.ndarray:
+        """Quadrature weights h b_r of the Radau points (`times`), s: the Radau IIA weights are the
+        collocation polynomial's integrals, the last row of A (`casadi.collocation_coeff`'s B)."""
+        _, _, B = ca.collocation_coeff(ca.collocation_points(self.degree, "radau"))
+        return self.h * np.tile(np.asarray(B, float).ravel(), self.elements)
+
+    def splits(self, finer: "CollocationGrid") -> bool:
+        """Whether `finer` is this grid with each element cut into equal parts (same period and degree)."""
+        return (finer.degree == self.degree and finer.period == self.period and finer.elements > self.elements
+                and finer.elements % self.elements == 0)
+
+    def interpolate(self, states: np.ndarray, finer: "CollocationGrid") -> np.ndarray:
+        """`states` (rows x `points`) carried to the points of `finer`, an even split of this grid
+        (`splits`), by this grid's collocation polynomials (each element's degree-d polynomial through
+        its start and Radau values). Exact for states polynomial of degree d in each element."""
+        if not self.splits(finer):
+            raise ValueError(f"a grid of {finer.elements} elements of degree {finer.degree} is no even split of "
+                             f"{self.elements} elements of degree {self.degree}")
+        tau = radau_matrices(self.degree)[0]
+        split = finer.elements // self.elements
+        m = np.repeat(np.arange(finer.elements), tau.size)  # each fine point's element, and in it:
+        k, s = m // split, (m % split + np.tile(tau, finer.elements)) / split  # its coarse element, local time
+        basis = np.ones((tau.size, s.size))
+        for j in range(tau.size):
+            for i in range(tau.size):
+                if i != j:
+                    basis[j] *= (s - tau[i]) / (tau[j] - tau[i])
+        values = np.asarray(states, float).reshape(-1, self.points.size)
+        nodes = k[:, None] * (self.degree + 1) + np.arange(tau.size)[None, :]  # each fine point's element nodes
+        return np.einsum("rpj,jp->rp", values[:, nodes], basis)
+
+    def samples(self, band: np.ndarray) -> Samples:
+        """Where this grid's constraint rows lie (`pressocp.ocp.prolong`), the ram speed held at `band`."""
+        return Samples(self.period, self.times, self.weights, self.h, np.asarray(band, int))
+
     def layout(self, nx: int, nw: int) -> tuple[np.ndarray, np.ndarray]:
         """Positions in one variable vector of a state (nx rows) at every point and of nw more
         variables at every Radau point, stored point by point: (nx x K(d+1), nw x Kd) indices.
@@ -129,6 +166,15 @@ class CollocationGrid(UniformPartition):
         zi = first.ravel()[None, :] + np.arange(nx)[:, None]
         wi = first[:, 1:].ravel()[None, :] + nx + np.arange(nw)[:, None]
         return zi, wi
+
+
+def coarser(point: NlpPoint | None, grid: CollocationGrid) -> CollocationGrid | None:
+    """The grid of a collocation solution `point` when `grid` splits it evenly, else None."""
+    g = None if point is None else point.grid
+    if not (isinstance(g, tuple) and len(g) == 2 and all(isinstance(v, (int, np.integer)) for v in g)):
+        return None
+    coarse = CollocationGrid(grid.period, int(g[0]), int(g[1]))
+    return coarse if coarse.splits(grid) else None
 
 
 def point_function(model: PressModel, names: tuple[str, ...], jit: bool = False) -> ca.Function:
@@ -302,10 +348,13 @@ class Collocation(StateSettings):
 
     def solve(self, problem: SpeedProblem, model: PressModel, start: WarmStart, name: str = "target",
               progress: bool = False, *, states: np.ndarray | None = None) -> StageResult:
-        """One collocation stage on `model`, warm-started at the start speed's periodic response (or
-        at `states`, scaled, nx x the grid's points, when given). A model that carries press
-        parameters (``build_model(..., parameters=...)``) puts them into the NLP's p, and the stage
-        holds the NLP at its solution (``StageResult.point``)."""
+        """One collocation stage on `model`, warm-started at the start speed's periodic response, or at
+        `states` (scaled, nx x the grid's points) when given, or at ``start.point``, a solution of
+        this NLP on this grid or on a grid this one splits evenly: there its states are carried by
+        their collocation polynomials (`CollocationGrid.interpolate`) and its multipliers group by
+        group (`pressocp.ocp.prolong`), a primal-dual warm start either way, with no simulation. A
+        model that carries press parameters (``build_model(..., parameters=...)``) puts them into the
+        NLP's p, and the stage holds the NLP at its solution (``StageResult.point``)."""
         check_states(problem, model)
         grid = self.grid(problem.period, model.rod)
         K, d, n, T = grid.elements, grid.degree, problem.n_harmonics, problem.period
@@ -315,8 +364,18 @@ class Collocation(StateSettings):
         c = ca.MX.sym("c", 2 * n)
         zi, wi = grid.layout(model.nx, 3)
         point = start.point if start.point is not None and start.point.grid == (K, d) else None
+        coarse = None if point is not None or states is not None else coarser(start.point, grid)
+        carry = None
         if states is not None:
             warm = {"periodic_warm_start": False, "reason": "states given"}
+        elif coarse is not None:  # a coarser grid's solution: its polynomials and multipliers, no simulation
+            point = start.point
+            states = coarse.interpolate(point.w[2 * n + 1 :][coarse.layout(model.nx, 3)[0]], grid)
+            warm = {"carried_from_elements": coarse.elements}
+
+            def carry(groups: list, band: np.ndarray) -> tuple[np.ndarray | None, str]:
+                return carried_multipliers(point.groups, point.lam_g, coarse.samples(point.band), groups,
+                                           grid.samples(band))
         elif point is None:
             states, warm = warm_states(model, start, grid.points, 1e-9)
         else:  # the same NLP's solution: its states, and no simulation
@@ -349,7 +408,8 @@ class Collocation(StateSettings):
                        fixed=None if self.periodic else zi[:, 0],
                        parameters=None if q is None else (q, model.nominal), motion=W)
         run = StageRun(name, f"{name} ({K}x{d} radau{', jit' if jit else ''})", {**nlp_options(jit), **self.ipopt},
-                       progress, details, grid=(K, d), keep=model.functions if jit else None, warm=point)
+                       progress, details, grid=(K, d), keep=model.functions if jit else None, warm=point,
+                       carry=carry)
         r = solve_states(problem, model, start.speed, nlp, run, self)
         r.states = r.states[zi]
         r.settings = replace(self, elements=K).settings()  # the grid this stage solved on

@@ -543,8 +543,9 @@ class NlpData:
 
     ``parameters``: ``(q, values)``, a symbol the expressions depend on and its values (the NLP's p);
     the outcome then holds the `ParametricPoint`. ``multipliers``: ``(lam_x0, lam_g0)``, IPOPT's
-    multipliers at ``w0`` from a solve of the same NLP (other bounds allowed): a primal-dual warm
-    start with `IPOPT_WARM_START`."""
+    multipliers at ``w0`` from a solve of the same NLP (other bounds allowed) or carried from a coarser
+    grid's (`pressocp.ocp.prolong`): a primal-dual warm start with ``warm_options`` (default
+    `IPOPT_WARM_START`)."""
 
     w: Any
     f: Any
@@ -554,6 +555,7 @@ class NlpData:
     ubw: np.ndarray
     parameters: tuple | None = None
     multipliers: tuple[np.ndarray, np.ndarray] | None = None
+    warm_options: dict | None = None
 
 
 @dataclass
@@ -624,7 +626,8 @@ def solve_nlp(nlp: NlpData, run: NlpRun) -> NlpOutcome:
     warm = {} if multipliers is None else {"lam_x0": multipliers[0], "lam_g0": multipliers[1]}
     with compiling():  # compiled derivatives are built here
         solver = ca.nlpsol(name, "ipopt", {"x": w, "p": q, "f": f, "g": gall},
-                           {**options, **(IPOPT_WARM_START if warm else {}), "iteration_callback": cb})
+                           {**options, **((nlp.warm_options or IPOPT_WARM_START) if warm else {}),
+                            "iteration_callback": cb})
     build, compiled = time.perf_counter() - t0, compile_seconds() - c0
     if keep is not None:
         keep["solver"] = solver

@@ -39,6 +39,9 @@ class NlpPoint:
         The objective's scale in that NLP.
     grid : tuple
         The transcription's grid it belongs to (e.g. elements and degree).
+    groups : list of (name, first index, size)
+        The constraint groups (`pressocp.ocp.nlp.Constraints.groups`): where each group's
+        multipliers lie in ``lam_g``.
     """
 
     w: np.ndarray
@@ -47,6 +50,7 @@ class NlpPoint:
     band: np.ndarray
     scale: float
     grid: tuple
+    groups: list = field(default_factory=list)
 
 
 @dataclass
@@ -62,6 +66,8 @@ class WarmStart:
     point : NlpPoint, optional
         A solution of the same NLP with its multipliers: a transcription on the same grid starts
         there, primal and dual (no simulation, and IPOPT stays at that optimum when nothing moved).
+        Collocation on a finer grid (an even split of the point's) starts there too, its states and
+        multipliers carried to the finer grid (`pressocp.ocp.prolong`).
     """
 
     speed: FourierSpeed

@@ -5,7 +5,7 @@ into a `StageResult`."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -19,7 +19,7 @@ from ..problem import SpeedProblem
 from ..simulate import Integrator, SimulationError, integrate, periodic_orbit
 from ..speed import FourierSpeed
 from ..verify import settled_state
-from ..ipopt_options import IPOPT_WARM
+from ..ipopt_options import IPOPT_CARRIED_START, IPOPT_WARM
 from .nlp import (Constraints, NlpData, NlpRun, add_dense_speed_bounds, add_drive_limits, add_objective, add_pin_cap,
                   crank_motion, crank_rows, needed_outputs, objective_scale, parameter_symbols, solve_nlp, with_motor)
 from .stage import NlpPoint, StageResult, Transcription, WarmStart, settings_repr
@@ -216,7 +216,12 @@ class StageRun:
         Holds the solver afterwards (`solve_nlp`).
     warm : NlpPoint, optional
         A solution of this NLP (same grid): its variables, multipliers, window samples and objective
-        scale are taken instead of the start's, a primal-dual warm start.
+        scale are taken instead of the start's, a primal-dual warm start. On another grid (with
+        `carry`): its objective scale and epigraph value, and its multipliers through `carry`.
+    carry : callable, optional
+        ``(groups, band) -> (lam_g, why)``: `warm`'s constraint multipliers carried to this NLP's
+        layout (`Constraints.groups`, the ram speed held at the samples ``band``), or (None, the
+        reason) when they cannot be (`pressocp.ocp.prolong.carried_multipliers`).
     """
 
     name: str
@@ -227,6 +232,7 @@ class StageRun:
     grid: tuple = ()
     keep: dict | None = None
     warm: NlpPoint | None = None
+    carry: Callable | None = None
 
 
 def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, nlp: StateNlp, run: StageRun,
@@ -238,6 +244,7 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
     c, X, X0, y, y0, times, cons = nlp.c, nlp.X, nlp.X0, nlp.y, nlp.y0, nlp.times, nlp.cons
     fixed, coefficient_step, parameters = nlp.fixed, nlp.coefficient_step, nlp.parameters
     name, options, warm, grid = run.name, run.options, run.warm, run.grid
+    same = warm is not None and warm.grid == grid  # else a coarser grid's solution, carried by `run.carry`
     backoff, omega_samples = settings.backoff, settings.omega_samples
     P, T, n = problem, problem.period, problem.n_harmonics
     objective = get_objective(P.objective)
@@ -248,7 +255,7 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
         if warm is None else warm.scale
     y_objective = y if motion is None else with_motor(P, objective, y, motion[1, :], motion[2, :])
     f = add_objective(cons, objective, y_objective, s, scale, times, T)
-    inside = window_band(P, start, y0["ram_height"].ravel(), times) if warm is None else warm.band
+    inside = warm.band if same else window_band(P, start, y0["ram_height"].ravel(), times)
     add_window_samples(cons, P, y, inside, backoff)
     add_dense_speed_bounds(cons, P, c, omega_samples)
     add_pin_cap(cons, P, y)
@@ -264,9 +271,17 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
     if fixed is not None:
         k = 2 * n + 1 + np.asarray(fixed)
         lbw[k] = ubw[k] = w0[k]
-    if warm is not None:
-        w0 = np.asarray(warm.w, float)
-    out = solve_nlp(NlpData(w, f, cons, w0, lbw, ubw, parameters, None if warm is None else (warm.lam_x, warm.lam_g)),
+    multipliers = None
+    if same:
+        w0, multipliers = np.asarray(warm.w, float), (warm.lam_x, warm.lam_g)
+    elif warm is not None:
+        w0[2 * n] = warm.w[2 * n]  # the epigraph at the coarser grid's optimum, in the same scale
+        lam_g, why = run.carry(cons.groups, inside) if run.carry is not None else (None, "nothing carries them")
+        n_w = w.numel() + sum(v.numel() for v, _, _, _ in cons.lifted)
+        multipliers = None if lam_g is None else (np.zeros(n_w), lam_g)
+        run.details["multipliers_carried"] = True if lam_g is not None else why
+    out = solve_nlp(NlpData(w, f, cons, w0, lbw, ubw, parameters, multipliers,
+                            None if same else IPOPT_CARRIED_START),
                     NlpRun(name, {**IPOPT_WARM, **options}, objective, scale, run.desc, run.progress, run.keep))
     speed = FourierSpeed.from_coefficients(T, out.w[: 2 * n])
     q, q0 = parameter_symbols(parameters)
@@ -287,4 +302,4 @@ def solve_states(problem: SpeedProblem, model: PressModel, start: FourierSpeed, 
         timing=dict(out.timing),
         states=out.w[2 * n + 1 :], point=out.point,
         nlp=None if out.lam_x is None or not out.success else NlpPoint(out.w, out.lam_x, out.lam_g, inside, scale,
-                                                                         grid))
+                                                                         grid, list(cons.groups)))

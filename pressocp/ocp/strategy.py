@@ -622,8 +622,10 @@ class Strategy:
           the held share of the tolerance lowered by v/tol + `TIGHTEN_MARGIN` (``tightened``), started
           from the answer with its multipliers, so IPOPT moves only as far as the bounds did (stage
           ``{name}_tightened_k``; at most `MAX_TIGHTEN` times);
-        * otherwise, on a finer grid (``refined``) from the answer and its periodic state (stage
-          ``{name}_refined_k``), while the transcription has one.
+        * otherwise, on a finer grid (``refined``) from the answer (stage ``{name}_refined_k``), while
+          the transcription has one: collocation from the answer's states and multipliers carried
+          to the finer grid (`pressocp.ocp.prolong`), another transcription from the answer's
+          periodic state.
 
         Returns the stages (`first` included) and the transcription of the last one."""
         name, stages, tightened = first.name, [first], 0
@@ -647,7 +649,7 @@ class Strategy:
                     break
                 transcription = finer
                 x0 = sim.states[:, 0] / model.x_scale if is_periodic(sim) is True else None
-                label, warm = f"{name}_refined_{len(stages)}", WarmStart(last.speed, x0)
+                label, warm = f"{name}_refined_{len(stages)}", WarmStart(last.speed, x0, point=last.nlp)
             last.details["followed_by"] = f"{label}: {why}"
             stages.append(transcription.solve(problem, model, warm, label, progress))
         return stages, transcription
