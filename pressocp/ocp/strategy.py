@@ -625,7 +625,11 @@ class Strategy:
         * otherwise, on a finer grid (``refined``) from the answer (stage ``{name}_refined_k``), while
           the transcription has one: collocation from the answer's states and multipliers carried
           to the finer grid (`pressocp.ocp.prolong`), another transcription from the answer's
-          periodic state.
+          periodic state. When the carried start does not converge, the stage is solved again from
+          the answer's periodic state (``{name}_refined_k_resimulated``; the first is kept in the
+          record, marked ``superseded``): on the seed's hard scenes (pin caps, counterbalances) 7 of
+          20 refined stages stopped at their iteration limit from either start, not always the same
+          ones (docs/decisions/2026-11-29-refined-multipliers.md).
 
         Returns the stages (`first` included) and the transcription of the last one."""
         name, stages, tightened = first.name, [first], 0
@@ -651,7 +655,15 @@ class Strategy:
                 x0 = sim.states[:, 0] / model.x_scale if is_periodic(sim) is True else None
                 label, warm = f"{name}_refined_{len(stages)}", WarmStart(last.speed, x0, point=last.nlp)
             last.details["followed_by"] = f"{label}: {why}"
-            stages.append(transcription.solve(problem, model, warm, label, progress))
+            st = transcription.solve(problem, model, warm, label, progress)
+            if not st.success and "carried_from_elements" in st.details:
+                st.superseded = (f"it did not converge from {last.name}'s solution carried to the finer grid "
+                                 f"({st.status}); {label}_resimulated solved it again from the answer's "
+                                 f"periodic response")
+                stages.append(st)
+                st = transcription.solve(problem, model, WarmStart(last.speed, warm.x0), f"{label}_resimulated",
+                                         progress)
+            stages.append(st)
         return stages, transcription
 
     def check(self, model: PressModel, stage: StageResult, problem: SpeedProblem) -> Check:
