@@ -4,12 +4,20 @@ layout the map does not know refused with its reason, and a refined solve of the
 case started from the carried solution reaching the optimum of the same grid solved from the
 re-simulated response."""
 
+from dataclasses import dataclass
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
+import pressocp.ocp.strategy as strategy_module
 from pressocp import Collocation, PressParams, Rigid, SpeedProblem, WarmStart, build_model
+from pressocp.ocp import Transcription
 from pressocp.ocp.collocation import CollocationGrid
 from pressocp.ocp.prolong import carried_multipliers
+from pressocp.ocp.stage import NlpPoint, StageResult
+from pressocp.ocp.strategy import Strategy
+from pressocp.speed import FourierSpeed
 from pressocp.verify import verify_speed
 
 T = 0.8
@@ -104,3 +112,42 @@ def test_a_refined_solve_from_the_carried_solution_reaches_the_finer_grids_optim
     assert cold.success and "multipliers_carried" not in cold.details
     assert fine.objective == pytest.approx(cold.objective, rel=1e-4)
     assert verify_speed(model, fine.speed, 1e-9).peak("torque") == pytest.approx(fine.objective, rel=5e-3)
+
+
+def test_a_refined_stage_that_fails_from_the_carried_start_is_solved_again_from_the_periodic_response(monkeypatch):
+    """`Strategy.followed` with a stand-in transcription whose 20-element grid does not converge from
+    a carried start: that stage stays in the record, superseded, and the same grid is solved again
+    from the answer's periodic state; the next refinement starts from the new answer, carried."""
+    speed = FourierSpeed(1.0, np.array([2 * np.pi]), np.zeros(1))
+    calls = []
+
+    @dataclass(frozen=True)
+    class Halving(Transcription):
+        elements: int = 10
+
+        def refined(self, period, rod="rigid"):
+            return Halving(2 * self.elements) if self.elements < 40 else None
+
+        def solve(self, problem, model, start, name="target", progress=False):
+            carried = start.point is not None
+            calls.append((name, self.elements, carried, None if start.x0 is None else list(start.x0)))
+            ok = not (carried and self.elements == 20)
+            return StageResult(
+                name=name, transcription="Halving", model="m", success=ok,
+                status="Solve_Succeeded" if ok else "Maximum_Iterations_Exceeded", iterations=1, wall_time=0.0,
+                objective=1.0, speed=speed, last_speed=speed, t1=0.0,
+                details={"carried_from_elements": start.point.grid[0]} if carried else {},
+                nlp=NlpPoint(np.zeros(1), np.zeros(1), np.zeros(1), np.zeros(1, int), 1.0, (self.elements, 3)))
+
+    monkeypatch.setattr(Strategy, "verify_stage", lambda self, model, stage: SimpleNamespace(states=np.ones((2, 3))))
+    monkeypatch.setattr(Strategy, "grid_error", lambda self, stage, problem: ("re-simulated 2 against 1", 0.0))
+    monkeypatch.setattr(strategy_module, "is_periodic", lambda sim: True)
+    model, problem = SimpleNamespace(rod="rigid", x_scale=np.array([1.0, 2.0])), SimpleNamespace(period=1.0, tol=0.01)
+    first = Halving(10).solve(problem, model, WarmStart(speed), "target")
+    stages, last = Strategy().followed(problem, model, Halving(10), first, False)
+    assert [(s.name, s.success, bool(s.superseded)) for s in stages] == [
+        ("target", True, False), ("target_refined_1", False, True), ("target_refined_1_resimulated", True, False),
+        ("target_refined_2", True, False)]
+    assert calls[1:] == [("target_refined_1", 20, True, [1.0, 0.5]), ("target_refined_1_resimulated", 20, False, [1.0, 0.5]),
+                         ("target_refined_2", 40, True, [1.0, 0.5])]
+    assert "carried to the finer grid" in stages[1].superseded and last == Halving(40)

@@ -653,7 +653,8 @@ class Strategy:
                     break
                 transcription = finer
                 x0 = sim.states[:, 0] / model.x_scale if is_periodic(sim) is True else None
-                label, warm = f"{name}_refined_{len(stages)}", WarmStart(last.speed, x0, point=last.nlp)
+                k = sum(not s.superseded for s in stages)
+                label, warm = f"{name}_refined_{k}", WarmStart(last.speed, x0, point=last.nlp)
             last.details["followed_by"] = f"{label}: {why}"
             st = transcription.solve(problem, model, warm, label, progress)
             if not st.success and "carried_from_elements" in st.details:
