@@ -24,7 +24,7 @@ SMOOTH = SpeedProblem(PressParams(), period=1.0, ram_speed=-0.15, n_harmonics=4)
 
 @pytest.mark.parametrize("d", [1, 2, 3, 4])
 def test_radau_matrices_differentiate_and_extrapolate_polynomials_exactly(d):
-    tau, C, D = radau_matrices(d)
+    tau, C, D, _ = radau_matrices(d)
     assert tau[0] == 0.0 and tau[-1] == pytest.approx(1.0)
     # Radau IIA points: roots of P_d(2x-1) - P_{d-1}(2x-1) (Legendre), from numpy, not CasADi
     leg = np.polynomial.legendre.Legendre

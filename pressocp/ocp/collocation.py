@@ -57,8 +57,9 @@ def nlp_options(jit: bool) -> dict:
     return {**IPOPT_COLLOCATION, **oracle_options(jit)}
 
 
-def radau_matrices(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Collocation points and matrices of the Radau IIA scheme of `degree` d (`casadi.collocation_coeff`).
+def radau_matrices(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Collocation points, matrices and weights of the Radau IIA scheme of `degree` d
+    (`casadi.collocation_coeff`).
 
     Returns
     -------
@@ -69,11 +70,13 @@ def radau_matrices(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         ``sum_j C[j, r] x_j = h dx/dt(tau[r + 1])`` on an element of length h.
     D : ndarray, (d + 1,)
         Basis polynomials at 1: the element's end value is ``sum_j D[j] x_j``.
+    B : ndarray, (d,)
+        Quadrature weights b_r of the Radau points on [0, 1] (the last row of the Butcher matrix A).
     """
     d = chk.integer("degree", degree, 1, 9)
     points = ca.collocation_points(d, "radau")
-    C, D, _ = ca.collocation_coeff(points)
-    return np.append(0.0, points), np.array(C), np.array(D).ravel()
+    C, D, B = ca.collocation_coeff(points)
+    return np.append(0.0, points), np.array(C), np.array(D).ravel(), np.array(B).ravel()
 
 
 @dataclass(frozen=True)
@@ -122,10 +125,8 @@ class CollocationGrid(UniformPartition):
 
     @property
     def weights(self) -> np.ndarray:
-        """Quadrature weights h b_r of the Radau points (`times`), s: the Radau IIA weights are the
-        collocation polynomial's integrals, the last row of A (`casadi.collocation_coeff`'s B)."""
-        _, _, B = ca.collocation_coeff(ca.collocation_points(self.degree, "radau"))
-        return self.h * np.tile(np.asarray(B, float).ravel(), self.elements)
+        """Quadrature weights h b_r of the Radau points (`times`), s (`radau_matrices`)."""
+        return self.h * np.tile(radau_matrices(self.degree)[3], self.elements)
 
     def splits(self, finer: "CollocationGrid") -> bool:
         """Whether `finer` is this grid with each element cut into equal parts (same period and degree)."""
@@ -220,7 +221,7 @@ def collocation_residuals(model: PressModel, grid: CollocationGrid, names: tuple
         ``sum_j C[j, r] x_j - h f(x_r, crank_r)`` per Radau point, the end value of each element and
         the outputs at the Radau points.
     """
-    _, C, D = radau_matrices(grid.degree)
+    _, C, D, _ = radau_matrices(grid.degree)
     K, d = grid.elements, grid.degree
     X = X if isinstance(X, ca.MX) else ca.DM(np.asarray(X, float))
     crank = crank if isinstance(crank, ca.MX) else ca.DM(np.asarray(crank, float))
