@@ -125,7 +125,7 @@ def test_a_refined_stage_that_fails_from_the_carried_start_is_solved_again_from_
     class Halving(Transcription):
         elements: int = 10
 
-        def refined(self, period, rod="rigid"):
+        def refined(self, period, rod="rigid", where=None):
             return Halving(2 * self.elements) if self.elements < 40 else None
 
         def solve(self, problem, model, start, name="target", progress=False):

@@ -15,6 +15,7 @@ from pressocp.ocp import Transcription, transcription_from
 @pytest.mark.parametrize("tr", [
     po.Rigid(), po.Rigid(samples=400, backoff=0.8, ipopt={"ipopt.max_iter": 7}, jit=False),
     po.Collocation(), po.Collocation(200, 2, jit=False, min_eccentricity=None, backoff=0.9, periodic=False),
+    po.Collocation(edges=(0, 0.1, 0.15, 0.2, 0.3, 0.4, 0.45, 0.5, 0.6, 0.7, 0.8, 0.9), refinement="uniform"),
     po.MultipleShooting("cvodes", intervals=8, coefficient_step=0.5),
 ])
 def test_settings_are_plain_data_that_rebuild_the_transcription(tr):

@@ -31,12 +31,13 @@ from ..interrupt import compiling
 from ..ipopt_options import IPOPT_COLLOCATION, IPOPT_RESCALED
 from ..model import OUTPUT_NAMES, PressModel
 from ..problem import SpeedProblem
+from ..simulate import for_repeated_use
 from ..speed import FourierSpeed
 from .nlp import Constraints, UniformPartition, crank_motion, crank_scale, scaled_crank_start, tie
 from .prolong import Samples, carried_multipliers
-from .stage import NlpPoint, StageResult, WarmStart
+from .stage import NlpPoint, Resimulated, StageResult, WarmStart
 from .states import (StageRun, StateNlp, StateSettings, check_states, keep_contact, sample_outputs, solve_states,
-                     warm_states)
+                     states_at, warm_states)
 
 #: Elements per second of period of the first grid, by rod (at least `MIN_ELEMENTS`). Rigid rod: 2 ms
 #: elements; on the 75 spm case (400 elements) the optimum re-simulates within 0.7 % of the NLP's peak,
@@ -81,7 +82,7 @@ def radau_matrices(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.
 
 @dataclass(frozen=True)
 class CollocationGrid(UniformPartition):
-    """K equal elements of Radau degree d over one period.
+    """K elements of Radau degree d over one period: equal ones, or those starting at `edges`.
 
     Attributes
     ----------
@@ -91,26 +92,46 @@ class CollocationGrid(UniformPartition):
         K.
     degree : int
         d (3: order 5).
+    edges : tuple of float or None
+        Start of each element as a fraction of the period (K values, the first 0, increasing, all
+        below 1); None: K equal elements. A local refinement (`Collocation.refined`) makes them.
     """
 
     period: float
     elements: int
     degree: int = 3
+    edges: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         chk.positive("period", self.period, "s")
         chk.integer("elements", self.elements, 1, 100_000)
         chk.integer("degree", self.degree, 1, 9)
+        if self.edges is not None:
+            object.__setattr__(self, "edges", check_edges(self.edges, self.elements))
 
     @property
     def pieces(self) -> int:
         return self.elements
 
     @property
+    def starts(self) -> np.ndarray:
+        """Start times of the elements, s."""
+        return super().starts if self.edges is None else self.period * np.asarray(self.edges)
+
+    @property
+    def lengths(self) -> np.ndarray:
+        """Length of each element, s."""
+        if self.edges is None:
+            return np.full(self.elements, self.h)
+        return self.period * np.diff(np.append(np.asarray(self.edges), 1.0))
+
+    @property
     def points(self) -> np.ndarray:
         """Times of every state value, element by element (start, then the d Radau points), s."""
         tau = radau_matrices(self.degree)[0]
-        return (self.starts[:, None] + self.h * tau[None, :]).ravel()
+        if self.edges is None:
+            return (self.starts[:, None] + self.h * tau[None, :]).ravel()
+        return (self.starts[:, None] + self.lengths[:, None] * tau[None, :]).ravel()
 
     @property
     def radau(self) -> list[int]:
@@ -126,24 +147,35 @@ class CollocationGrid(UniformPartition):
     @property
     def weights(self) -> np.ndarray:
         """Quadrature weights h b_r of the Radau points (`times`), s (`radau_matrices`)."""
-        return self.h * np.tile(radau_matrices(self.degree)[3], self.elements)
+        return np.repeat(self.lengths, self.degree) * np.tile(radau_matrices(self.degree)[3], self.elements)
+
+    @property
+    def key(self) -> tuple:
+        """The grid as plain data (`NlpPoint.grid`): (K, d), and the edges when they are not equal."""
+        return (self.elements, self.degree) if self.edges is None else (self.elements, self.degree, self.edges)
 
     def splits(self, finer: "CollocationGrid") -> bool:
-        """Whether `finer` is this grid with each element cut into equal parts (same period and degree)."""
-        return (finer.degree == self.degree and finer.period == self.period and finer.elements > self.elements
-                and finer.elements % self.elements == 0)
+        """Whether `finer` is this grid with elements cut (same period and degree, more elements, and
+        every element start of this grid one of `finer`'s)."""
+        if finer.degree != self.degree or finer.period != self.period or finer.elements <= self.elements:
+            return False
+        mine, theirs = self.starts / self.period, finer.starts / finer.period
+        at = np.clip(np.searchsorted(theirs, mine - 1e-12), 0, theirs.size - 1)
+        return bool(np.all(np.abs(theirs[at] - mine) <= 1e-9))
 
     def interpolate(self, states: np.ndarray, finer: "CollocationGrid") -> np.ndarray:
-        """`states` (rows x `points`) carried to the points of `finer`, an even split of this grid
+        """`states` (rows x `points`) carried to the points of `finer`, this grid with elements cut
         (`splits`), by this grid's collocation polynomials (each element's degree-d polynomial through
         its start and Radau values). Exact for states polynomial of degree d in each element."""
         if not self.splits(finer):
-            raise ValueError(f"a grid of {finer.elements} elements of degree {finer.degree} is no even split of "
-                             f"{self.elements} elements of degree {self.degree}")
+            raise ValueError(f"a grid of {finer.elements} elements of degree {finer.degree} does not cut the "
+                             f"{self.elements} elements of degree {self.degree} of this one")
         tau = radau_matrices(self.degree)[0]
-        split = finer.elements // self.elements
-        m = np.repeat(np.arange(finer.elements), tau.size)  # each fine point's element, and in it:
-        k, s = m // split, (m % split + np.tile(tau, finer.elements)) / split  # its coarse element, local time
+        mine, starts = self.starts, finer.starts
+        # each fine element's coarse element (the last coarse start at or before its own start)
+        owner = np.clip(np.searchsorted(mine, starts + 1e-12 * self.period, side="right") - 1, 0, self.elements - 1)
+        k = np.repeat(owner, tau.size)  # each fine point's coarse element, and in it its local time s
+        s = (finer.points - mine[k]) / self.lengths[k]
         basis = np.ones((tau.size, s.size))
         for j in range(tau.size):
             for i in range(tau.size):
@@ -153,9 +185,18 @@ class CollocationGrid(UniformPartition):
         nodes = k[:, None] * (self.degree + 1) + np.arange(tau.size)[None, :]  # each fine point's element nodes
         return np.einsum("rpj,jp->rp", values[:, nodes], basis)
 
+    def cut(self, which: np.ndarray) -> "CollocationGrid":
+        """This grid with each element where `which` (bool per element) is True cut in two equal halves."""
+        which = np.asarray(which, bool)
+        starts = self.starts / self.period
+        halves = starts[which] + 0.5 * self.lengths[which] / self.period
+        edges = np.sort(np.concatenate([starts, halves]))
+        return CollocationGrid(self.period, edges.size, self.degree, tuple(float(e) for e in edges))
+
     def samples(self, band: np.ndarray) -> Samples:
         """Where this grid's constraint rows lie (`pressocp.ocp.prolong`), the ram speed held at `band`."""
-        return Samples(self.period, self.times, self.weights, self.h, np.asarray(band, int))
+        return Samples(self.period, self.times, self.weights, np.repeat(self.lengths, self.degree),
+                       self.starts + self.lengths, np.asarray(band, int))
 
     def layout(self, nx: int, nw: int) -> tuple[np.ndarray, np.ndarray]:
         """Positions in one variable vector of a state (nx rows) at every point and of nw more
@@ -170,12 +211,25 @@ class CollocationGrid(UniformPartition):
 
 
 def coarser(point: NlpPoint | None, grid: CollocationGrid) -> CollocationGrid | None:
-    """The grid of a collocation solution `point` when `grid` splits it evenly, else None."""
+    """The grid of a collocation solution `point` (its `CollocationGrid.key`) when `grid` cuts its
+    elements (`CollocationGrid.splits`), else None."""
     g = None if point is None else point.grid
-    if not (isinstance(g, tuple) and len(g) == 2 and all(isinstance(v, (int, np.integer)) for v in g)):
+    if not (isinstance(g, tuple) and len(g) in (2, 3) and all(isinstance(v, (int, np.integer)) for v in g[:2])):
         return None
-    coarse = CollocationGrid(grid.period, int(g[0]), int(g[1]))
+    coarse = CollocationGrid(grid.period, int(g[0]), int(g[1]), g[2] if len(g) == 3 else None)
     return coarse if coarse.splits(grid) else None
+
+
+def check_edges(edges, elements: int) -> tuple[float, ...]:
+    """`edges` as a tuple of floats, checked: `elements` element starts as fractions of the period, the
+    first 0, increasing, all below 1 (raises ValueError naming what is wrong)."""
+    e = np.asarray(edges, float).ravel()
+    if e.size != elements:
+        raise ValueError(f"edges: {e.size} element starts given for {elements} elements")
+    if e[0] != 0.0 or np.any(np.diff(e) <= 0.0) or e[-1] >= 1.0 or not np.all(np.isfinite(e)):
+        raise ValueError("edges: element starts as fractions of the period must begin at 0, increase and stay "
+                         f"below 1; got {e[:3].tolist()}...{e[-2:].tolist()}")
+    return tuple(float(v) for v in e)
 
 
 def point_function(model: PressModel, names: tuple[str, ...], jit: bool = False) -> ca.Function:
@@ -232,7 +286,11 @@ def collocation_residuals(model: PressModel, grid: CollocationGrid, names: tuple
     Cb = ca.DM.triplet((k * (d + 1) + j).tolist(), (k * d + m).tolist(), C[j, m].tolist(), K * (d + 1), K * d)
     k, j = (a.ravel() for a in np.meshgrid(np.arange(K), np.arange(d + 1), indexing="ij"))
     Db = ca.DM.triplet((k * (d + 1) + j).tolist(), k.tolist(), D[j].tolist(), K * (d + 1), K)
-    return ca.mtimes(X, Cb) - grid.h * F, ca.mtimes(X, Db), Y
+    if grid.edges is None:
+        hF = grid.h * F
+    else:  # each Radau point's own element length
+        hF = F * ca.repmat(ca.DM(np.repeat(grid.lengths, d)).T, F.size1(), 1)
+    return ca.mtimes(X, Cb) - hF, ca.mtimes(X, Db), Y
 
 
 def collocation_defect(model: PressModel, speed: FourierSpeed, states: np.ndarray, grid: CollocationGrid) -> float:
@@ -241,6 +299,21 @@ def collocation_defect(model: PressModel, speed: FourierSpeed, states: np.ndarra
     defect = collocation_residuals(model, grid, ("torque",), states, crank_motion(speed, grid.times))[0]
     return float(np.max(np.abs(np.asarray(defect))))
 
+
+def element_defects(where: Resimulated, grid: CollocationGrid) -> np.ndarray:
+    """Largest collocation defect of each element (scaled states) of the model's own response: the
+    states `where` re-simulated (CVODES, rtol 1e-9) from its state at t = 0 over one period at the
+    grid's points, put into the collocation equations. It is the local error of the element, large
+    where the response changes faster than degree-d polynomials over the element follow."""
+    model = for_repeated_use(where.model)
+    X = states_at(model, where.speed, where.x0, grid.points, 1e-9)
+    defect = np.abs(np.asarray(collocation_residuals(model, grid, ("torque",), X,
+                                                     crank_motion(where.speed, grid.times))[0]))
+    return defect.reshape(defect.shape[0], grid.elements, grid.degree).max(axis=(0, 2))
+
+
+#: How `Collocation.refined` cuts a grid.
+REFINEMENTS = ("local", "uniform")
 
 #: Most IPOPT iterations of the `Collocation.relaxed` re-solve.
 RELAX_ITERATIONS = 8
@@ -255,7 +328,7 @@ class Collocation(StateSettings):
     elements : int or None
         Elements per period, 10..100 000; None: `ELEMENTS_PER_SECOND` x T (2 ms elements on a rigid
         rod, 0.5 ms on a flexible one), at least `MIN_ELEMENTS`. Fewer are faster and less accurate;
-        `refined` doubles them.
+        `refined` cuts them.
     degree : int
         Radau degree d, 1..9 (3: order 5).
     jit : bool or "auto"
@@ -269,6 +342,14 @@ class Collocation(StateSettings):
         Keyword-only (`StateSettings`), default 0.95: the share of the ram-speed tolerance held at the
         Radau points (on 2 ms elements the re-simulated ram strayed up to 4.5 % of the tolerance past
         the held value).
+    edges : tuple of float or None
+        Keyword-only: the start of each element as a fraction of the period (`CollocationGrid`);
+        None: equal elements. `refined` sets them.
+    refinement : {"local", "uniform"}
+        Keyword-only: how `refined` cuts the grid. "local" (default): the elements whose collocation
+        defect on the re-simulated response is within 2^-(d+1) of the largest, where the model's
+        response changes faster than the polynomials follow (the journals' gap crossings and contact
+        transients); "uniform": every element.
     periodic, omega_samples, ipopt
         Keyword-only, as in `StateSettings` (``ipopt`` on top of `IPOPT_COLLOCATION` too).
     """
@@ -278,29 +359,56 @@ class Collocation(StateSettings):
     jit: bool | str = "auto"
     min_eccentricity: float | None = field(default=1.0, kw_only=True)
     backoff: float = field(default=0.95, kw_only=True)
+    edges: tuple[float, ...] | None = field(default=None, kw_only=True)
+    refinement: str = field(default="local", kw_only=True)
 
     compiles_ahead: ClassVar[bool] = True
     gives_parametric_point: ClassVar[bool] = True
 
     def __post_init__(self) -> None:
         super().__post_init__()
+        if self.edges is not None:
+            K = len(self.edges) if self.elements is None else self.elements
+            object.__setattr__(self, "edges", check_edges(self.edges, K))
+            object.__setattr__(self, "elements", K)
         if self.elements is not None:
             chk.integer("elements", self.elements, 10, 100_000)
         chk.integer("degree", self.degree, 1, 9)
         check_jit(self.jit)
+        chk.choice("refinement", self.refinement, REFINEMENTS)
 
     def grid(self, period: float, rod: str = "rigid") -> CollocationGrid:
         """The element grid for a period and a model's rod ("rigid" or "flexible")."""
+        if self.edges is not None:
+            return CollocationGrid(period, len(self.edges), self.degree, self.edges)
         per_second = ELEMENTS_PER_SECOND.get(rod, MAX_ELEMENTS_PER_SECOND)
         K = max(round(per_second * period), MIN_ELEMENTS) if self.elements is None else self.elements
         return CollocationGrid(period, chk.integer("elements", max(K, 10), 10, 100_000), self.degree)
 
-    def refined(self, period: float, rod: str = "rigid") -> "Collocation | None":
-        """Twice the elements, at most ``MAX_ELEMENTS_PER_SECOND`` x period (and `MIN_ELEMENTS`); None
-        when the grid has that many already."""
-        K = self.grid(period, rod).elements
+    def refined(self, period: float, rod: str = "rigid", where: Resimulated | None = None) -> "Collocation | None":
+        """This transcription on a finer grid, or None when it has none. Elements are cut in two while
+        they stay at least ``1 / MAX_ELEMENTS_PER_SECOND`` long (0.5 ms; an equal grid at most
+        ``MAX_ELEMENTS_PER_SECOND`` x period elements, and `MIN_ELEMENTS`). Without `where`, or with
+        ``refinement="uniform"``, every element that can be is cut (equal elements: twice as many).
+        With `where` (a stage's answer re-simulated) and ``refinement="local"``, only the elements
+        whose collocation defect on that response (`element_defects`) is at least 2^-(d+1) of the
+        largest: cutting an element shrinks its defect by about that factor, so the grid's largest
+        defect falls as far as a uniform cut takes it, with fewer elements."""
+        grid = self.grid(period, rod)
         finest = max(round(MAX_ELEMENTS_PER_SECOND * period), MIN_ELEMENTS)
-        return None if K >= finest else replace(self, elements=min(2 * K, finest))
+        if grid.edges is None and (where is None or self.refinement == "uniform"):
+            K = grid.elements
+            return None if K >= finest else replace(self, elements=min(2 * K, finest))
+        cuttable = grid.lengths >= 2.0 * period / finest * (1.0 - 1e-9)
+        if where is not None and self.refinement == "local":
+            defects = element_defects(where, grid)
+            cuttable &= defects >= defects.max() * 2.0 ** -(self.degree + 1)
+        if not cuttable.any():
+            return None
+        finer = grid.cut(cuttable)
+        if finer.edges is not None and np.allclose(finer.lengths, finer.lengths[0]):  # a uniform cut of equal ones
+            return replace(self, elements=finer.elements, edges=None)
+        return replace(self, elements=finer.elements, edges=finer.edges)
 
     def tightened(self, share: float) -> "Collocation":
         """The same transcription holding `share` less of the ram-speed tolerance (``backoff``), down
@@ -317,7 +425,9 @@ class Collocation(StateSettings):
         d = stage.details
         if stage.nlp is None or d.get("backoff", 1.0) >= 1.0 or "elements" not in d:
             return None
-        return replace(self, elements=int(d["elements"]), degree=int(d.get("degree", self.degree)), backoff=1.0,
+        edges = tuple(d["edges"]) if d.get("edges") is not None else None
+        return replace(self, elements=int(d["elements"]), degree=int(d.get("degree", self.degree)), edges=edges,
+                       backoff=1.0,
                        ipopt={**self.ipopt, "ipopt.max_iter": RELAX_ITERATIONS})
 
     def rescaled(self) -> "Collocation | None":
@@ -364,7 +474,7 @@ class Collocation(StateSettings):
         names = sample_outputs(problem, model, self.min_eccentricity)
         c = ca.MX.sym("c", 2 * n)
         zi, wi = grid.layout(model.nx, 3)
-        point = start.point if start.point is not None and start.point.grid == (K, d) else None
+        point = start.point if start.point is not None and start.point.grid == grid.key else None
         coarse = None if point is not None or states is not None else coarser(start.point, grid)
         carry = None
         if states is not None:
@@ -404,16 +514,18 @@ class Collocation(StateSettings):
         details = {"elements": K, "degree": d, "min_eccentricity": self.min_eccentricity, "jit": jit,
                    "periodic": self.periodic, "backoff": self.backoff, "omega_samples": self.omega_samples,
                    "defect_start": collocation_defect(model, start.speed, states, grid), **warm}
+        if grid.edges is not None:
+            details.update(edges=list(grid.edges), shortest_element_s=float(grid.lengths.min()))
         t_start = time.perf_counter() - t0 - t_build
         nlp = StateNlp(c, X, X0, y, {k: y0[i : i + 1, :] for i, k in enumerate(names)}, grid.times, cons,
                        fixed=None if self.periodic else zi[:, 0],
                        parameters=None if q is None else (q, model.nominal), motion=W)
         run = StageRun(name, f"{name} ({K}x{d} radau{', jit' if jit else ''})", {**nlp_options(jit), **self.ipopt},
-                       progress, details, grid=(K, d), keep=model.functions if jit else None, warm=point,
+                       progress, details, grid=grid.key, keep=model.functions if jit else None, warm=point,
                        carry=carry)
         r = solve_states(problem, model, start.speed, nlp, run, self)
         r.states = r.states[zi]
-        r.settings = replace(self, elements=K).settings()  # the grid this stage solved on
+        r.settings = replace(self, elements=K, edges=grid.edges).settings()  # the grid this stage solved on
         r.timing.update(start=t_start, build=r.timing.get("build", 0.0) + t_build - compiled,
                         compile=r.timing.get("compile", 0.0) + compiled,
                         total=r.timing.get("total", 0.0) + t_start + t_build)

@@ -7,8 +7,8 @@ primal-dual warm start (`pressocp.ipopt_options.IPOPT_WARM_START`) begins next t
 optimum, instead of a barrier restarted without multipliers, which leads to another local optimum
 (docs/decisions/2026-11-29-refined-start.md).
 
-How a group's multipliers follow the grid depends on how its rows do (K elements of length h, the
-Radau weights b_r):
+How a group's multipliers follow the grid depends on how its rows do (K elements, each of its own
+length h, the Radau weights b_r):
 
 * rows at the Radau points that discretise an integral of a density (an inequality's or an
   equality's multiplier measure: the contact, the crank motion's tie, the epigraph, caps and drive
@@ -57,8 +57,10 @@ class Samples:
         The Radau points, element by element, s.
     weights : ndarray
         Their quadrature weights h b_r, s.
-    h : float
-        Element length, s.
+    lengths : ndarray
+        The length h of each Radau point's element, s.
+    ends : ndarray
+        End times of the elements, s.
     band : ndarray of int
         The samples of the ram-speed rows (indices in ``times``).
     """
@@ -66,13 +68,9 @@ class Samples:
     period: float
     times: np.ndarray
     weights: np.ndarray
-    h: float
+    lengths: np.ndarray
+    ends: np.ndarray
     band: np.ndarray
-
-    @property
-    def ends(self) -> np.ndarray:
-        """End times of the elements, s."""
-        return self.h * np.arange(1, round(self.period / self.h) + 1)
 
 
 def interpolated(values: np.ndarray, t_from: np.ndarray, t_to: np.ndarray, period: float | None) -> np.ndarray:
@@ -107,7 +105,7 @@ def carried_multipliers(groups_from: list, lam_from: np.ndarray, coarse: Samples
                 return None, f"group {name} is not one row set per Radau point"
             rows = lam.reshape(k0 // n_from, n_from, order="F")
             scale_from, scale_to = ((coarse.weights, fine.weights) if name in MEASURES
-                                    else (coarse.weights / coarse.h, fine.weights / fine.h) if name in COLLOCATION
+                                    else (coarse.weights / coarse.lengths, fine.weights / fine.lengths) if name in COLLOCATION
                                     else (1.0, 1.0))
             carried = interpolated(rows / scale_from, coarse.times, fine.times, coarse.period) * scale_to
         elif name in ENDS:

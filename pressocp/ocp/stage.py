@@ -231,6 +231,25 @@ class StageResult:
         return cls(**d)
 
 
+@dataclass(frozen=True)
+class Resimulated:
+    """A stage's answer re-simulated, as a transcription's local refinement reads it.
+
+    Attributes
+    ----------
+    model : PressModel
+        The model the stage solved on.
+    speed : FourierSpeed
+        The stage's answer.
+    x0 : ndarray
+        The re-simulation's scaled state at t = 0 (the periodic one when it is periodic).
+    """
+
+    model: PressModel
+    speed: FourierSpeed
+    x0: np.ndarray
+
+
 class Transcription:
     """The base of every transcription: a frozen settings dataclass with ``solve`` and the hooks the
     strategy calls. A hook's default here is "this transcription has none"; a transcription overrides
@@ -257,10 +276,11 @@ class Transcription:
         """One stage: the NLP on `model` from `start`."""
         raise NotImplementedError(f"{type(self).__name__} has no solve")
 
-    def refined(self, period: float, rod: str = "rigid") -> "Transcription | None":
+    def refined(self, period: float, rod: str = "rigid", where: Resimulated | None = None) -> "Transcription | None":
         """The same transcription on a finer grid for a period and a model's rod ("rigid" or
         "flexible"), or None when it has none (the strategy refines while a stage's re-simulation
-        disagrees with the NLP)."""
+        disagrees with the NLP). `where`, the disagreeing answer re-simulated, lets it refine where
+        that response needs it; without it, the grid it would refine at most."""
         return None
 
     def tightened(self, share: float) -> "Transcription | None":

@@ -60,7 +60,7 @@ from .candidates import run_candidates, run_flexible_candidates
 from .rigid_stage import Rigid
 from ..ipopt_options import IPOPT_RIGID_ACCEPTABLE
 from .shooting import MultipleShooting
-from .stage import Check, StageResult, Transcription, WarmStart, settings_repr, standing_stage
+from .stage import Check, Resimulated, StageResult, Transcription, WarmStart, settings_repr, standing_stage
 from ..verify import (IMPACT_RATIO, describe_excess, is_periodic, limits_exceeded, ram_speed_violation,
                       rigid_reference, screen, unverified_reason, verify_speed)
 
@@ -622,8 +622,10 @@ class Strategy:
           the held share of the tolerance lowered by v/tol + `TIGHTEN_MARGIN` (``tightened``), started
           from the answer with its multipliers, so IPOPT moves only as far as the bounds did (stage
           ``{name}_tightened_k``; at most `MAX_TIGHTEN` times);
-        * otherwise, on a finer grid (``refined``) from the answer (stage ``{name}_refined_k``), while
-          the transcription has one: collocation from the answer's states and multipliers carried
+        * otherwise, on a finer grid (``refined``, told where by the answer's re-simulation: collocation
+          cuts the elements whose defect on it is largest) from the answer (stage
+          ``{name}_refined_k``), while the transcription has one: collocation from the answer's states
+          and multipliers carried
           to the finer grid (`pressocp.ocp.prolong`), another transcription from the answer's
           periodic state. When the carried start does not converge, the stage is solved again from
           the answer's periodic state (``{name}_refined_k_resimulated``; the first is kept in the
@@ -649,6 +651,8 @@ class Strategy:
                 transcription = tight
                 label, warm = f"{name}_tightened_{tightened}", WarmStart(last.speed, point=last.nlp)
             else:
+                where = Resimulated(model, last.speed, sim.states[:, 0] / model.x_scale)
+                finer = None if finer is None else transcription.refined(problem.period, model.rod, where)
                 if finer is None:
                     break
                 transcription = finer
