@@ -102,23 +102,12 @@ class Objective:
             The crank acceleration at the samples, rad/s^2 (drive objectives); default: the
             derivative of the crank speed over the samples.
         """
-        names = self.outputs + (("t",) if self.kind in ("integral", "swing") or self.drive else ())
-        y = dict(response) if isinstance(response, Mapping) else {n: getattr(response, n) for n in names}
-        if self.drive:
-            if drive is None:
-                raise ValueError(f"objective {self.name!r} reads the motor: the problem needs a drive (SpeedProblem.drive)")
-            t, omega = np.asarray(y["t"], float).ravel(), np.asarray(y["omega"], float).ravel()
-            if alpha is None:
-                order = np.argsort(t)
-                alpha = np.empty_like(t)
-                alpha[order] = np.gradient(omega[order], t[order], edge_order=2)
-            y.update(motor_entries(drive, np.ravel(y["torque"]), omega, np.ravel(alpha)))
-        terms = [np.asarray(t, float).ravel() for t in self.terms(y)]
+        terms = self.sample_terms(response, drive, alpha=alpha)
         if self.kind == "rms":
             return float(np.sqrt(np.mean(terms[0] ** 2)))
         if self.kind == "peak":
             return float(max(np.max(np.abs(t)) for t in terms))
-        t = np.asarray(y["t"], float).ravel()
+        t = np.asarray(response["t"] if isinstance(response, Mapping) else response.t, float).ravel()
         w = trapezoid_weights(t, period)
         total = float(w @ terms[0])
         if self.kind == "integral":
@@ -132,6 +121,22 @@ class Objective:
             order = np.argsort(t)
             stored = np.cumsum((w * (terms[0] - total / span))[order])
         return float(np.max(stored) - np.min(stored))
+
+    def sample_terms(self, response: Any, drive: Any = None, *, alpha: Any = None) -> list[np.ndarray]:
+        """The objective's terms at each sample of a response (as `value` reads it: a `SimResult` or
+        a mapping of output arrays, with ``t`` where the kind or the drive needs it)."""
+        names = self.outputs + (("t",) if self.kind in ("integral", "swing") or self.drive else ())
+        y = dict(response) if isinstance(response, Mapping) else {n: getattr(response, n) for n in names}
+        if self.drive:
+            if drive is None:
+                raise ValueError(f"objective {self.name!r} reads the motor: the problem needs a drive (SpeedProblem.drive)")
+            t, omega = np.asarray(y["t"], float).ravel(), np.asarray(y["omega"], float).ravel()
+            if alpha is None:
+                order = np.argsort(t)
+                alpha = np.empty_like(t)
+                alpha[order] = np.gradient(omega[order], t[order], edge_order=2)
+            y.update(motor_entries(drive, np.ravel(y["torque"]), omega, np.ravel(alpha)))
+        return [np.asarray(t, float).ravel() for t in self.terms(y)]
 
 
 OBJECTIVES: dict[str, Objective] = {}

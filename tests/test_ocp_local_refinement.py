@@ -4,6 +4,9 @@ of a grid whose edges happen to be equal against the equal grid's own, and on th
 case: the cut elements are those with the largest defects, cutting shrinks them, and a solve on the
 cut grid from the carried coarse solution reaches the optimum of the uniformly refined grid."""
 
+from dataclasses import replace
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
@@ -12,6 +15,7 @@ from pressocp.ocp.collocation import CollocationGrid, collocation_residuals, ele
 from pressocp.ocp.nlp import crank_motion
 from pressocp.ocp.prolong import carried_multipliers
 from pressocp.ocp.stage import Resimulated
+from pressocp.ocp.strategy import near_peak
 from pressocp.simulate import Integrator, periodic_state
 from pressocp.speed import FourierSpeed
 from pressocp.verify import verify_speed
@@ -169,3 +173,27 @@ def test_a_solve_on_the_locally_cut_grid_from_the_carried_solution_reaches_the_f
     # the stage's settings rebuild its transcription, edges and all
     assert Collocation(**{k: v for k, v in fine.settings.items() if k != "type"}).grid(SMOOTH.period).key == \
         fine.nlp.grid
+
+
+def test_the_elements_where_the_objective_peaks_are_cut_too(smooth_case):
+    """Times near the re-simulated objective's peak put their elements among the cut ones, whatever
+    their defect; `near_peak` finds those times on a response whose torque is known."""
+    model, coarse, where = smooth_case
+    tr = Collocation(elements=200, jit=False)
+    grid = tr.grid(SMOOTH.period)
+    defects = element_defects(where, grid)
+    quiet = int(np.argmin(defects))  # far below the cut's threshold
+    assert defects[quiet] < defects.max() / 16
+    t_quiet = grid.starts[quiet] + 0.3 * grid.lengths[quiet]
+    cut = tr.refined(SMOOTH.period, "rigid", replace(where, near_peak=np.array([t_quiet + SMOOTH.period])))
+    plain = tr.refined(SMOOTH.period, "rigid", where)
+    assert cut.elements == plain.elements + 1
+    assert np.any(np.isclose(np.array(cut.edges) * SMOOTH.period, grid.starts[quiet] + grid.lengths[quiet] / 2))
+    t = np.linspace(0.0, 1.0, 1001)
+    sim = SimpleNamespace(t=t + 3.0, torque=100.0 * np.cos(2 * np.pi * t))  # peaks of 100 at 0, 0.5 and 1
+    near = near_peak(SMOOTH, sim, 0.02)
+    # |cos| >= 0.98 within acos(0.98) / (2 pi) = 0.0319 of each peak
+    assert np.all(np.abs(100.0 * np.cos(2 * np.pi * near)) >= 98.0)
+    assert near.size == np.sum(np.abs(np.cos(2 * np.pi * t)) >= 0.98)
+    rms = replace(SMOOTH, objective="rms_torque")
+    assert near_peak(rms, sim, 0.02).size == 0

@@ -142,6 +142,7 @@ def test_a_refined_stage_that_fails_from_the_carried_start_is_solved_again_from_
     monkeypatch.setattr(Strategy, "verify_stage", lambda self, model, stage: SimpleNamespace(states=np.ones((2, 3))))
     monkeypatch.setattr(Strategy, "grid_error", lambda self, stage, problem: ("re-simulated 2 against 1", 0.0))
     monkeypatch.setattr(strategy_module, "is_periodic", lambda sim: True)
+    monkeypatch.setattr(strategy_module, "near_peak", lambda problem, sim, share: np.zeros(0))
     model, problem = SimpleNamespace(rod="rigid", x_scale=np.array([1.0, 2.0])), SimpleNamespace(period=1.0, tol=0.01)
     first = Halving(10).solve(problem, model, WarmStart(speed), "target")
     stages, last = Strategy().followed(problem, model, Halving(10), first, False)

@@ -349,7 +349,8 @@ class Collocation(StateSettings):
         Keyword-only: how `refined` cuts the grid. "local" (default): the elements whose collocation
         defect on the re-simulated response is within 2^-(d+1) of the largest, where the model's
         response changes faster than the polynomials follow (the journals' gap crossings and contact
-        transients); "uniform": every element.
+        transients), and those where the re-simulated objective is near its peak; "uniform": every
+        element.
     periodic, omega_samples, ipopt
         Keyword-only, as in `StateSettings` (``ipopt`` on top of `IPOPT_COLLOCATION` too).
     """
@@ -392,8 +393,10 @@ class Collocation(StateSettings):
         ``refinement="uniform"``, every element that can be is cut (equal elements: twice as many).
         With `where` (a stage's answer re-simulated) and ``refinement="local"``, only the elements
         whose collocation defect on that response (`element_defects`) is at least 2^-(d+1) of the
-        largest: cutting an element shrinks its defect by about that factor, so the grid's largest
-        defect falls as far as a uniform cut takes it, with fewer elements."""
+        largest (cutting an element shrinks its defect by about that factor, so the grid's largest
+        defect falls as far as a uniform cut takes it, with fewer elements), and those that hold
+        the times where the objective is near its peak (``where.near_peak``), which decide the
+        NLP's objective."""
         grid = self.grid(period, rod)
         finest = max(round(MAX_ELEMENTS_PER_SECOND * period), MIN_ELEMENTS)
         if grid.edges is None and (where is None or self.refinement == "uniform"):
@@ -402,7 +405,10 @@ class Collocation(StateSettings):
         cuttable = grid.lengths >= 2.0 * period / finest * (1.0 - 1e-9)
         if where is not None and self.refinement == "local":
             defects = element_defects(where, grid)
-            cuttable &= defects >= defects.max() * 2.0 ** -(self.degree + 1)
+            wanted = defects >= defects.max() * 2.0 ** -(self.degree + 1)
+            holds = np.searchsorted(grid.starts, np.asarray(where.near_peak, float) % period, side="right") - 1
+            wanted[np.clip(holds, 0, grid.elements - 1)] = True
+            cuttable &= wanted
         if not cuttable.any():
             return None
         finer = grid.cut(cuttable)

@@ -243,11 +243,15 @@ class Resimulated:
         The stage's answer.
     x0 : ndarray
         The re-simulation's scaled state at t = 0 (the periodic one when it is periodic).
+    near_peak : ndarray
+        Times within the period (s) where the re-simulated objective is near its largest value (a
+        peak objective; empty otherwise): the NLP's objective is decided there.
     """
 
     model: PressModel
     speed: FourierSpeed
     x0: np.ndarray
+    near_peak: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 class Transcription:

@@ -50,6 +50,7 @@ import numpy as np
 
 from .. import checks as chk
 from ..model import ModelSpec, PressModel, build_model
+from ..objectives import get as get_objective
 from ..params import PressParams
 from ..problem import SpeedProblem
 from ..result import SimResult
@@ -651,7 +652,8 @@ class Strategy:
                 transcription = tight
                 label, warm = f"{name}_tightened_{tightened}", WarmStart(last.speed, point=last.nlp)
             else:
-                where = Resimulated(model, last.speed, sim.states[:, 0] / model.x_scale)
+                where = Resimulated(model, last.speed, sim.states[:, 0] / model.x_scale,
+                                    near_peak(problem, sim, self.grid_tol))
                 finer = None if finer is None else transcription.refined(problem.period, model.rod, where)
                 if finer is None:
                     break
@@ -859,6 +861,18 @@ class Strategy:
                 step *= REFINE_SHRINK
             rounds.append(st)
         return rounds
+
+
+def near_peak(problem: SpeedProblem, sim: SimResult, share: float) -> np.ndarray:
+    """Times within the period (s, from the response's start) where the problem's objective on the
+    re-simulated response `sim` is within `share` of its largest value, for a peak objective (an
+    empty array for the others): where the NLP's epigraph decides its objective."""
+    objective = get_objective(problem.objective)
+    if objective.kind != "peak":
+        return np.zeros(0)
+    magnitude = np.max(np.abs(np.vstack(objective.sample_terms(sim, problem.drive))), axis=0)
+    t = np.asarray(sim.t, float) - float(sim.t[0])
+    return t[magnitude >= (1.0 - share) * magnitude.max()] % problem.period
 
 
 def loses_contact(stage: StageResult, transcription: Transcription) -> bool:
