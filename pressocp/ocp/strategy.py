@@ -623,10 +623,10 @@ class Strategy:
           the held share of the tolerance lowered by v/tol + `TIGHTEN_MARGIN` (``tightened``), started
           from the answer with its multipliers, so IPOPT moves only as far as the bounds did (stage
           ``{name}_tightened_k``; at most `MAX_TIGHTEN` times);
-        * otherwise, on a finer grid (``refined``, told where by the answer's re-simulation: collocation
-          cuts the elements whose defect on it is largest) from the answer (stage
-          ``{name}_refined_k``), while the transcription has one: collocation from the answer's states
-          and multipliers carried
+        * otherwise, on a finer grid (``refined``, given the answer's re-simulation: collocation with
+          ``refinement="local"`` cuts only the elements where that response needs it) from the answer
+          (stage ``{name}_refined_k``), while the transcription has one: collocation from the answer's
+          states and multipliers carried
           to the finer grid (`pressocp.ocp.prolong`), another transcription from the answer's
           periodic state. When the carried start does not converge, the stage is solved again from
           the answer's periodic state (``{name}_refined_k_resimulated``; the first is kept in the
