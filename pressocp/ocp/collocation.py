@@ -129,8 +129,6 @@ class CollocationGrid(UniformPartition):
     def points(self) -> np.ndarray:
         """Times of every state value, element by element (start, then the d Radau points), s."""
         tau = radau_matrices(self.degree)[0]
-        if self.edges is None:
-            return (self.starts[:, None] + self.h * tau[None, :]).ravel()
         return (self.starts[:, None] + self.lengths[:, None] * tau[None, :]).ravel()
 
     @property
@@ -293,11 +291,18 @@ def collocation_residuals(model: PressModel, grid: CollocationGrid, names: tuple
     return ca.mtimes(X, Cb) - hF, ca.mtimes(X, Db), Y
 
 
+def defects_by_element(model: PressModel, speed: FourierSpeed, states: np.ndarray,
+                       grid: CollocationGrid) -> np.ndarray:
+    """Largest collocation defect of ``states`` (scaled, nx x K(d+1)) in each element of the grid."""
+    defect = np.abs(np.asarray(collocation_residuals(model, grid, ("torque",), states,
+                                                     crank_motion(speed, grid.times))[0]))
+    return defect.reshape(defect.shape[0], grid.elements, grid.degree).max(axis=(0, 2))
+
+
 def collocation_defect(model: PressModel, speed: FourierSpeed, states: np.ndarray, grid: CollocationGrid) -> float:
     """Largest collocation defect of ``states`` (scaled, nx x K(d+1)) over the grid: near 0 when the
     polynomials reproduce the model's solution, i.e. when the elements resolve its dynamics."""
-    defect = collocation_residuals(model, grid, ("torque",), states, crank_motion(speed, grid.times))[0]
-    return float(np.max(np.abs(np.asarray(defect))))
+    return float(defects_by_element(model, speed, states, grid).max())
 
 
 def element_defects(where: Resimulated, grid: CollocationGrid) -> np.ndarray:
@@ -306,10 +311,7 @@ def element_defects(where: Resimulated, grid: CollocationGrid) -> np.ndarray:
     grid's points, put into the collocation equations. It is the local error of the element, large
     where the response changes faster than degree-d polynomials over the element follow."""
     model = for_repeated_use(where.model)
-    X = states_at(model, where.speed, where.x0, grid.points, 1e-9)
-    defect = np.abs(np.asarray(collocation_residuals(model, grid, ("torque",), X,
-                                                     crank_motion(where.speed, grid.times))[0]))
-    return defect.reshape(defect.shape[0], grid.elements, grid.degree).max(axis=(0, 2))
+    return defects_by_element(model, where.speed, states_at(model, where.speed, where.x0, grid.points, 1e-9), grid)
 
 
 #: How `Collocation.refined` cuts a grid.
@@ -420,7 +422,7 @@ class Collocation(StateSettings):
         if not cuttable.any():
             return None
         finer = grid.cut(cuttable)
-        if finer.edges is not None and np.allclose(finer.lengths, finer.lengths[0]):  # a uniform cut of equal ones
+        if np.allclose(finer.lengths, finer.lengths[0]):  # a uniform cut of equal ones
             return replace(self, elements=finer.elements, edges=None)
         return replace(self, elements=finer.elements, edges=finer.edges)
 
@@ -441,8 +443,7 @@ class Collocation(StateSettings):
             return None
         edges = tuple(d["edges"]) if d.get("edges") is not None else None
         return replace(self, elements=int(d["elements"]), degree=int(d.get("degree", self.degree)), edges=edges,
-                       backoff=1.0,
-                       ipopt={**self.ipopt, "ipopt.max_iter": RELAX_ITERATIONS})
+                       backoff=1.0, ipopt={**self.ipopt, "ipopt.max_iter": RELAX_ITERATIONS})
 
     def rescaled(self) -> "Collocation | None":
         """This transcription with MUMPS scaling the KKT matrix and IPOPT's acceptable level at 1e-3

@@ -652,13 +652,13 @@ class Strategy:
                 transcription = tight
                 label, warm = f"{name}_tightened_{tightened}", WarmStart(last.speed, point=last.nlp)
             else:
-                where = Resimulated(model, last.speed, sim.states[:, 0] / model.x_scale,
-                                    near_peak(problem, sim, self.grid_tol))
+                x_start = sim.states[:, 0] / model.x_scale
+                where = Resimulated(model, last.speed, x_start, near_peak(problem, sim, self.grid_tol))
                 finer = None if finer is None else transcription.refined(problem.period, model.rod, where)
                 if finer is None:
                     break
                 transcription = finer
-                x0 = sim.states[:, 0] / model.x_scale if is_periodic(sim) is True else None
+                x0 = x_start if is_periodic(sim) is True else None
                 k = sum(not s.superseded for s in stages)
                 label, warm = f"{name}_refined_{k}", WarmStart(last.speed, x0, point=last.nlp)
             last.details["followed_by"] = f"{label}: {why}"
