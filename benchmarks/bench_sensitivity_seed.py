@@ -4,11 +4,12 @@ The peak motor torque of the 75 spm seed optimum (`tests/references/press75_opti
 min-max optimum with several rival peaks) on the default model (rigid rod, both clearances),
 differentiated with respect to slider mass, wrist-pin clearance and crank-pin stiffness:
 
-* AD: `po.sensitivities` (forward sensitivities of the periodic response, with its error estimate,
-  as a user calls it) at rtol 1e-8, 1e-9, 1e-10;
+* AD: `po.sensitivities` (forward sensitivities of the periodic response) at rtol 1e-8 to 1e-10,
+  twice: with its error estimate, as a user calls it by default (a second run at ten times rtol),
+  and without (``error_estimate=False``);
 * central differences: the periodic state of each perturbed press (one model with the parameters
   as inputs; settled cycle by cycle from the nominal periodic state), |torque| at each rival
-  peak's time (the finest AD's), relative steps of `STEP`, at rtol 1e-9, 1e-10, 1e-11.
+  peak's time (the finest AD's), relative steps of `STEP`, at rtol 1e-9 to 1e-11.
 
 Both run their integrators on compiled right-hand sides (`PressModel.jit` True; `po.sensitivities`
 compiles its sensitivity equations in any case). At a peak's time the difference of |torque| is the
@@ -20,7 +21,8 @@ its largest relative difference over parameters and rival peaks. Each timing is 
 it is given (AD: the parameterised model and CasADi's derivative functions; central differences:
 their integrators), so the first run at each rtol includes that building (and the first AD run any
 compile of its right-hand side); `times_s` lists every run. The goal compares the cheapest setting
-of each method whose error is within `GOAL_ERROR`.
+of each method whose error is within `GOAL_ERROR`: central differences carry no error estimate, so
+the ratio (``equal_accuracy.ratio``) is AD without one; ``ratio_with_estimate`` is AD with it.
 
     python benchmarks/bench_sensitivity_seed.py [--repeat 3] [--replot]
 
@@ -52,8 +54,10 @@ from pressocp.simulate import Integrator, integrator_dae, periodic_state  # noqa
 OUT = Path(__file__).parent / "results"
 SEED = Path(__file__).parent.parent / "tests" / "references" / "press75_optimum_speed.json"
 PARAMETERS = ("slider_mass", "wrist_pin.clearance", "crank_pin.stiffness")
-AD_RTOLS = (1e-8, 1e-9, 1e-10)
-CD_RTOLS = (1e-9, 1e-10, 1e-11)
+AD_RTOLS = (1e-8, 3e-9, 1e-9, 1e-10)
+CD_RTOLS = (1e-9, 3e-10, 1e-10, 1e-11)
+#: The AD rows: label and whether `po.sensitivities` runs its error estimate.
+AD_METHODS = (("AD", True), ("AD, no estimate", False))
 REFERENCE_RTOL = 1e-12
 STEP = 1e-3  # relative
 GOAL_ERROR = 0.02
@@ -103,10 +107,12 @@ def central_differences(model: po.PressModel, speed: po.FourierSpeed, peaks: dic
     return out
 
 
-def ad_derivatives(model: po.PressModel, speed: po.FourierSpeed, rtol: float) -> tuple[dict, dict, float, float]:
-    """`po.sensitivities` at `rtol`: derivatives and error estimates per parameter at each rival peak
-    (by time), the largest error estimate, and the wall time."""
-    s = po.sensitivities(model, speed, PARAMETERS, rtol=rtol)
+def ad_derivatives(model: po.PressModel, speed: po.FourierSpeed, rtol: float,
+                   estimate: bool) -> tuple[dict, dict, float, float]:
+    """`po.sensitivities` at `rtol`, with or without its error `estimate`: derivatives and error
+    estimates per parameter at each rival peak (by time), the largest error estimate (inf without
+    one), and the wall time."""
+    s = po.sensitivities(model, speed, PARAMETERS, rtol=rtol, error_estimate=estimate)
     rows = s.per_peak.to_dict("records")
     derivs = {n: {float(r["time"]): float(r["derivative"]) for r in rows if r["parameter"] == n} for n in PARAMETERS}
     estimates = {n: max(float(r["error_estimate"]) for r in rows if r["parameter"] == n) for n in PARAMETERS}
@@ -137,11 +143,12 @@ def measure(repeat: int) -> dict:
     model = replace(po.build_model(press), jit=True)  # its integrators compiled, as the differences'
     ad = {}
     for rtol in AD_RTOLS:
-        runs = [ad_derivatives(model, speed, rtol) for _ in range(repeat)]
-        ad[rtol] = runs[-1][:3] + ([r[3] for r in runs],)
-        print(f"AD rtol {rtol:g}: {[round(r[3], 2) for r in runs]} s, largest error estimate {runs[-1][2]:.2g}",
-              flush=True)
-    finest = ad[AD_RTOLS[-1]][0]
+        for label, estimate in AD_METHODS:
+            runs = [ad_derivatives(model, speed, rtol, estimate) for _ in range(repeat)]
+            ad[label, rtol] = runs[-1][:3] + ([r[3] for r in runs],)
+            print(f"{label} rtol {rtol:g}: {[round(r[3], 2) for r in runs]} s, largest error estimate "
+                  f"{runs[-1][2]:.2g}", flush=True)
+    finest = ad["AD", AD_RTOLS[-1]][0]
     peaks = {n: np.array(sorted(finest[n])) for n in PARAMETERS}
     cd_model = replace(po.build_model(press, parameters=PARAMETERS), jit=True)  # built once, as the AD's
     t0 = time.perf_counter()
@@ -149,10 +156,10 @@ def measure(repeat: int) -> dict:
     ref_s = time.perf_counter() - t0
     print(f"reference (central differences, rtol {REFERENCE_RTOL:g}): {ref_s:.1f} s", flush=True)
     rows = []
-    for rtol, (derivs, _, estimate, times) in ad.items():
+    for (label, rtol), (derivs, _, estimate, times) in ad.items():
         d = {n: at_peaks(derivs[n], peaks[n]) for n in PARAMETERS}
         err, where = largest_error(d, reference)
-        rows.append({"method": "AD", "rtol": rtol, "times_s": times, "median_s": float(np.median(times)),
+        rows.append({"method": label, "rtol": rtol, "times_s": times, "median_s": float(np.median(times)),
                      "error": err, "worst": where, "error_estimate": estimate, "derivatives": d})
     for rtol in CD_RTOLS:
         times, d = [], None
@@ -165,27 +172,31 @@ def measure(repeat: int) -> dict:
                      "median_s": float(np.median(times)), "error": err, "worst": where, "derivatives": d})
         print(f"central differences rtol {rtol:g}: {[round(t, 2) for t in times]} s, error {err:.2g} ({where})",
               flush=True)
+    methods = [label for label, _ in AD_METHODS] + ["central differences"]
     best = {m: min((r for r in rows if r["method"] == m and r["error"] <= GOAL_ERROR), key=lambda r: r["median_s"],
-                   default=None) for m in ("AD", "central differences")}
-    ratio = (best["central differences"]["median_s"] / best["AD"]["median_s"]
-             if best["AD"] and best["central differences"] else None)
+                   default=None) for m in methods}
+
+    def ratio(ad_label: str) -> float | None:
+        cd = best["central differences"]
+        return cd["median_s"] / best[ad_label]["median_s"] if best[ad_label] and cd else None
+
     cd10 = next(r for r in rows if r["method"] == "central differences" and r["rtol"] == 1e-10)["derivatives"]
-    within = {f"AD rtol {r['rtol']:g}": largest_error(r["derivatives"], cd10)[0] for r in rows if r["method"] == "AD"}
+    within = {f"{r['method']} rtol {r['rtol']:g}": largest_error(r["derivatives"], cd10)[0] for r in rows
+              if r["method"] != "central differences"}
     return {**stamp(), "versions": versions(), "case": "press75 seed optimum, default model, peak motor torque",
             "parameters": list(PARAMETERS), "peaks_s": {n: list(peaks[n]) for n in PARAMETERS}, "step": STEP,
             "reference_rtol": REFERENCE_RTOL, "reference_s": ref_s, "reference": reference, "repeat": repeat,
             "goal_error": GOAL_ERROR, "goal_ratio": GOAL_RATIO, "rows": rows,
-            "equal_accuracy": {"AD": best["AD"] and {k: best["AD"][k] for k in ("rtol", "median_s", "error")},
-                               "central differences": best["central differences"]
-                               and {k: best["central differences"][k] for k in ("rtol", "median_s", "error")},
-                               "ratio": ratio},
+            "equal_accuracy": {**{m: best[m] and {k: best[m][k] for k in ("rtol", "median_s", "error")}
+                                  for m in methods},
+                               "ratio": ratio("AD, no estimate"), "ratio_with_estimate": ratio("AD")},
             "ad_against_cd_1e-10": within}
 
 
 def plot(data: dict) -> plt.Figure:
     """Wall time against the largest error, each method at each rtol."""
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    for m, mark in (("AD", "o-"), ("central differences", "s-")):
+    for m, mark in (("AD", "o-"), ("AD, no estimate", "^-"), ("central differences", "s-")):
         rows = [r for r in data["rows"] if r["method"] == m]
         ax.semilogx([r["error"] for r in rows], [r["median_s"] for r in rows], mark, label=m)
         for r in rows:
@@ -193,12 +204,15 @@ def plot(data: dict) -> plt.Figure:
                         textcoords="offset points")
     ax.axvline(data["goal_error"], ls="--", color="tab:red", lw=0.8, label=f"{100 * data['goal_error']:g} % error")
     ax.set_ylim(bottom=0.0)
-    ratio = data["equal_accuracy"]["ratio"]
+    eq = data["equal_accuracy"]
+    ratio, with_estimate = eq["ratio"], eq.get("ratio_with_estimate")
     ax.set_xlabel(f"largest relative error of dJ/dp (against central differences at rtol {data['reference_rtol']:g})")
     ax.set_ylabel(f"wall time, s (median of {data['repeat']})")
     ax.set_title("peak torque of the 75 spm seed optimum, 3 parameters: AD against central differences\n"
                  f"at equal accuracy (≤ {100 * data['goal_error']:g} %): "
-                 f"{'no pair' if ratio is None else f'{ratio:.2f} ×'} (goal {data['goal_ratio']:g} ×), {data['date']}",
+                 f"AD without its estimate {'no pair' if ratio is None else f'{ratio:.2f} ×'}, with it "
+                 f"{'no pair' if with_estimate is None else f'{with_estimate:.2f} ×'} (goal {data['goal_ratio']:g} ×), "
+                 f"{data['date']}",
                  fontsize=8)
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8)

@@ -14,8 +14,8 @@ x0*(p) = Phi(x0*, p) gives dx0*/dp = (I - dPhi/dx0)^-1 dPhi/dp, and y(t*) = Y(x0
 dy/dp = dY/dx0 dx0*/dp + dY/dp. The Jacobians are forward sensitivities of CVODES (forward mode
 is asked for: adjoints through the contact fail), from a periodic state found to 1000 rtol.
 
-Each derivative carries an error estimate: the same derivative at ten times the tolerance, its
-periodic state found anew, compared. A peak's derivative can be a near-cancellation: at constant speed a
+Each derivative carries an error estimate (unless ``error_estimate=False``): the same derivative at
+ten times the tolerance, its periodic state found anew, compared. A peak's derivative can be a near-cancellation: at constant speed a
 journal on its wall moves along the joint force when the clearance or the contact stiffness changes,
 so the torque's explicit dependence on the contact force and its dependence through the journal's
 position cancel to 1e-5 (clearance) or 1e-7 (stiffness) of their size, and the integrator's error
@@ -92,8 +92,9 @@ class Sensitivities:
     wall_time : float
         s.
     unverified : str
-        Empty, or why there is no error estimate (the run at ten times rtol failed: through impacts its
-        periodic search can stall above its tolerance); every ``error_estimate`` is then inf.
+        Empty, or why there is no error estimate (none was asked for, or the run at ten times rtol
+        failed: through impacts its periodic search can stall above its tolerance); every
+        ``error_estimate`` is then inf.
     """
 
     table: pd.DataFrame
@@ -222,7 +223,7 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
 
 def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[str],
                   quantities: Sequence[str] = ("peak_torque",), periodic: bool = True,
-                  rtol: float = 1e-10) -> Sensitivities:
+                  rtol: float = 1e-10, error_estimate: bool = True) -> Sensitivities:
     """dJ/dp of peak quantities J of the response of `model` to `speed`, for press parameters p.
 
     Parameters
@@ -238,8 +239,14 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     periodic : bool
         Differentiate the periodic steady state (True) or the first cycle from the model's rest state.
     rtol : float
-        Integrator tolerance (CVODES), also of the periodic search. The periodic state and the
-        derivatives are computed once more at ten times it, for their error estimate.
+        Integrator tolerance (CVODES), also of the periodic search.
+    error_estimate : bool
+        Compute the periodic state and the derivatives once more at ten times `rtol` and compare
+        (``error_estimate`` and ``resolved`` in the table). That run costs about as much as the
+        first (on the seed optimum at rtol 1e-9: 1.0 of 2.2 s). Without it every ``error_estimate``
+        is inf, no row is ``resolved`` and `Sensitivities.unverified` says why: for a study that
+        has checked the tolerance once (`benchmarks/bench_sensitivity_seed.py` measures the error
+        at each rtol against central differences) and repeats the call many times.
 
     Returns
     -------
@@ -281,22 +288,32 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
              for q in quantities}
     targets = [(tq, OUTPUT_NAMES.index(QUANTITIES[q])) for q in quantities for tq in peaks[q]]
     y, d = peak_derivatives(msym, speed, targets, x0, len(names), rtol, periodic)
-    # the estimate repeats everything at the looser tolerance, the periodic state included (found anew
-    # from the model's start): on the wall of a stiff contact its error moves a small derivative most
-    try:
-        loose = Integrator("cvodes", LOOSER * rtol)
-        x_loose = periodic_state(model, speed, loose, tol=PERIODIC_TOL * loose.rtol)[0] if periodic else x0
-        d_loose = peak_derivatives(msym, speed, targets, x_loose, len(names), LOOSER * rtol, periodic)[1]
-        errors = np.abs(d - d_loose) / np.maximum(np.abs(d), np.finfo(float).tiny)
-        unverified = ""
-    except SimulationError as err:  # no estimate: every derivative is unverified, and says why
+    if not error_estimate:
         errors = np.full(d.shape, np.inf)
-        unverified = f"the run at {LOOSER:g} rtol failed: {str(err).splitlines()[0]}"
+        unverified = "no error estimate was asked for (error_estimate=False)"
+    else:
+        errors, unverified = estimated_errors(model, msym, speed, targets, x0, d, rtol, periodic)
     rows, per_peak = sensitivity_rows(peaks, names, pv[pv.size - len(names):], y, d, errors)
     import pandas as pd  # 0.5 s to import: only where a table is made
 
     return Sensitivities(pd.DataFrame(rows), pd.DataFrame(per_peak), periodic, time.perf_counter() - t_start,
                          unverified)
+
+
+def estimated_errors(model: PressModel, msym: PressModel, speed: FourierSpeed, targets: Sequence[tuple[float, int]],
+                     x0: np.ndarray, d: np.ndarray, rtol: float, periodic: bool) -> tuple[np.ndarray, str]:
+    """Relative error estimates of the derivatives `d` (computed from `x0` at `rtol`, `peak_derivatives`):
+    |d - d'| / |d| with d' the same derivatives at `LOOSER` times rtol from a periodic state found
+    anew at that tolerance; and "" or, when that run fails, inf for every entry and why."""
+    # the estimate repeats everything at the looser tolerance, the periodic state included (found anew
+    # from the model's start): on the wall of a stiff contact its error moves a small derivative most
+    try:
+        loose = Integrator("cvodes", LOOSER * rtol)
+        x_loose = periodic_state(model, speed, loose, tol=PERIODIC_TOL * loose.rtol)[0] if periodic else x0
+        d_loose = peak_derivatives(msym, speed, targets, x_loose, d.shape[1], LOOSER * rtol, periodic)[1]
+    except SimulationError as err:  # no estimate: every derivative is unverified, and says why
+        return np.full(d.shape, np.inf), f"the run at {LOOSER:g} rtol failed: {str(err).splitlines()[0]}"
+    return np.abs(d - d_loose) / np.maximum(np.abs(d), np.finfo(float).tiny), ""
 
 
 def sensitivity_rows(peaks: dict, names: tuple[str, ...], values: np.ndarray, y: np.ndarray, d: np.ndarray,

@@ -207,21 +207,25 @@ def test_a_suite_run_with_other_jobs_than_today_is_not_a_measurement(tmp_path):
     assert by_goal(status.rows(tmp_path), "`python -m benchmarks`")[0].verdict == "met"
 
 
-def ad_file(path, ad_s, cd_s, ad_error, against):
-    """A sensitivity_seed.json with AD's cheapest setting within 2 % at rtol 1e-9 and central
-    differences' at 1e-10."""
+def ad_file(path, ad_s, cd_s, ad_error, against, with_estimate_s=None):
+    """A sensitivity_seed.json with AD's cheapest setting (without its error estimate; with it when
+    `with_estimate_s` is given) within 2 % at rtol 1e-9 and central differences' at 1e-10."""
+    full = None if with_estimate_s is None else {"rtol": 1e-9, "median_s": with_estimate_s, "error": ad_error}
     path.write_text(json.dumps({
-        "date": "d10", "reference_rtol": 1e-12, "ad_against_cd_1e-10": {"AD rtol 1e-09": against},
-        "equal_accuracy": {"AD": {"rtol": 1e-9, "median_s": ad_s, "error": ad_error},
+        "date": "d10", "reference_rtol": 1e-12,
+        "ad_against_cd_1e-10": {"AD, no estimate rtol 1e-09": against, "AD rtol 1e-09": against},
+        "equal_accuracy": {"AD, no estimate": {"rtol": 1e-9, "median_s": ad_s, "error": ad_error}, "AD": full,
                            "central differences": {"rtol": 1e-10, "median_s": cd_s, "error": 0.008},
-                           "ratio": cd_s / ad_s}}))
+                           "ratio": cd_s / ad_s, "ratio_with_estimate": None if full is None else cd_s / with_estimate_s}}))
 
 
 def test_the_ad_row_needs_3_times_and_agreement_with_central_differences(tmp_path):
+    """Judged on AD without its error estimate (central differences have none); AD with it is shown."""
     goal = "AD sensitivities of the peak torque"
-    ad_file(tmp_path / "sensitivity_seed.json", 3.0, 9.3, 0.002, 0.011)  # 3.1 x, 1.1 %: met
+    ad_file(tmp_path / "sensitivity_seed.json", 3.0, 9.3, 0.002, 0.011, with_estimate_s=6.2)  # 3.1 x, 1.1 %: met
     row = by_goal(status.rows(tmp_path), goal)[0]
     assert row.verdict == "met" and "**3.10 ×**" in row.measured and "1.1 %" in row.measured and "d10" in row.source
+    assert "with its error estimate" in row.measured and "1.50 ×" in row.measured
     ad_file(tmp_path / "sensitivity_seed.json", 3.0, 8.7, 0.002, 0.011)  # 2.9 x
     assert by_goal(status.rows(tmp_path), goal)[0].verdict == "**not met**"
     ad_file(tmp_path / "sensitivity_seed.json", 3.0, 9.3, 0.002, 0.03)  # 3.1 x, but 3 % from central differences

@@ -176,6 +176,26 @@ def test_without_a_looser_run_every_derivative_is_unverified(monkeypatch):
     assert "failed" in s.unverified and "residual 3e-05" in s.unverified
 
 
+def test_without_the_estimate_the_derivatives_are_the_same_and_unverified(monkeypatch):
+    """``error_estimate=False`` runs nothing at ten times rtol (no second periodic search), gives the
+    same derivatives to the bit, and every row says it is not verified."""
+    import pressocp.sensitivity as sens
+
+    model = po.build_model(po.PressParams(), clearance=("wrist_pin",))
+    speed = po.FourierSpeed.constant(0.8)
+    full = sensitivities(model, speed, ("slider_mass",), rtol=1e-8)
+
+    def no_second_search(*args, **kwargs):
+        raise AssertionError("a periodic search at ten times rtol ran")
+
+    monkeypatch.setattr(sens, "periodic_state", no_second_search)
+    bare = sensitivities(model, speed, ("slider_mass",), rtol=1e-8, error_estimate=False)
+    assert bare.table["derivative"].tolist() == full.table["derivative"].tolist()
+    assert full.table["resolved"].all() and not bare.table["resolved"].any()
+    assert np.isinf(bare.table["error_estimate"]).all() and "error_estimate=False" in bare.unverified
+    assert full.unverified == ""
+
+
 @pytest.mark.slow  # 19 s with the compile cache warm, 74 s cold
 def test_a_second_call_on_one_model_reuses_its_derivatives_and_answers_the_same():
     """What a call builds is kept with the model (the parameterised model, keyed by the parameters):
