@@ -3,9 +3,13 @@
 Cases (one per call; each writes benchmarks/results/sweep_<case>.json and .png):
 
 * ``parallel``      8 periodic simulations on the clearance model (60 spm scenario, its kinematic
-                    design, wrist-pin clearance 0.05..0.4 mm) with 1 worker, 2 workers (process
-                    pools) and a dask ``LocalCluster`` of 2 workers, in one run, each ``--repeat``
-                    times (median); the tables must be identical apart from wall times.
+                    design, wrist-pin clearance 0.05..0.4 mm) with 1 and 2 workers of the package's
+                    pool (`pressocp.workers.process_pool`: what ``po.sweep`` starts by default and
+                    ``pressocp sweep --workers N`` uses, one native thread and the worker's malloc
+                    settings each; the goal's pair), 1 and 2 workers of a plain spawned
+                    ``ProcessPoolExecutor`` (a pool of the caller's, which the package does not
+                    configure) and a dask ``LocalCluster`` of 2 workers, in one run, each
+                    ``--repeat`` times (median); the tables must be identical apart from wall times.
 * ``continuation``  optima along the stroke rate 60 -> 75 spm (7 points, 75 spm scenario): a path
                     (each optimum warm-started from its neighbour's, ``Strategy(mode="continue")``)
                     against cold starts (the default call at each point), one worker each; time per
@@ -52,6 +56,7 @@ import pressocp as po  # noqa: E402
 from pressocp.io import versions  # noqa: E402
 from pressocp.plots import save  # noqa: E402
 from pressocp.report import stamp  # noqa: E402
+from pressocp.workers import process_pool  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 
@@ -73,11 +78,13 @@ def timed(fn) -> tuple[float, pd.DataFrame]:
 def parallel(repeat: int) -> dict:
     scenario = po.Scenario.load("press60")
     vary = {"wrist_pin.clearance": [float(c) for c in np.linspace(5e-5, 4e-4, 8)]}
-    times: dict[str, list[float]] = {"1 worker": [], "2 workers": [], "dask, 2 workers": []}
+    pools = {"1 worker": (process_pool, 1), "2 workers": (process_pool, 2),
+             "1 worker, plain pool": (spawn_pool, 1), "2 workers, plain pool": (spawn_pool, 2)}
+    times: dict[str, list[float]] = {**{label: [] for label in pools}, "dask, 2 workers": []}
     tables = {}
     for _ in range(repeat):
-        for label, workers in (("1 worker", 1), ("2 workers", 2)):
-            with spawn_pool(workers) as pool:
+        for label, (pool_of, workers) in pools.items():
+            with pool_of(workers) as pool:
                 pool.submit(int).result()  # workers started (and pressocp imported lazily) inside the timing below
                 dt, tables[label] = timed(lambda: po.sweep(scenario, vary, "simulate", executor=pool, progress=False))
             times[label].append(dt)
@@ -94,7 +101,9 @@ def parallel(repeat: int) -> dict:
     med = {k: statistics.median(v) for k, v in times.items()}
     row = {"case": "parallel", **machine(), "points": 8, "repeat": repeat, "wall_times_s": times,
            "median_s": med, "speedup_2_workers": med["1 worker"] / med["2 workers"],
-           "speedup_dask": med["1 worker"] / med["dask, 2 workers"], "identical_tables": identical,
+           "speedup_dask": med["1 worker"] / med["dask, 2 workers"],
+           "speedup_plain_pool": med["1 worker, plain pool"] / med["2 workers, plain pool"],
+           "identical_tables": identical,
            "table": tables["1 worker"].drop(columns="speed").to_dict("records")}
     parallel_figure(row)
     return row
@@ -107,17 +116,19 @@ GOAL_CONTINUATION = 0.005  # issue #16: the continuation's optima within +-0.5 %
 def parallel_figure(row: dict) -> None:
     """Median wall time per executor, with the 2-worker goal (1 worker's time / `GOAL_SPEEDUP`)."""
     med = row["median_s"]
-    fig, ax = plt.subplots(figsize=(6, 3))
-    ax.barh(list(med), list(med.values()), color=["C0", "C1", "C2"])
-    for i, v in enumerate(med.values()):
-        ax.text(v, i, f" {v:.1f} s (x{med['1 worker'] / v:.2f})", va="center", fontsize=8)
+    fig, ax = plt.subplots(figsize=(6.6, 3.6))
+    ax.barh(list(med), list(med.values()), color=[f"C{i}" for i in range(len(med))])
+    for i, (label, v) in enumerate(med.items()):
+        one = med["1 worker, plain pool"] if label.endswith("plain pool") else med["1 worker"]
+        ax.text(v, i, f" {v:.1f} s (x{one / v:.2f})", va="center", fontsize=8)
     goal = med["1 worker"] / GOAL_SPEEDUP
     ax.axvline(goal, color="tab:red", ls="--", lw=0.8)
     ax.text(goal, 1.0, f"goal for 2 workers: ≥ {GOAL_SPEEDUP:g}× ({goal:.1f} s)", transform=ax.get_xaxis_transform(),
             color="tab:red", fontsize=7, ha="center", va="bottom")
     ax.set_xlim(0, 1.3 * max(med.values()))
     ax.set_xlabel(f"wall time of 8 periodic simulations, s (median of {row['repeat']})")
-    ax.set_title(f"pressocp.sweep on {row.get('cpus', os.cpu_count())} cores\n", fontsize=9)
+    ax.set_title(f"pressocp.sweep on {row.get('cpus', os.cpu_count())} cores, {row.get('date', '')}\n"
+                 "'1 worker', '2 workers': the package's pool; each against 1 worker of its own kind\n", fontsize=8)
     fig.tight_layout()
     save(fig, OUT / "sweep_parallel.png")
 

@@ -311,8 +311,10 @@ def sweep_parallel_row(res: Results) -> Row:
     same = all(r["identical_tables"].values())
     ok = r["speedup_2_workers"] >= GOAL_SWEEP_RATIO and same
     med = r["median_s"]
-    return Row(29, goal, f"1 worker {med['1 worker']:.1f} s, 2 workers {med['2 workers']:.1f} s: "
-               f"**{r['speedup_2_workers']:.2f} ×** (dask {r['speedup_dask']:.2f} ×); tables "
+    plain = (f"; a plain ProcessPoolExecutor of the caller's: {r['speedup_plain_pool']:.2f} ×"
+             if "speedup_plain_pool" in r else "")
+    return Row(29, goal, f"the package's pool: 1 worker {med['1 worker']:.1f} s, 2 workers {med['2 workers']:.1f} s: "
+               f"**{r['speedup_2_workers']:.2f} ×** (dask {r['speedup_dask']:.2f} ×{plain}); tables "
                f"{'identical' if same else 'differ'}", verdict(ok), f"sweep_parallel.json, {r['date']}")
 
 
