@@ -59,8 +59,8 @@ def impact_study(problem: SpeedProblem | None = None, model: ModelSpec | None = 
     from rest (``stats["periodic"]`` says why)."""
     problem = SpeedProblem(PressParams(), period=IMPACT_PERIOD, ram_speed=IMPACT_RAM_SPEED) \
         if problem is None else problem
-    # compiled: two periodic searches, and through impacts one that fails after 12 cycles and Newton's
-    # method took 28 s interpreted and 18 s compiled on the default scene (2026-11-29)
+    # compiled: two periodic searches of up to 12 cycles each (through impacts they do not settle);
+    # the default scene's study took 28 s interpreted and 18 s compiled (2026-11-29)
     m = for_repeated_use((ModelSpec(mechanism=problem.mechanism) if model is None else model)
                          .build(problem.press, problem.n_harmonics))
     d = design_speed(problem)

@@ -15,11 +15,11 @@ dy/dp = dY/dx0 dx0*/dp + dY/dp. The Jacobians are forward sensitivities of CVODE
 is asked for: adjoints through the contact fail), from a periodic state found to 1000 rtol.
 
 Each derivative carries an error estimate (unless ``error_estimate=False``): the same derivative at
-ten times the tolerance, its periodic state found anew, compared. A peak's derivative can be a near-cancellation: at constant speed a
-journal on its wall moves along the joint force when the clearance or the contact stiffness changes,
-so the torque's explicit dependence on the contact force and its dependence through the journal's
-position cancel to 1e-5 (clearance) or 1e-7 (stiffness) of their size, and the integrator's error
-in the sensitivities decides the result. The estimate is the error of the looser run, so it is an
+ten times the tolerance, its periodic state found anew, compared. A peak's derivative can be a
+near-cancellation: at constant speed a journal on its wall moves along the joint force when the
+clearance or the contact stiffness changes, so the torque's explicit dependence on the contact force
+and its dependence through the journal's position cancel to 1e-5 (clearance) or 1e-7 (stiffness) of
+their size, and the integrator's error in the sensitivities decides the result. The estimate is the error of the looser run, so it is an
 upper one: a ``resolved`` row (estimate at most 1 %) can be trusted; one that is not is below what
 this tolerance verifies, and a smaller rtol may resolve it (docs/measurements.md measures where).
 """
@@ -309,7 +309,7 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     error_estimate : bool
         Compute the periodic state and the derivatives once more at ten times `rtol` and compare
         (``error_estimate`` and ``resolved`` in the table). That run costs about as much as the
-        first (on the seed optimum at rtol 1e-9: 1.0 of 2.2 s). Without it every ``error_estimate``
+        first (on the seed optimum at rtol 1e-9: 1.0 of 2.1 s). Without it every ``error_estimate``
         is inf, no row is ``resolved`` and `Sensitivities.unverified` says why: for a study that
         has checked the tolerance once (`benchmarks/bench_sensitivity_seed.py` measures the error
         at each rtol against central differences) and repeats the call many times.
