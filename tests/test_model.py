@@ -6,8 +6,6 @@ the Euler-Bernoulli formula, the Simeon slider crank (shared/reference/benchmark
 work-energy bookkeeping and scipy's Radau on the same equations.
 """
 
-import sys
-
 import numpy as np
 import pytest
 import scipy.linalg as sla
@@ -15,10 +13,8 @@ import scipy.linalg as sla
 from pressocp import Bearing, Counterbalance, FourierSpeed, PressParams, ProcessForce, beam, rigid_response
 from pressocp.mechanism.slider_crank import flexible_rod_energies
 from pressocp.model import build_model
-from pressocp import SpeedProblem
-from pressocp.design import design_speed
-from pressocp.simulate import (Integrator, SimulationError, contracting, expect_settled, for_repeated_use,
-                               newton_periodic, periodic_orbit, periodic_state, runs_compiled, simulate)
+from pressocp.simulate import (Integrator, SimulationError, expect_settled, for_repeated_use, newton_periodic,
+                               periodic_orbit, periodic_state, runs_compiled, simulate)
 from pressocp.studies import simeon_crank
 
 FLORES_PERIOD = 60.0 / 5000.0
@@ -445,30 +441,18 @@ def test_newton_stops_where_its_line_search_finds_no_lower_residual():
     assert steps == 1 and res == 1e-3 and np.array_equal(x, np.zeros(2)) and sh.shots == 1 + 10
 
 
-def test_newton_follows_only_settling_that_contracts():
-    """Newton's method follows the settling cycles only when their residual fell over each of the last
-    three (worked by hand from the rule)."""
-    assert contracting([0.9, 4e-3, 2e-3, 1e-3, 6e-4])
-    assert not contracting([0.9, 4e-3, 2e-3, 3e-3, 6e-4])  # rose once among the last three
-    assert not contracting([2e-3, 1e-3, 6e-4])  # too few cycles to tell
-    assert not contracting([1e-4, 1e-4, 1e-4, 1e-4])  # level: not falling
+@pytest.mark.slow  # 21 s
+def test_newton_finishes_a_search_whose_settling_does_not_contract():
+    """The 75 spm kinematic design impacts. At rtol 1e-10 the residual of its settling cycles rises
+    over the last ones (1.7e-6 to 6.3e-6, above the tol of 1e-7), and Newton's method reaches the tol.
+    A rule that stopped such a search before Newton's method (tried on 2026-11-29,
+    docs/decisions/2026-11-29-periodic-search-without-contraction.md) made the tornado study fail here."""
+    from pressocp import Scenario, design_speed
 
-
-def test_a_search_whose_cycles_do_not_contract_stops_without_newton(monkeypatch):
-    """The 75 spm kinematic design impacts, and its cycles from rest wander at about 1e-4 (scaled) at
-    rtol 1e-8 (above the tol of 1e-5): no attracting orbit, so the search stops after its settling
-    cycles and says why, and Newton's method (16 of the 18 s the failing search took) is not tried."""
-    sim = sys.modules["pressocp.simulate"]  # the package's `simulate` function shadows the module's name
-
-    def no_newton(*args, **kwargs):
-        raise AssertionError("Newton's method ran")
-
-    monkeypatch.setattr(sim, "newton_periodic", no_newton)
-    p = PressParams()
-    speed = design_speed(SpeedProblem(p, period=0.8, ram_speed=-0.1)).speed
-    model = for_repeated_use(build_model(p))
-    with pytest.raises(SimulationError, match="after 12 cycles, not falling over the last 3 .*Newton's method not tried"):
-        periodic_state(model, speed, Integrator("cvodes", 1e-8), tol=1e-5)
+    scenario = Scenario.load("press75")
+    model = for_repeated_use(scenario.build_model())
+    x, info = periodic_state(model, design_speed(scenario.problem).speed, Integrator("cvodes", 1e-10), tol=1e-7)
+    assert info["cycles"] == 12 and info["newton"] >= 1 and info["residual"] <= 1e-7
 
 
 def test_settling_cycles_expected_to_settle():
