@@ -19,10 +19,10 @@ ten times the tolerance, its periodic state found anew, compared. A peak's deriv
 near-cancellation: at constant speed a journal on its wall moves along the joint force when the
 clearance or the contact stiffness changes, so the torque's explicit dependence on the contact force
 and its dependence through the journal's position cancel to 1e-5 (clearance) or 1e-7 (stiffness) of
-their size, and the integrator's error in the sensitivities decides the result. The estimate is the error of the looser run, so it is an
-upper one: a ``resolved`` row (estimate at most 1 %) can be trusted; one that is not is below what
-this tolerance verifies, and a smaller rtol may resolve it (docs/measurements.md measures where).
-"""
+their size, and the integrator's error in the sensitivities decides the result. The estimate is the
+error of the looser run, so it is an upper one: a ``resolved`` row (estimate at most 1 %) can be
+trusted; one that is not is below what this tolerance verifies, and a smaller rtol may resolve it
+(docs/measurements.md measures where)."""
 
 from __future__ import annotations
 
@@ -200,7 +200,7 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
     periodic : bool
         Include the motion of the periodic state, dx0/dp = (I - dPhi/dx0)^-1 dPhi/dp.
     nominal : dict, optional
-        Scaled states at each target time other than 0 (`states_at`), from a run at `rtol` from `x0`.
+        Scaled states at each target time other than 0 (`states_from_samples`), from a run at `rtol` from `x0`.
 
     Returns
     -------
@@ -235,7 +235,7 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
     end = S[:, :, -1]
     dx0 = (np.linalg.solve(np.eye(nx) - end[:, :nx], end[:, nx:]) if periodic
            else np.zeros((nx, n_parameters)))
-    Y = output_jacobian(msym, n_parameters)
+    Y = output_jacobian(msym)
     y, d = np.empty(len(targets)), np.empty((len(targets), n_parameters))
     for k, (t, i) in enumerate(targets):
         x, St = (x0, np.eye(nx, nd)) if t == 0.0 else (nominal[t], S[:, :, grid.index(t)])
@@ -245,20 +245,21 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
     return y, d
 
 
-def output_jacobian(msym: PressModel, n_parameters: int) -> ca.Function:
+def output_jacobian(msym: PressModel) -> ca.Function:
     """(t, x, speed parameters, press parameters) -> (every output of `OUTPUT_NAMES`, their Jacobians
-    with respect to the scaled states and to the `n_parameters` carried press parameters (SI)), kept
-    with `msym`."""
+    with respect to the scaled states and to the press parameters `msym` carries (its ``symbols``,
+    SI)), kept with `msym`."""
     if "output_jacobian" not in msym.functions:
+        n = len(msym.symbols)
         t, x = ca.SX.sym("t"), ca.SX.sym("x", msym.nx)
-        ps, q = ca.SX.sym("ps", msym.p.numel() - n_parameters), ca.SX.sym("q", n_parameters)
+        ps, q = ca.SX.sym("ps", msym.p.numel() - n), ca.SX.sym("q", n)
         y = ca.vertcat(*msym.outputs(t, x, ca.vertcat(ps, q)))
         msym.functions["output_jacobian"] = ca.Function("output_jacobian", [t, x, ps, q],
                                                         [y, ca.jacobian(y, x), ca.jacobian(y, q)])
     return msym.functions["output_jacobian"]
 
 
-def states_at(msym: PressModel, speed: FourierSpeed, t: np.ndarray, X: np.ndarray, times: Sequence[float],
+def states_from_samples(msym: PressModel, speed: FourierSpeed, t: np.ndarray, X: np.ndarray, times: Sequence[float],
               rtol: float) -> dict[float, np.ndarray]:
     """Scaled states at `times` (s, in [t[0], t[-1]]) of the run sampled as `X` (scaled, one column per
     entry of `t`): each integrated at `rtol` from the last sample before it (a few steps over less
@@ -354,7 +355,8 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
              for q in quantities}
     targets = [(tq, OUTPUT_NAMES.index(QUANTITIES[q])) for q in quantities for tq in peaks[q]]
     # the states at the peaks, from the sampled response: the forward run then needs no plain run
-    nominal = states_at(msym, speed, t_rel, res.states / model.x_scale[:, None], [t for t, _ in targets], rtol)
+    nominal = states_from_samples(msym, speed, t_rel, res.states / model.x_scale[:, None], [t for t, _ in targets],
+                                  rtol)
     y, d = peak_derivatives(msym, speed, targets, x0, len(names), rtol, periodic, nominal)
     if not error_estimate:
         errors = np.full(d.shape, np.inf)
