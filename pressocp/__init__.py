@@ -5,6 +5,7 @@
     result = po.optimize_speed(problem)
 """
 
+from .blas import set_casadi_blas_threads
 from .design import DesignSettings, SpeedDesign, design_speed
 from .drive import Drive, MotorCycle, motor_cycle
 from .mechanism import (KnuckleJoint, KnucklePress, SixBar, SixBarPress, SliderCrank, WorkingZone,
@@ -37,5 +38,9 @@ __all__ = [
     "constant_speed_zone", "contact_losses", "crank_angle_at_height",
     "design_speed", "hertz_internal_stiffness", "max_stroke_rate", "motor_cycle", "optimize_speed", "optimum_sensitivities", "recommend_model", "recommend_transcription",
     "rigid_inverse_dynamics", "rigid_kinematics", "rigid_response", "sensitivities", "Sensitivities", "simulate",
-    "sweep",
+    "set_casadi_blas_threads", "sweep",
 ]
+
+#: One thread for CasADi's own OpenBLAS (IPOPT, MUMPS) in every process: the same answer on any core
+#: count and on every path (`pressocp.blas`).
+set_casadi_blas_threads(1)
