@@ -1,7 +1,7 @@
 """press75 with a slide counterbalance, and press75 drawing a cup: verified optima and joint-force
 reversals.
 
-    python -m benchmarks.bench_counterbalance [--skip-constant]
+    python -m benchmarks.bench_counterbalance [--skip-constant] [--workers N]
 
 Runs the default call (both clearances, rigid rod, the default chain) of:
 
@@ -20,13 +20,20 @@ journals' contact losses on the verifying simulation (entries of the eccentricit
 clearance, per joint). Single runs, not medians: the results are answers, not times; the machine's
 load is recorded with the date. Writes ``results/counterbalance.json`` and
 ``results/counterbalance.png``.
+
+The cases run `--workers` at a time (default 2) in the package's worker pool, the longest first. In a
+worker a case runs its two candidate chains one after the other (a sweep point's path), where a
+default call in the main process runs them side by side: the same answer since CasADi's BLAS runs
+one thread in every process (`pressocp.blas`), but a case's ``wall_time_s`` is the sum of its chains.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import json
 import time
+from concurrent.futures import as_completed
 from pathlib import Path
 
 import numpy as np
@@ -36,6 +43,7 @@ from pressocp.io import versions
 from pressocp.journals import contact_losses
 from pressocp.plots import save
 from pressocp.report import stamp
+from pressocp.workers import process_pool
 
 OUT = Path(__file__).parent / "results"
 #: Range of the counterbalance's force, N (8 x the hanging weight of ram and rod).
@@ -77,7 +85,9 @@ def case(name: str, scenario: po.Scenario, **changes) -> dict:
                     "wall_time_s": s.wall_time} for s in result.stages]}
     print(json.dumps({k: record[k] for k in ("case", "verified", "peak_torque_N_m", "counterbalance",
                                               "rod_load_reversals", "contact_losses", "wall_time_s")}), flush=True)
-    return record | {"_result": result}
+    sim = result.simulation
+    return record | {"_curve": {"theta": np.asarray(sim.theta), "torque": np.asarray(sim.torque),
+                                "wrist_pin_force": np.asarray(sim.wrist_pin_force)}}
 
 
 def figure(records: list[dict]):
@@ -85,13 +95,12 @@ def figure(records: list[dict]):
 
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.2))
     for r in records:
-        res = r["_result"]
-        sim = res.simulation
-        deg = np.degrees(np.mod(sim.theta, 2 * np.pi))
+        curve = r["_curve"]
+        deg = np.degrees(np.mod(curve["theta"], 2 * np.pi))
         order = np.argsort(deg)
         label = f"{r['case']}: {r['peak_torque_N_m']:.1f} N·m"
-        ax.plot(deg[order], sim.torque[order], lw=1, label=label)
-        bx.plot(deg[order], np.asarray(sim.wrist_pin_force)[order] / 1e3, lw=1, label=r["case"])
+        ax.plot(deg[order], curve["torque"][order], lw=1, label=label)
+        bx.plot(deg[order], curve["wrist_pin_force"][order] / 1e3, lw=1, label=r["case"])
     ax.set(xlabel="crank angle, deg (0: top dead centre)", ylabel="motor torque at the crank, N·m",
            title="verified optima (re-simulated, both clearances)")
     bx.set(xlabel="crank angle, deg", ylabel="wrist-pin force, kN", title="wrist-pin force")
@@ -104,20 +113,27 @@ def figure(records: list[dict]):
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--skip-constant", action="store_true", help="skip the constant-against-curve pair")
+    ap.add_argument("--workers", type=int, default=2, help="cases run at once, each in a worker (default 2)")
     args = ap.parse_args()
     OUT.mkdir(exist_ok=True)
     press75, drawing = po.Scenario.load("press75"), po.Scenario.load("drawing75")
     gas = press75.press.replace(counterbalance=po.Counterbalance(gas_length=0.3, exponent=1.4))
-    records = [case("none", press75), case("constant", press75, counterbalance_range=RANGE),
-               case("gas", press75, press=gas, counterbalance_range=RANGE), case("drawing", drawing)]
+    cases = {"none": (press75, {}), "constant": (press75, {"counterbalance_range": RANGE}),
+             "gas": (press75, {"press": gas, "counterbalance_range": RANGE}), "drawing": (drawing, {})}
     if not args.skip_constant:
         constant = po.ProcessForce(force=1000.0, h_top=0.07, h_bottom=0.03)
         curve = po.ProcessForce(heights=(0.03, 0.07), forces=(1000.0, 1000.0))
-        records += [case("drawing_constant", press75, press=press75.press.replace(process_force=constant)),
-                    case("drawing_curve", press75, press=press75.press.replace(process_force=curve))]
+        cases |= {"drawing_constant": (press75, {"press": press75.press.replace(process_force=constant)}),
+                  "drawing_curve": (press75, {"press": press75.press.replace(process_force=curve)})}
+    longest_first = sorted(cases, key=lambda name: name in ("none", "drawing_constant", "drawing_curve", "drawing"))
+    task = importlib.import_module(Path(__file__).stem).case  # by its module's name: the workers import it so
+    with process_pool(args.workers) as pool:
+        futures = {pool.submit(task, name, cases[name][0], **cases[name][1]): name for name in longest_first}
+        done = {futures[f]: f.result() for f in as_completed(futures)}
+    records = [done[name] for name in cases]
     fig = figure(records[:4])
-    out = {"date_run": stamp(), "versions": versions(), "range_N": list(RANGE),
-           "cases": [{k: v for k, v in r.items() if k != "_result"} for r in records]}
+    out = {"date_run": stamp(), "versions": versions(), "range_N": list(RANGE), "cases_at_once": args.workers,
+           "cases": [{k: v for k, v in r.items() if k != "_curve"} for r in records]}
     by = {r["case"]: r for r in out["cases"]}
     out["counterbalance_lowers_peak"] = bool(
         min(by["constant"]["peak_torque_N_m"], by["gas"]["peak_torque_N_m"]) < by["none"]["peak_torque_N_m"]

@@ -21,9 +21,7 @@ from __future__ import annotations
 
 import argparse
 import json
-import multiprocessing
 import time
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import matplotlib
@@ -35,6 +33,7 @@ import pandas as pd  # noqa: E402
 import pressocp as po  # noqa: E402
 from pressocp.plots import key_values, plot_sweep, plot_tornado, plot_wear, save  # noqa: E402
 from pressocp.studies import wear_study  # noqa: E402
+from pressocp.workers import process_pool  # noqa: E402
 from goals import GOAL_FLOOR_RATIO  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
@@ -50,8 +49,10 @@ PARAMETERS = ("slider_mass", "rod_mass", "crank_inertia", "wrist_pin.clearance",
               "wrist_pin.stiffness", "crank_pin.stiffness")
 
 
-def pool(workers: int) -> ProcessPoolExecutor:
-    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+def pool(workers: int):
+    """The package's worker pool, as `po.sweep` starts by default: one native thread per worker, each
+    point's candidate chains one after the other in its worker."""
+    return process_pool(workers)
 
 
 def optima(case: str, workers: int) -> None:
