@@ -125,7 +125,7 @@ def main() -> None:
         curve = po.ProcessForce(heights=(0.03, 0.07), forces=(1000.0, 1000.0))
         cases |= {"drawing_constant": (press75, {"press": press75.press.replace(process_force=constant)}),
                   "drawing_curve": (press75, {"press": press75.press.replace(process_force=curve)})}
-    longest_first = sorted(cases, key=lambda name: name in ("none", "drawing_constant", "drawing_curve", "drawing"))
+    longest_first = [n for n in ("constant", "gas", "drawing", "drawing_constant", "drawing_curve", "none") if n in cases]
     task = importlib.import_module(Path(__file__).stem).case  # by its module's name: the workers import it so
     with process_pool(args.workers) as pool:
         futures = {pool.submit(task, name, cases[name][0], **cases[name][1]): name for name in longest_first}
