@@ -2,21 +2,16 @@
 
 IPOPT and its linear solver MUMPS call the OpenBLAS that CasADi ships (``libcasadi-tp-openblas``,
 built for one CPU target, so its kernels are the same on every x86-64 machine), not numpy's. By
-default that OpenBLAS starts a thread per core, and with two threads it sums some products in
-another order than with one: IPOPT's iterates then differ in their last bits with the core count.
-The hard scenes' chains, which pass stages stopped at their iteration limit, turn that into another
-verified optimum. Measured on press75 (2026-11-29): the rigid stage's objective moved by 3e-16
-relative, the first no-reversal stage took 64 iterations instead of 59 and the answer was 145.14371
-instead of 145.14407 N·m. The workers of `pressocp.workers.process_pool` (a sweep's points, the
-candidate chains) already ran one thread, so the same problem gave one answer as a default call and
-another as a sweep's point (the gas counterbalance: 136.46 against 144.99 N·m).
+default it starts a thread per core, and with two threads it sums some products in another order
+than with one: IPOPT's iterates then differ in their last bits with the core count, and the hard
+scenes' chains, which pass stages stopped at their iteration limits, turn that into another verified
+optimum (press75: 145.14407 N·m on two threads, 145.14371 on one). With one thread in every process,
+a default call, a sweep's point (the package's workers) and a machine with another core count take
+the same path to the same answer. MUMPS's fronts here are small (a banded collocation KKT system),
+so a second thread buys little.
 
-With one thread in every process, the default call, a sweep's point and a machine with another core
-count take the same path to the same answer. MUMPS's fronts here are small (a banded collocation
-KKT system), so a second thread bought little, and beside the candidate chains' two workers it only
-oversubscribed the cores.
-
-`pressocp` sets this when it is imported. numpy's OpenBLAS is a separate library, left alone here.
+`pressocp` sets this when it is imported; `set_casadi_blas_threads` changes it. numpy's OpenBLAS is
+a separate library, left alone here. See ``docs/decisions/2026-11-29-casadi-blas-one-thread.md``.
 """
 
 from __future__ import annotations
