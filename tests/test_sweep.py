@@ -243,3 +243,17 @@ def test_wear_study_of_a_design_that_keeps_contact(tmp_path, serial):
     assert (tmp_path / "wear.png").stat().st_size > 10_000
     with pytest.raises(ValueError, match="no clearance joint"):
         wear_study(RIGID, speed)
+
+
+@pytest.mark.slow  # 25 s
+def test_a_default_call_and_a_sweep_point_reach_the_same_answer_to_the_bit():
+    """press60 (both clearances): the default call runs its rigid stage here and its candidate chains
+    side by side in workers; a sweep's point runs all of them one after the other in one worker.
+    With CasADi's BLAS on one thread everywhere (`pressocp.blas`) the two take the same path."""
+    scenario = po.Scenario.load("press60")
+    direct = scenario.optimize(progress=False)
+    row = po.sweep(scenario, [{"slider_mass": scenario.problem.press.slider_mass}], progress=False).iloc[0]
+    assert direct.verified and row["ok"]
+    swept = po.FourierSpeed.from_dict(json.loads(row["speed"]))
+    assert swept.a.tolist() == direct.speed.a.tolist() and swept.b.tolist() == direct.speed.b.tolist()
+    assert row["peak_torque_N_m"] == direct.peak_torque
