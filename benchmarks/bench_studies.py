@@ -49,12 +49,6 @@ PARAMETERS = ("slider_mass", "rod_mass", "crank_inertia", "wrist_pin.clearance",
               "wrist_pin.stiffness", "crank_pin.stiffness")
 
 
-def pool(workers: int):
-    """The package's worker pool, as `po.sweep` starts by default: one native thread per worker, each
-    point's candidate chains one after the other in its worker."""
-    return process_pool(workers)
-
-
 def optima(case: str, workers: int) -> None:
     scenario = po.Scenario.load("press75")
     if case == "clearance":
@@ -63,7 +57,7 @@ def optima(case: str, workers: int) -> None:
     else:
         vary = GRIDS[case]
         key = next(iter(vary))
-    with pool(workers) as ex:
+    with process_pool(workers) as ex:  # the pool po.sweep starts by default
         table = po.sweep(scenario, vary, "optimize", executor=ex, progress=True, csv=OUT / f"study_{case}.csv",
                          continuation=False)
     optima_figure(table, case)
@@ -95,7 +89,7 @@ def optima_figure(table, case: str) -> None:
 def wear(workers: int) -> None:
     scenario = po.Scenario.load("press75")
     speed = po.FourierSpeed.from_dict(json.loads(REFERENCE.read_text()))
-    with pool(workers) as ex:
+    with process_pool(workers) as ex:  # the pool po.sweep starts by default
         table = wear_study(scenario, speed, executor=ex, progress=True, csv=OUT / "study_wear_points.csv")
     table.to_csv(OUT / "study_wear.csv", index=False)
     save(plot_wear(table, scenario.problem.press.wrist_pin.clearance,

@@ -6,11 +6,11 @@ import sys
 
 import pytest
 
-from pressocp.blas import casadi_blas, casadi_blas_threads, set_casadi_blas_threads
+from pressocp.blas import LIBRARY_NAME, casadi_blas, casadi_blas_threads, set_casadi_blas_threads
 
 PROBE = ("import ctypes, pathlib, casadi\n"
          "{pre}\n"
-         "lib = ctypes.CDLL(str(pathlib.Path(casadi.__file__).parent / 'libcasadi-tp-openblas.so.0'))\n"
+         f"lib = ctypes.CDLL(str(pathlib.Path(casadi.__file__).parent / {LIBRARY_NAME!r}))\n"
          "print(lib.openblas_get_num_threads())\n")
 
 needs_casadi_blas = pytest.mark.skipif(casadi_blas() is None, reason="this CasADi build ships no OpenBLAS of its own")
