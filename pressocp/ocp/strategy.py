@@ -465,15 +465,18 @@ class Strategy:
     def state_chain(self, problem: SpeedProblem, chain: list[tuple[str, PressModel]], transcription: Transcription,
                     speed: FourierSpeed, progress: bool) -> tuple[list[StageResult], Transcription]:
         """The stages on models with states (`chain`: names and models, the last the target) from
-        `speed`, each from the last one's answer, rescued when it does not converge (`rescued`) and
-        followed up (`followed`), except the last when polish rounds follow (a polish round that is
+        `speed`, each from the last one's answer, rescued when it does not converge (`rescued`), the
+        last solved again on finer grids while its grid is too coarse (`regridded`), and followed up
+        (`followed`), except the last when polish rounds follow (a polish round that is
         kept makes its follow-ups moot); it stops at a stage that does not converge. Returns the stages
         and the transcription of the last one."""
         stages: list[StageResult] = []
         for k, (name, m) in enumerate(chain):
-            solved, used = self.rescued(problem, m, transcription, WarmStart(speed), name, progress)
-            solved, transcription = self.regridded(problem, m, transcription, used, solved, WarmStart(speed), progress) \
-                if k == len(chain) - 1 else (solved, used)
+            start = WarmStart(speed)
+            solved, used = self.rescued(problem, m, transcription, start, name, progress)
+            if k == len(chain) - 1:
+                solved, used = self.regridded(problem, m, transcription, used, solved, start, progress)
+            transcription = used
             if k < len(chain) - 1 or not self.polish_rounds:
                 more, transcription = self.followed(problem, m, transcription, solved[-1], progress)
                 solved = solved[:-1] + more
