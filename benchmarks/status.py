@@ -115,8 +115,14 @@ def speed_rows(res: Results) -> list[Row]:
     rows = res.jsonl("speed.jsonl")
     out = []
     seed, cold = latest(rows, scenario="press75", label="after"), latest(rows, scenario="press75", label="cold")
-    goal = f"press75 default call, cold process, compile included: ≤ {GOAL_SEED_S:g} s median, verified peak ≤ {GOAL_SEED_PEAK:g} N·m"
-    for r, how in ((seed, "the first run with an empty compile cache"), (cold, "an empty compile cache in every run")):
+    limits = f"≤ {GOAL_SEED_S:g} s median, verified peak ≤ {GOAL_SEED_PEAK:g} N·m"
+    # The goal is the cold row; the "after" row empties the cache before its first run only,
+    # so its median is a warm call's, shown beside the goal and not as it.
+    goals = (f"press75 default call, fresh process, the compile cache emptied before the first of the runs only "
+             f"(so a warm call's median): {limits}",
+             f"press75 default call, cold process, compile included: {limits}")
+    for r, how, goal in ((seed, "the first run with an empty compile cache", goals[0]),
+                         (cold, "an empty compile cache in every run", goals[1])):
         if r is None:
             out.append(missing(28, goal, "speed.jsonl"))
             continue
@@ -124,7 +130,8 @@ def speed_rows(res: Results) -> list[Row]:
         peak = max(r["peaks"])
         ok = r["median_wall_s"] <= GOAL_SEED_S and r["all_verified"] and peak <= GOAL_SEED_PEAK
         out.append(Row(28, goal, f"{how}: {walls} s, median **{r['median_wall_s']:.1f} s**; peak {peak:.4f} N·m, "
-                       f"{'all' if r['all_verified'] else 'not all'} verified; on {vm(r)}", verdict(ok),
+                       f"{'all' if r['all_verified'] else 'not all'} verified; on {vm(r)}",
+                       verdict(ok) if r is cold else f"{verdict(ok)} as a warm call, not the goal",
                        f"speed.jsonl ({r['label']}), {r['run']['date']}"))
     for name in ("press60", "large_press", "slender_rod"):
         before, after = same_machine(rows, name)
