@@ -114,8 +114,8 @@ JOBS = (
         "the flexible rod reduced to 1-3 modes: one periodic cycle of the seed optimum, of the impacting 69 spm "
         "design and of the slender-rod scene's design, and a 75 spm transient (IDAS, compiled), time and error "
         "against the element rod; Simeon"),
-    Job("ocp_seed_collocation", "bench_ocp.py", ("seed_collocation", "--repeat", "3"), 15,
-        "75 spm, every stage, collocation on CasADi's virtual machine"),
+    Job("ocp_seed_collocation", "bench_ocp.py", ("seed_collocation",), 5,
+        "75 spm, every stage, collocation on CasADi's virtual machine (one run: the compiled job's comparison)"),
     Job("ocp_seed_collocation_jit", "bench_ocp.py", ("seed_collocation_jit", "--repeat", "3"), 6,
         "75 spm, every stage, collocation compiled"),
     Job("ocp_pin_cap_7000", "bench_ocp.py", ("pin_cap", "--cap-N", "7000"), 15, "pin-force cap 7 kN"),
@@ -125,8 +125,6 @@ JOBS = (
     Job("ocp_slender", "bench_ocp.py", ("slender",), 3, "slender rod: the flexible stage runs"),
     Job("model_levels", "bench_model_levels.py", (), 8, "error and cost of each model level across scenes"),
     Job("collocation", "bench_collocation.py", ("--jit",), 12, "collocation element sweep"),
-    Job("transcriptions_smooth", "bench_transcriptions.py", ("--case", "smooth", "--shooting-wall", "240"), 11,
-        "transcriptions from one start, smooth case (shooting capped at 4 min: its first iterations)"),
     Job("reversal", "bench_reversal.py", (), 4, "rod-tension bound against impacts"),
     Job("transcriptions_map", "bench_transcriptions.py", ("--case", "map", "--methods", "collocation"), 6,
         "collocation over stroke rate x clearance (the shooting cells: transcriptions_map_shooting)"),
@@ -136,9 +134,9 @@ JOBS = (
     Job("optimum_sensitivity", "bench_optimum_sensitivity.py", (), 10, "dJ*/dp against re-solved optima"),
     Job("optimum_tracking", "bench_optimum_tracking.py", ("press75", "--steps", "1e-3", "2e-2"), 3,
         "dJ*/dp against the tracked optimum"),
-    Job("sweep_optima", "bench_sweep.py", ("optima", "--repeat", "3"), 45,
-        "8 optima (wrist-pin clearance x 60/75 spm) by `pressocp sweep --workers 2`, cold and continued along the "
-        "clearance (`--along`), a fresh process per run"),
+    Job("sweep_optima", "bench_sweep.py", ("optima", "--repeat", "3", "--cold-repeat", "1"), 14,
+        "8 optima (wrist-pin clearance x 60/75 spm) by `pressocp sweep --workers 2`, continued along the "
+        "clearance (`--along`, the goal's, 3 runs) and every point cold (1 run), a fresh process per run"),
     Job("sweep_parallel", "bench_sweep.py", ("parallel",), 4, "sweep speed-up, 1/2 workers and dask"),
     Job("fuzz", "bench_fuzz.py", (), 6, "600 generated presses, scenario dicts and files, command lines, and 60 command lines run as processes; unit slips"),
     Job("transaction", "bench_transaction.py", (), 7,
@@ -154,7 +152,9 @@ JOBS = (
     Job("slow_tests", "bench_slow_tests.py", (), 45,
         "the tests marked slow (long solves, the notebooks that solve) and the property tests at 200 examples, "
         "pytest on 2 workers: ok only when every one passed"),
-    # the archive: past findings, an hour or more each (python -m benchmarks --archive)
+    # the archive: past findings, most an hour or more each (python -m benchmarks --archive)
+    Job("transcriptions_smooth", "bench_transcriptions.py", ("--case", "smooth", "--shooting-wall", "240"), 11,
+        "transcriptions from one start, smooth case (shooting capped at 4 min: its first iterations)", archive=True),
     Job("work_precision_impacting_2", "bench_work_precision.py",
         ("--models", "flexible-2", "--scenes", "impacting", "--reference-timeout", "1800"), 12,
         "2-element rod through impacts: no method within 1e-3", archive=True),

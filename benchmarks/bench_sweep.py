@@ -23,12 +23,12 @@ Cases (one per call; each writes benchmarks/results/sweep_<case>.json and .png):
                     press.wrist_pin.clearance=5e-5,1e-4,2e-4,3e-4 --vary problem.stroke_rate_spm=60,75
                     --task optimize --workers 2`` in a fresh process per run, timed from outside
                     (start-up and compile included; the compile cache as the last run left it), in
-                    two variants alternating, ``--repeat`` times each: every point cold (``cold``),
-                    and continued along the clearance in segments of two (``--along
-                    press.wrist_pin.clearance``, ``continued``, the goal's); every row's verified
-                    flag and peak, and the medians.
+                    two variants alternating: continued along the clearance in segments of two
+                    (``--along press.wrist_pin.clearance``, ``continued``, the goal's) ``--repeat``
+                    times, and every point cold (``cold``, the comparison) ``--cold-repeat`` times
+                    (default: as many); every row's verified flag and peak, and the medians.
 
-    python benchmarks/bench_sweep.py CASE [--repeat R] [--rates 60 65 70 75] [--ram-speed V] [--side-by-side] [--replot]
+    python benchmarks/bench_sweep.py CASE [--repeat R] [--cold-repeat R] [--rates 60 65 70 75] [--ram-speed V] [--side-by-side] [--replot]
 """
 
 from __future__ import annotations
@@ -216,16 +216,18 @@ GOAL_OPTIMA_S = 300.0  # issue #28: the 8-optima sweep on 2 workers in <= 5 min,
 OPTIMA_VARIANTS = {"cold": [], "continued": ["--along", "press.wrist_pin.clearance"]}
 
 
-def optima(repeat: int) -> dict:
+def optima(repeat: int, cold_repeat: int | None = None) -> dict:
     """The 8-optima sweep through the command line, each run in a fresh process and output folder, the
-    variants alternating."""
+    variants alternating: "continued" `repeat` times, "cold" `cold_repeat` times (None: `repeat`)."""
     command = [sys.executable, "-m", "pressocp", "sweep", "press75", "--quiet", "--task", "optimize", "--workers", "2",
                "--vary", "press.wrist_pin.clearance=" + ",".join(f"{c:g}" for c in OPTIMA_CLEARANCES_M),
                "--vary", "problem.stroke_rate_spm=" + ",".join(f"{r:g}" for r in OPTIMA_RATES_SPM)]
     runs: dict[str, list] = {name: [] for name in OPTIMA_VARIANTS}
-    for _ in range(repeat):
+    times = {"cold": repeat if cold_repeat is None else cold_repeat, "continued": repeat}
+    for i in range(max(times.values())):
         for name, extra in OPTIMA_VARIANTS.items():
-            runs[name].append(optima_run([*command, *extra]))
+            if i < times[name]:
+                runs[name].append(optima_run([*command, *extra]))
     variants = {name: {"command": " ".join([*command[1:], *OPTIMA_VARIANTS[name]]),
                        "median_s": statistics.median(r["wall_time_s"] for r in rs),
                        "all_verified": all(r["all_verified"] for r in rs), "runs": rs} for name, rs in runs.items()}
@@ -323,6 +325,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("case", choices=("parallel", "continuation", "optima"))
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--cold-repeat", type=int, default=None,
+                    help="optima: runs of the cold variant (default: --repeat)")
     ap.add_argument("--replot", action="store_true", help="only redraw the figure (continuation: from its CSVs; parallel: from its JSON)")
     ap.add_argument("--rates", type=float, nargs="+", default=[60.0, 62.5, 65.0, 67.5, 70.0, 72.5, 75.0],
                     help="stroke rates of the continuation path, spm")
@@ -342,7 +346,7 @@ def main() -> None:
             continuation_figure(pd.read_csv(OUT / f"{name}_warm_nofallback.csv"), cold, f"{name}_nofallback", ram)
         return
     OUT.mkdir(exist_ok=True)
-    row = parallel(args.repeat) if args.case == "parallel" else optima(args.repeat) if args.case == "optima" else \
+    row = parallel(args.repeat) if args.case == "parallel" else optima(args.repeat, args.cold_repeat) if args.case == "optima" else \
         continuation(args.rates, args.ram_speed, args.side_by_side)
     (OUT / f"{name}.json").write_text(json.dumps(row, indent=2, default=str) + "\n")
     print(json.dumps({k: v for k, v in row.items() if k not in ("table", "warm", "cold", "runs")}, indent=2, default=str))

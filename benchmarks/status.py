@@ -185,7 +185,9 @@ def sweep_optima_row(res: Results) -> Row:
     ok = r["median_s"] <= GOAL_SWEEP_OPTIMA_S and r["all_verified"]
     cold = (r.get("variants") or {}).get("cold")
     how = "continued along the clearance (`--along`): " if cold else ""
-    versus = (f" (every point cold: median {cold['median_s']:.0f} s, "
+    n_cold = len(cold["runs"]) if cold else 0
+    versus = (f" (every point cold: {'median ' if n_cold > 1 else ''}{cold['median_s']:.0f} s"
+              f"{f' of {n_cold} runs' if n_cold > 1 else ', one run'}, "
               f"{'every row verified' if cold['all_verified'] else 'not every row verified'})") if cold else ""
     return Row(28, goal, f"{how}{', '.join(f'{w:.0f}' for w in walls)} s, median **{r['median_s']:.0f} s**; "
                f"{'every row verified' if r['all_verified'] else 'not every row verified'}{versus}", verdict(ok),
