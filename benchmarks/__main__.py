@@ -23,7 +23,7 @@ files (a sweep's CSV) has them removed first (`Job.fresh`), so every table is re
 run. A run of the whole suite (no ``--only``, ``--skip`` or ``--archive``) is recorded as one too,
 under ``suite`` in runs.json, with its date, wall time and the jobs that failed, and heads the table. A failing or stopped benchmark is
 recorded with its exit status and the next one runs; the command exits with status 1 if any failed.
-Ctrl-C stops the running benchmark and the command.
+Ctrl-C, or SIGTERM (``kill PID``), stops the running benchmark and the command.
 """
 
 from __future__ import annotations
@@ -368,7 +368,16 @@ def main(argv: list[str] | None = None) -> int:
     return 1 if failed else 0
 
 
+def stop_on_sigterm() -> None:
+    """Make SIGTERM (``kill PID``) stop the command as Ctrl-C does: the running job is stopped with its
+    process group (`run`), which otherwise, in its own session, would run on without its runner."""
+    def stop(signum: int, frame: object) -> None:
+        raise SystemExit(128 + signum)
+    signal.signal(signal.SIGTERM, stop)
+
+
 if __name__ == "__main__":
+    stop_on_sigterm()
     try:
         sys.exit(main())
     except KeyboardInterrupt:  # the running job was stopped with its process group (`run`)

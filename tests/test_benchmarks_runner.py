@@ -3,8 +3,10 @@ table in benchmarks/README.md (and nothing else there), and reports failures wit
 
 import json
 import os
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -92,6 +94,47 @@ def test_a_job_over_its_budget_is_stopped_and_recorded(tmp_path, monkeypatch):
     assert run["over_budget"] and run["exit_status"] == runner.OVER_BUDGET and not finished.exists()
     assert "**over budget**" in (tmp_path / "README.md").read_text()
     assert "stopped after" in (results / "logs" / "slow.log").read_text()
+
+
+def test_sigterm_stops_the_running_job_with_the_command(tmp_path):
+    """`kill PID` on the runner stops its job too: the job runs in its own session, so without the
+    handler it would run on, orphaned, and nothing would record it."""
+    results = tmp_path / "results"
+    results.mkdir()
+    (tmp_path / "README.md").write_text("# Benchmarks\n")
+    started, finished = tmp_path / "started", tmp_path / "finished"
+    (tmp_path / "slow.py").write_text(f"import os, pathlib, time\npathlib.Path({str(started)!r}).write_text(str(os.getpid()))\n"
+                                      f"time.sleep(60)\npathlib.Path({str(finished)!r}).touch()\n")
+    script = f"""
+import sys
+sys.path.insert(0, {str(ROOT)!r})
+from pathlib import Path
+import benchmarks.__main__ as runner
+here = Path({str(tmp_path)!r})
+runner.calibrate = lambda: None
+runner.HERE, runner.RESULTS, runner.README = here, here / "results", here / "README.md"
+runner.RUNS = here / "results" / "runs.json"
+runner.JOBS = (runner.Job("slow", "slow.py", (), 5, "sleeps"),)
+runner.stop_on_sigterm()
+sys.exit(runner.main([]))
+"""
+    proc = subprocess.Popen([sys.executable, "-c", script], cwd=ROOT)
+    deadline = time.monotonic() + 60
+    while not started.exists() or not started.read_text():
+        assert time.monotonic() < deadline and proc.poll() is None
+        time.sleep(0.1)
+    job = int(started.read_text())
+    proc.terminate()
+    assert proc.wait(timeout=30) == 128 + signal.SIGTERM
+    deadline = time.monotonic() + 10
+    while True:  # the job's process group was killed and the runner reaped it: the job is gone
+        try:
+            os.kill(job, 0)
+        except ProcessLookupError:
+            break
+        assert time.monotonic() < deadline, "the job runs on after its runner was stopped"
+        time.sleep(0.1)
+    assert not finished.exists()
 
 
 def test_the_calibration_runs():

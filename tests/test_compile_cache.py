@@ -205,3 +205,34 @@ def test_a_prepared_record_is_named_by_its_parts_and_absent_without_a_cache(monk
     monkeypatch.setenv(compile_cache.CACHE_ENV, "off")
     assert compile_cache.prepared_record("a", "b") is None
     compile_cache.write_prepared_record(None)
+
+
+@needs_cc
+def test_derivatives_merge_common_subexpressions_and_keep_every_bit():
+    """The compiled functions' derivatives are built with CasADi's cse (`DERIVATIVE_CSE`): the
+    collocation point function's Hessian sweep (three forward directions of its adjoint) has fewer
+    operations and, evaluated on CasADi's virtual machine, the same values to the bit as without it,
+    so IPOPT's path cannot move. The function itself is built without cse."""
+    import casadi as ca
+    import numpy as np
+
+    import pressocp as po
+    from pressocp.model import OUTPUT_NAMES
+
+    options = compile_cache.function_options(True)
+    assert options["der_options"]["cse"] is True and "cse" not in options
+    assert compile_cache.function_options(True, "quick")["der_options"]["cse"] is True
+    model = po.Scenario.load("press75").build_model()
+    sweeps = {}
+    for cse in (False, True):  # the options without compiling: the same graphs, on the virtual machine
+        x, crank, q = ca.SX.sym("x", model.nx), ca.SX.sym("crank", 3), ca.SX.sym("q", len(model.symbols))
+        out = model.at_crank(x, crank, q)
+        y = ca.vertcat(*[out[1 + OUTPUT_NAMES.index(n)] for n in ("torque", "ram_velocity")])
+        f = ca.Function("point", [x, crank, q], [out[0], y], {"der_options": {"cse": cse}})
+        sweeps[cse] = f.reverse(1).forward(3)
+    assert sweeps[True].n_nodes() < 0.85 * sweeps[False].n_nodes()
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        args = [rng.standard_normal(sweeps[False].sparsity_in(i).shape) for i in range(sweeps[False].n_in())]
+        plain, merged = (np.concatenate([np.ravel(v) for v in sweeps[c].call(args)]) for c in (False, True))
+        assert plain.size > 0 and np.array_equal(plain, merged)
