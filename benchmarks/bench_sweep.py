@@ -266,7 +266,8 @@ def optima_figure(row: dict) -> None:
         walls = [r["wall_time_s"] for r in var["runs"]]
         xs = range(x + 1, x + len(walls) + 1)
         ax.bar(xs, walls, color=[f"C{v}" if r["all_verified"] else "C3" for r in var["runs"]],
-               label=f"{name}: median {var['median_s']:.0f} s")
+               label=f"{name}: median {var['median_s']:.0f} s of {len(walls)}" if len(walls) > 1
+               else f"{name}: {var['median_s']:.0f} s (one run)")
         for i, w in zip(xs, walls):
             ax.text(i, w, f"{w:.0f}", ha="center", va="bottom", fontsize=7)
         x += len(walls) + 1
