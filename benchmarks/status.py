@@ -118,11 +118,12 @@ def speed_rows(res: Results) -> list[Row]:
     limits = f"≤ {GOAL_SEED_S:g} s median, verified peak ≤ {GOAL_SEED_PEAK:g} N·m"
     # The goal is the cold row; the "after" row empties the cache before its first run only,
     # so its median is a warm call's, shown beside the goal and not as it.
-    goals = (f"press75 default call, fresh process, the compile cache emptied before the first of the runs only "
-             f"(so a warm call's median): {limits}",
-             f"press75 default call, cold process, compile included: {limits}")
-    for r, how, goal in ((seed, "the first run with an empty compile cache", goals[0]),
-                         (cold, "an empty compile cache in every run", goals[1])):
+    for r, how, goal, aside in (
+            (seed, "the first run with an empty compile cache", "press75 default call, fresh process, the compile "
+             f"cache emptied before the first of the runs only (so a warm call's median): {limits}",
+             " as a warm call, not the goal"),
+            (cold, "an empty compile cache in every run",
+             f"press75 default call, cold process, compile included: {limits}", "")):
         if r is None:
             out.append(missing(28, goal, "speed.jsonl"))
             continue
@@ -131,7 +132,7 @@ def speed_rows(res: Results) -> list[Row]:
         ok = r["median_wall_s"] <= GOAL_SEED_S and r["all_verified"] and peak <= GOAL_SEED_PEAK
         out.append(Row(28, goal, f"{how}: {walls} s, median **{r['median_wall_s']:.1f} s**; peak {peak:.4f} N·m, "
                        f"{'all' if r['all_verified'] else 'not all'} verified; on {vm(r)}",
-                       verdict(ok) if r is cold else f"{verdict(ok)} as a warm call, not the goal",
+                       verdict(ok) + aside,
                        f"speed.jsonl ({r['label']}), {r['run']['date']}"))
     for name in ("press60", "large_press", "slender_rod"):
         before, after = same_machine(rows, name)
@@ -185,10 +186,12 @@ def sweep_optima_row(res: Results) -> Row:
     ok = r["median_s"] <= GOAL_SWEEP_OPTIMA_S and r["all_verified"]
     cold = (r.get("variants") or {}).get("cold")
     how = "continued along the clearance (`--along`): " if cold else ""
-    n_cold = len(cold["runs"]) if cold else 0
-    versus = (f" (every point cold: {'median ' if n_cold > 1 else ''}{cold['median_s']:.0f} s"
-              f"{f' of {n_cold} runs' if n_cold > 1 else ', one run'}, "
-              f"{'every row verified' if cold['all_verified'] else 'not every row verified'})") if cold else ""
+    versus = ""
+    if cold:
+        runs = len(cold["runs"])
+        time = f"median {cold['median_s']:.0f} s of {runs} runs" if runs > 1 else f"{cold['median_s']:.0f} s, one run"
+        versus = (f" (every point cold: {time}, "
+                  f"{'every row verified' if cold['all_verified'] else 'not every row verified'})")
     return Row(28, goal, f"{how}{', '.join(f'{w:.0f}' for w in walls)} s, median **{r['median_s']:.0f} s**; "
                f"{'every row verified' if r['all_verified'] else 'not every row verified'}{versus}", verdict(ok),
                f"sweep_optima.json, {r['date']}")
