@@ -1,8 +1,9 @@
-"""What the stage chain does when a stage on the clearance model does not converge: it solves the
-same NLP again with the KKT matrix scaled (`Transcription.rescaled`), and when that fails too from a
+"""What the stage chain does when a stage on the clearance model does not converge: from a
 no-reversal start whose journals leave their walls, it raises the no-reversal margin and runs the
-chain again from there. The chain logic is checked here with stand-in transcriptions (no IPOPT); the
-forming press on which both were needed runs in `benchmarks/bench_forming.py`."""
+chain again from there; otherwise (or when no raise is left) it solves the same NLP again with the
+KKT matrix scaled (`Transcription.rescaled`). The chain logic is checked here with stand-in
+transcriptions (no IPOPT); the forming press on which the raise was needed runs in
+`benchmarks/bench_forming.py`."""
 
 from __future__ import annotations
 
@@ -104,6 +105,42 @@ def test_the_margin_is_raised_when_the_target_fails_from_a_start_that_leaves_the
     assert [s.name for s in stages] == ["no_reversal", "target", "no_reversal_raised_1", "target",
                                         "no_reversal_raised_2", "target"]
     assert not stages[-1].success and not stages[-1].superseded
+
+
+@dataclass(frozen=True)
+class Rescuable(Stubborn):
+    """Converges rescaled, and from the speeds in `converges_from`."""
+
+    def solve(self, problem, model, start, name="target", progress=False):
+        return stage(name, self.scaled or float(start.speed.a[0]) in self.converges_from, start.speed)
+
+
+def test_a_start_that_leaves_the_walls_is_raised_not_rescaled_until_no_raise_is_left(monkeypatch):
+    problem = po.SpeedProblem(po.PressParams(), period=1.0)
+
+    def check(self, model, st, problem):  # journals off their walls below a margin of 0.1
+        margin = float(st.speed.a[0])
+        return Check(model="stand-in", objective=1.0, ratio=1.0 - margin, periodic=True, ram_speed_violation=0.0,
+                     peak_torque=1.0, verified=False, min_eccentricity=0.95 if margin < 0.1 else 1.01)
+
+    monkeypatch.setattr(Strategy, "check", check)
+    strategy = Strategy(rigid=MarginRigid(), polish_rounds=0, workers=1)
+    rigid = stage("rigid", True, speed_of(-1.0))
+    rigid.check = Check(model="stand-in", objective=1.0, ratio=2.0, periodic=True, ram_speed_violation=0.0,
+                        peak_torque=1.0, verified=False, min_eccentricity=0.5)
+    base = SimpleNamespace(rod="rigid")
+    # off the walls at 0.05: raised to 0.1, where the target converges; no rescaled re-solve ran
+    stages = strategy.clearance_chain(problem, base, rigid, Rescuable(converges_from=(0.1,)), None, False, 0.05)
+    assert [s.name for s in stages] == ["no_reversal", "target", "no_reversal_raised_1", "target"]
+    assert stages[-1].success
+    # off the walls at 0.02, 0.04 and 0.08: after the last raise the target is rescued
+    stages = strategy.clearance_chain(problem, base, rigid, Rescuable(converges_from=(7.0,)), None, False, 0.02)
+    assert [s.name for s in stages] == ["no_reversal", "target", "no_reversal_raised_1", "target",
+                                        "no_reversal_raised_2", "target", "target_rescaled"]
+    assert stages[-1].success and "target_rescaled solved it again" in stages[-2].superseded
+    # on the walls at 0.1: rescued, not raised
+    stages = strategy.clearance_chain(problem, base, rigid, Rescuable(converges_from=(7.0,)), None, False, 0.1)
+    assert [s.name for s in stages] == ["no_reversal", "target", "target_rescaled"] and stages[-1].success
 
 
 def test_loses_contact_reads_the_check_against_the_transcriptions_wall_setting():

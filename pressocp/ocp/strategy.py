@@ -16,11 +16,12 @@
 4. ``target``: the clearance model (rigid rod) by the given transcription. It is re-simulated
    (`verify_stage`) and, while that does not confirm the NLP, re-solved with the ram-speed bounds
    moved from its primal-dual solution (``_tightened_k``) or on a finer grid (``_refined_k``):
-   `followed`. When a polish round follows, that waits until the round was not kept. A stage that
-   does not converge is solved again from the same start with the KKT matrix scaled (`rescued`,
-   ``{name}_rescaled``); when that fails too and the no-reversal start's journals leave their walls
-   on this model, the no-reversal stage runs again at twice the margin and the chain from there
-   (``no_reversal_raised_k``, at most `MARGIN_RAISES` times).
+   `followed`. When a polish round follows, that waits until the round was not kept. When it does
+   not converge from a no-reversal start whose journals leave their walls on this model, the
+   no-reversal stage runs again at twice the margin and the chain from there
+   (``no_reversal_raised_k``, at most `MARGIN_RAISES` times, `raises`); any other stage that does
+   not converge is solved again from the same start with the KKT matrix scaled (`rescued`,
+   ``{name}_rescaled``).
 5. ``polish_k``: the last stage's NLP solved again from its own answer, without multipliers. IPOPT's
    barrier restarts there and can leave the local optimum the first pass stopped at. A round is kept
    only when its periodic re-simulation lowers the objective with the ram speed in tolerance and no
@@ -432,17 +433,16 @@ class Strategy:
             return stages + self.rounds(problem, None, base, [rigid, *stages], transcription, progress)
         first = len(stages)
         solved, transcription = self.state_chain(problem, chain, transcription,
-                                                 start.speed if neighbour is None else neighbour, progress)
+                                                 start.speed if neighbour is None else neighbour, progress,
+                                                 rescue=not raises(problem, rigid, start, transcription, margin, 0))
         stages += solved
         for k in range(MARGIN_RAISES):
-            if solved[-1].success or start is rigid or not loses_contact(start, transcription):
+            if solved[-1].success or not raises(problem, rigid, start, transcription, margin, k):
                 break
             # the no-reversal start's journals leave their walls on the target model, which holds them there:
             # the rod's load kept further from zero gives a start the target stage can reach
             margin = min(MARGIN_FACTOR * margin, MAX_MARGIN)
             held = problem.without_reversal(margin)
-            if held is None:
-                break
             raised = self.rigid.solve(held, base, WarmStart(start.speed), f"no_reversal_raised_{k + 1}", progress)
             raised.details["tension_margin"] = margin
             note = (f"{solved[-1].name} did not converge ({solved[-1].status}) from {start.name}, whose journals leave "
@@ -455,7 +455,9 @@ class Strategy:
                 break
             raised.check = self.check(base, raised, problem)
             start, first = raised, len(stages)
-            solved, transcription = self.state_chain(problem, chain, transcription, start.speed, progress)
+            solved, transcription = self.state_chain(problem, chain, transcription, start.speed, progress,
+                                                     rescue=not raises(problem, rigid, start, transcription, margin,
+                                                                       k + 1))
             stages += solved
         if not stages[-1].success:
             return stages
@@ -463,19 +465,20 @@ class Strategy:
                                     floor=rigid.objective)
 
     def state_chain(self, problem: SpeedProblem, chain: list[tuple[str, PressModel]], transcription: Transcription,
-                    speed: FourierSpeed, progress: bool) -> tuple[list[StageResult], Transcription]:
+                    speed: FourierSpeed, progress: bool, rescue: bool = True) -> tuple[list[StageResult], Transcription]:
         """The stages on models with states (`chain`: names and models, the last the target) from
-        `speed`, each from the last one's answer, rescued when it does not converge (`rescued`), the
-        last solved again on finer grids while its grid is too coarse (`regridded`), and followed up
-        (`followed`), except the last when polish rounds follow (a polish round that is
-        kept makes its follow-ups moot); it stops at a stage that does not converge. Returns the stages
-        and the transcription of the last one."""
+        `speed`, each from the last one's answer, rescued when it does not converge (`rescued`; the
+        last only with `rescue`), the last solved again on finer grids while its grid is too coarse
+        (`regridded`), and followed up (`followed`), except the last when polish rounds follow (a
+        polish round that is kept makes its follow-ups moot); it stops at a stage that does not
+        converge. Returns the stages and the transcription of the last one."""
         stages: list[StageResult] = []
         for k, (name, m) in enumerate(chain):
             start = WarmStart(speed)
-            solved, used = self.rescued(problem, m, transcription, start, name, progress)
-            if k == len(chain) - 1:
-                solved, used = self.regridded(problem, m, transcription, used, solved, start, progress)
+            last = k == len(chain) - 1
+            solved, used = self.rescued(problem, m, transcription, start, name, progress, rescue or not last)
+            if last:
+                solved, used = self.regridded(problem, m, transcription, used, solved, start, progress, rescue)
             transcription = used
             if k < len(chain) - 1 or not self.polish_rounds:
                 more, transcription = self.followed(problem, m, transcription, solved[-1], progress)
@@ -487,13 +490,14 @@ class Strategy:
         return stages, transcription
 
     def regridded(self, problem: SpeedProblem, model: PressModel, transcription: Transcription, used: Transcription,
-                  solved: list[StageResult], start: WarmStart,
-                  progress: bool) -> tuple[list[StageResult], Transcription]:
+                  solved: list[StageResult], start: WarmStart, progress: bool,
+                  rescue: bool = True) -> tuple[list[StageResult], Transcription]:
         """`solved` (the target stage by `used`, `transcription` or its rescued form, from `start`) and,
         while the last one converged but its NLP objective is more than `regrid_gap` from its
         periodic re-simulation's (`verify_stage`), the same stage from `start` on the next finer grid
-        of `transcription` (stage ``{name}_regrid_k``, rescued when it does not converge); the coarser
-        ones stay in the record, superseded. Returns the stages and the last one's transcription."""
+        of `transcription` (stage ``{name}_regrid_k``, with `rescue` rescued when it does not
+        converge); the coarser ones stay in the record, superseded. Returns the stages and the last
+        one's transcription."""
         name, k = solved[0].name, 0
         while self.regrid_gap is not None and solved[-1].success:
             last = solved[-1]
@@ -514,7 +518,7 @@ class Strategy:
             for st in solved:
                 st.superseded = st.superseded or why
             transcription = finer
-            again, used = self.rescued(problem, model, transcription, start, f"{name}_regrid_{k}", progress)
+            again, used = self.rescued(problem, model, transcription, start, f"{name}_regrid_{k}", progress, rescue)
             again[-1].details["regridded"] = why
             solved = [*solved, *again]
         return solved, used
@@ -649,14 +653,14 @@ class Strategy:
 
     @staticmethod
     def rescued(problem: SpeedProblem, model: PressModel, transcription: Transcription, start: WarmStart,
-                name: str, progress: bool) -> tuple[list[StageResult], Transcription]:
-        """`transcription` on `model` from `start`; when IPOPT does not converge and the transcription
-        has a rescaled form (`Transcription.rescaled`: the linear solver scaling the KKT matrix), the
-        same NLP again from the same start in that form (stage ``{name}_rescaled``; the first is kept
-        in the record, marked ``superseded``). Returns the stages and the transcription of the last one
-        (the rescaled one then serves the stages that follow)."""
+                name: str, progress: bool, rescue: bool = True) -> tuple[list[StageResult], Transcription]:
+        """`transcription` on `model` from `start`; when IPOPT does not converge, `rescue` is set and the
+        transcription has a rescaled form (`Transcription.rescaled`: the linear solver scaling the KKT
+        matrix), the same NLP again from the same start in that form (stage ``{name}_rescaled``; the
+        first is kept in the record, marked ``superseded``). Returns the stages and the transcription of
+        the last one (the rescaled one then serves the stages that follow)."""
         first = transcription.solve(problem, model, start, name, progress)
-        again = None if first.success else transcription.rescaled()
+        again = None if first.success or not rescue else transcription.rescaled()
         if again is None:
             return [first], transcription
         first.superseded = (f"it did not converge ({first.status}); {name}_rescaled solved it again from the same "
@@ -922,6 +926,22 @@ def near_peak(problem: SpeedProblem, sim: SimResult, share: float) -> np.ndarray
     magnitude = np.max(np.abs(np.vstack(objective.sample_terms(sim, problem.drive))), axis=0)
     t = np.asarray(sim.t, float) - float(sim.t[0])
     return t[magnitude >= (1.0 - share) * magnitude.max()] % problem.period
+
+
+def raises(problem: SpeedProblem, rigid: StageResult, start: StageResult, transcription: Transcription,
+           margin: float | None, done: int) -> bool:
+    """Whether a target stage from `start` that does not converge is followed by the no-reversal
+    stage at a raised margin (after `done` raises of `margin`, the margin `start` was solved at): when
+    `start` is a no-reversal answer (not `rigid`) whose journals leave their walls on the clearance
+    model (`loses_contact`), fewer than `MARGIN_RAISES` raises ran and the raised margin can be held.
+    Such a target stage is not rescued: a start the transcription cannot reach is the cause, not the
+    KKT matrix's scaling. On the 75 spm scenes with a drawing force, a gas-spring counterbalance and
+    forming40 the rescaled re-solve stopped at its iteration limit from each of 6 such starts and the
+    raised margin converged from each; from the one start that kept its journals on their walls (gas
+    spring, margin 0.05) the rescaled re-solve converged (2026-12-01)."""
+    if start is rigid or margin is None or done >= MARGIN_RAISES or not loses_contact(start, transcription):
+        return False
+    return problem.without_reversal(min(MARGIN_FACTOR * margin, MAX_MARGIN)) is not None
 
 
 def loses_contact(stage: StageResult, transcription: Transcription) -> bool:
