@@ -935,10 +935,10 @@ def raises(problem: SpeedProblem, rigid: StageResult, start: StageResult, transc
     `start` is a no-reversal answer (not `rigid`) whose journals leave their walls on the clearance
     model (`loses_contact`), fewer than `MARGIN_RAISES` raises ran and the raised margin can be held.
     Such a target stage is not rescued: a start the transcription cannot reach is the cause, not the
-    KKT matrix's scaling. On the 75 spm scenes with a drawing force, a gas-spring counterbalance and
-    forming40 the rescaled re-solve stopped at its iteration limit from each of 6 such starts and the
-    raised margin converged from each; from the one start that kept its journals on their walls (gas
-    spring, margin 0.05) the rescaled re-solve converged (2026-12-01)."""
+    KKT matrix's scaling. From 6 such starts (drawing75 and its two 1 kN variants, press75 with a
+    gas spring at margin 0.02, forming40 at both margins) the rescaled re-solve stopped at its
+    iteration limit each time; from the one start that kept its journals on their walls (the gas
+    spring at 0.05) it converged (docs/decisions/2026-12-01-raise-before-rescue.md)."""
     if start is rigid or margin is None or done >= MARGIN_RAISES or not loses_contact(start, transcription):
         return False
     return problem.without_reversal(min(MARGIN_FACTOR * margin, MAX_MARGIN)) is not None
