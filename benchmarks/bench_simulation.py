@@ -8,7 +8,9 @@ method whose peak-torque error is below a target. No method integrates the work 
 here reads them). Every method runs on the compiled model (``model.jit``: the SUNDIALS integrators and
 scipy's call compiled code; the compile, once per method and model, is timed apart as
 ``compile_s``); "idas (interpreted)" and "cvodes (interpreted)" are the same integrators on CasADi's
-virtual machine.
+virtual machine, and "idas (CasADi's clock)" compiled IDAS with CasADi's statistics reading the
+process CPU clock in every call of its inner functions, as without `pressocp`
+(`pressocp.casadi_clock`).
 
 ``--case periodic69`` and ``--case seed`` run one scene each, apart from the default two: the same
 design at 69 spm, whose impacts repeat cycle after cycle, and the 75 spm seed optimum, whose cycle
@@ -37,7 +39,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from pressocp import FourierSpeed, PressParams, SpeedProblem  # noqa: E402
+from pressocp import FourierSpeed, PressParams, SpeedProblem, set_casadi_clock  # noqa: E402
 from pressocp.design import design_speed  # noqa: E402
 from pressocp.model import build_model  # noqa: E402
 from pressocp.report import stamp  # noqa: E402
@@ -60,6 +62,10 @@ def flexible_start(model, speed):
 
 
 INTERPRETED = " (interpreted)"
+#: A method named with this suffix runs with CasADi's statistics reading the process CPU clock, as
+#: CasADi does without `pressocp` (`pressocp.casadi_clock`): a system call in every call of the
+#: integrator's inner functions.
+CLOCKED = " (CasADi's clock)"
 
 
 def run_case(name, model, speed, methods, rtols, repeats, budget, rtol_ref=1e-10, floors=None):
@@ -80,8 +86,9 @@ def run_case(name, model, speed, methods, rtols, repeats, budget, rtol_ref=1e-10
     interpreted = dataclasses.replace(model, jit=False, functions={})  # "auto" compiles a flexible rod
     rows, compile_s = [], {}
     for label in methods:
-        method = label.removesuffix(INTERPRETED)
+        method = label.removesuffix(INTERPRETED).removesuffix(CLOCKED)
         sim_model = interpreted if label.endswith(INTERPRETED) else compiled
+        set_casadi_clock(label.endswith(CLOCKED))
         if sim_model is compiled:
             t0 = time.perf_counter()
             simulate(compiled, speed, x0=x0, integrator=Integrator(method=method, rtol=1e-4), t_end=1e-3, n_out=3, work=False)
@@ -113,6 +120,7 @@ def run_case(name, model, speed, methods, rtols, repeats, budget, rtol_ref=1e-10
             print(json.dumps(row), flush=True)
             if ok and times and times[-1] > budget:
                 break  # tighter tolerances only get slower
+    set_casadi_clock(False)
     return {"reference_peak_torque": ref.peak("torque"), "rows": rows, "compile_s": compile_s}
 
 
@@ -181,7 +189,7 @@ def main() -> None:
     if args.replot:
         data = json.loads((OUT / "simulation.json").read_text())
         plot_results(data["results"], ("idas", "cvodes", "scipy-radau", "idas" + INTERPRETED,
-                                       "cvodes" + INTERPRETED), OUT / "simulation.png")
+                                       "cvodes" + INTERPRETED, "idas" + CLOCKED), OUT / "simulation.png")
         return
     OUT.mkdir(exist_ok=True)
     p = PressParams()
@@ -191,7 +199,8 @@ def main() -> None:
     methods = ["idas", "cvodes", "scipy-radau", "idas" + INTERPRETED, "cvodes" + INTERPRETED]
     results = {}
     if args.case in ("all", "clearance"):
-        results["clearance"] = run_case("clearance", build_model(p), speed, methods, rtols, repeats, budget=120)
+        results["clearance"] = run_case("clearance", build_model(p), speed, [*methods, "idas" + CLOCKED], rtols,
+                                        repeats, budget=120)
     if args.case == "periodic69":
         slow = design_speed(SpeedProblem(p, period=PERIODIC_69, ram_speed=-0.1)).speed
         results["periodic69"] = run_case("clearance, 69 spm", build_model(p), slow, methods[:3], rtols, repeats,
@@ -218,10 +227,13 @@ def main() -> None:
             if "idas" + INTERPRETED in best and "scipy-radau" in best:
                 entry["radau_over_idas_interpreted"] = (best["scipy-radau"]["time_per_cycle_s"]
                                                         / best["idas" + INTERPRETED]["time_per_cycle_s"])
+            if "idas" + CLOCKED in best and "scipy-radau" in best:
+                entry["radau_over_idas_casadi_clock"] = (best["scipy-radau"]["time_per_cycle_s"]
+                                                         / best["idas" + CLOCKED]["time_per_cycle_s"])
             summary[f"{case}@{target:g}"] = entry
     (OUT / f"{name}.json").write_text(json.dumps({"stamp": stamp(),
                                                    "results": results, "equal_accuracy": summary}, indent=2))
-    plot_results(results, methods, OUT / f"{name}.png")
+    plot_results(results, [*methods, "idas" + CLOCKED], OUT / f"{name}.png")
     print(json.dumps(summary, indent=2))
 
 

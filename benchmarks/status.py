@@ -271,9 +271,10 @@ def radau_row(res: Results) -> Row:
     literal = idas_1e6_against_radau(r.get("results", {}).get("clearance", {}).get("rows", []))
     if literal:
         parts.append(literal)
-    if "radau_over_idas_interpreted" in next(iter(cells.values())):
-        parts.append("IDAS interpreted: " + ", ".join(f"{v['radau_over_idas_interpreted']:.1f} ×"
-                                                       for _, v in sorted(cells.items())))
+    for key, what in (("radau_over_idas_interpreted", "IDAS interpreted"),
+                      ("radau_over_idas_casadi_clock", "IDAS with CasADi's process clock (as without pressocp)")):
+        if key in next(iter(cells.values())):
+            parts.append(f"{what}: " + ", ".join(f"{v[key]:.1f} ×" for _, v in sorted(cells.items())))
     date = r.get("stamp", {}).get("date") or runs.get("simulation", {}).get("date", "date not recorded")
     source = f"simulation.json, {date}"
     orbit = res.json("simulation_periodic69.json")

@@ -6,6 +6,7 @@
 """
 
 from .blas import set_casadi_blas_threads
+from .casadi_clock import set_casadi_clock
 from .design import DesignSettings, SpeedDesign, design_speed
 from .drive import Drive, MotorCycle, motor_cycle
 from .mechanism import (KnuckleJoint, KnucklePress, SixBar, SixBarPress, SliderCrank, WorkingZone,
@@ -38,9 +39,12 @@ __all__ = [
     "constant_speed_zone", "contact_losses", "crank_angle_at_height",
     "design_speed", "hertz_internal_stiffness", "max_stroke_rate", "motor_cycle", "optimize_speed", "optimum_sensitivities", "recommend_model", "recommend_transcription",
     "rigid_inverse_dynamics", "rigid_kinematics", "rigid_response", "sensitivities", "Sensitivities", "simulate",
-    "set_casadi_blas_threads", "sweep",
+    "set_casadi_blas_threads", "set_casadi_clock", "sweep",
 ]
 
 #: One thread for CasADi's own OpenBLAS (IPOPT, MUMPS) in every process: the same answer on any core
 #: count and on every path (`pressocp.blas`).
 set_casadi_blas_threads(1)
+#: CasADi's statistics without the process CPU clock (a system call in every call of an integrator's
+#: inner functions: a third of an IDAS cycle), its numbers unchanged (`pressocp.casadi_clock`).
+set_casadi_clock(False)
