@@ -74,11 +74,14 @@ class MarginRigid(po.Rigid):
         return stage(name, True, speed_of(round(margin, 6)))
 
 
-def test_the_margin_is_raised_when_the_target_fails_from_a_start_that_leaves_the_walls(monkeypatch):
+@pytest.fixture
+def margin_chain(monkeypatch):
+    """(problem, strategy, rigid stage, clearance model) for `Strategy.clearance_chain` with stand-ins:
+    each stage's check says its journals leave their walls below a margin of 0.1."""
     problem = po.SpeedProblem(po.PressParams(), period=1.0)
     assert problem.reversal_side() == "tension"
 
-    def check(self, model, st, problem):  # journals off their walls below a margin of 0.1
+    def check(self, model, st, problem):
         margin = float(st.speed.a[0])
         return Check(model="stand-in", objective=1.0, ratio=1.0 - margin, periodic=True, ram_speed_violation=0.0,
                      peak_torque=1.0, verified=False, min_eccentricity=0.95 if margin < 0.1 else 1.01)
@@ -89,6 +92,11 @@ def test_the_margin_is_raised_when_the_target_fails_from_a_start_that_leaves_the
     rigid.check = Check(model="stand-in", objective=1.0, ratio=2.0, periodic=True, ram_speed_violation=0.0,
                         peak_torque=1.0, verified=False, min_eccentricity=0.5)
     base = SimpleNamespace(rod="rigid")  # the clearance model: only the stand-ins see it
+    return problem, strategy, rigid, base
+
+
+def test_the_margin_is_raised_when_the_target_fails_from_a_start_that_leaves_the_walls(margin_chain):
+    problem, strategy, rigid, base = margin_chain
     target = Stubborn(scaled=True, converges_from=(0.1,))
     stages = strategy.clearance_chain(problem, base, rigid, target, None, False, 0.05)
     assert [s.name for s in stages] == ["no_reversal", "target", "no_reversal_raised_1", "target"]
@@ -115,20 +123,8 @@ class Rescuable(Stubborn):
         return stage(name, self.scaled or float(start.speed.a[0]) in self.converges_from, start.speed)
 
 
-def test_a_start_that_leaves_the_walls_is_raised_not_rescaled_until_no_raise_is_left(monkeypatch):
-    problem = po.SpeedProblem(po.PressParams(), period=1.0)
-
-    def check(self, model, st, problem):  # journals off their walls below a margin of 0.1
-        margin = float(st.speed.a[0])
-        return Check(model="stand-in", objective=1.0, ratio=1.0 - margin, periodic=True, ram_speed_violation=0.0,
-                     peak_torque=1.0, verified=False, min_eccentricity=0.95 if margin < 0.1 else 1.01)
-
-    monkeypatch.setattr(Strategy, "check", check)
-    strategy = Strategy(rigid=MarginRigid(), polish_rounds=0, workers=1)
-    rigid = stage("rigid", True, speed_of(-1.0))
-    rigid.check = Check(model="stand-in", objective=1.0, ratio=2.0, periodic=True, ram_speed_violation=0.0,
-                        peak_torque=1.0, verified=False, min_eccentricity=0.5)
-    base = SimpleNamespace(rod="rigid")
+def test_a_start_that_leaves_the_walls_is_raised_not_rescaled_until_no_raise_is_left(margin_chain):
+    problem, strategy, rigid, base = margin_chain
     # off the walls at 0.05: raised to 0.1, where the target converges; no rescaled re-solve ran
     stages = strategy.clearance_chain(problem, base, rigid, Rescuable(converges_from=(0.1,)), None, False, 0.05)
     assert [s.name for s in stages] == ["no_reversal", "target", "no_reversal_raised_1", "target"]
