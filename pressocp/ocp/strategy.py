@@ -432,12 +432,13 @@ class Strategy:
         if not chain:
             return stages + self.rounds(problem, None, base, [rigid, *stages], transcription, progress)
         first = len(stages)
+        raise_next = raises(problem, rigid, start, transcription, margin, 0)
         solved, transcription = self.state_chain(problem, chain, transcription,
                                                  start.speed if neighbour is None else neighbour, progress,
-                                                 rescue=not raises(problem, rigid, start, transcription, margin, 0))
+                                                 rescue=not raise_next)
         stages += solved
         for k in range(MARGIN_RAISES):
-            if solved[-1].success or not raises(problem, rigid, start, transcription, margin, k):
+            if solved[-1].success or not raise_next:
                 break
             # the no-reversal start's journals leave their walls on the target model, which holds them there:
             # the rod's load kept further from zero gives a start the target stage can reach
@@ -455,9 +456,9 @@ class Strategy:
                 break
             raised.check = self.check(base, raised, problem)
             start, first = raised, len(stages)
+            raise_next = raises(problem, rigid, start, transcription, margin, k + 1)
             solved, transcription = self.state_chain(problem, chain, transcription, start.speed, progress,
-                                                     rescue=not raises(problem, rigid, start, transcription, margin,
-                                                                       k + 1))
+                                                     rescue=not raise_next)
             stages += solved
         if not stages[-1].success:
             return stages
