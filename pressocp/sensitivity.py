@@ -27,6 +27,7 @@ trusted; one that is not is below what this tolerance verifies, and a smaller rt
 from __future__ import annotations
 
 import time
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -35,6 +36,7 @@ import casadi as ca
 import numpy as np
 
 from .compile_cache import use_jit
+from .cvodes_fsa import ForwardSensitivities, FsaError, available
 from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
@@ -64,6 +66,10 @@ RESOLVED = 0.01
 #: derivatives the same to 1e-8; CasADi's ``sensitivity_method`` and ``fsens_err_con`` changed
 #: nothing, GMRES was slower (docs/measurements.md, "AD sensitivities on the seed optimum").
 SENSITIVITY_OPTIONS = {"second_order_correction": False}
+#: `Sensitivities.engine` of CVODES's own forward-sensitivity module (`pressocp.cvodes_fsa`).
+ENGINE_FSA = "cvodes staggered (compiled)"
+#: `Sensitivities.engine` of CasADi's forward integrator (the augmented system).
+ENGINE_CASADI = "casadi forward"
 
 
 @dataclass
@@ -95,6 +101,10 @@ class Sensitivities:
         Empty, or why there is no error estimate (none was asked for, or the run at ten times rtol
         failed: through impacts its periodic search can stall above its tolerance); every
         ``error_estimate`` is then inf.
+    engine : str
+        What integrated the sensitivities: ``ENGINE_FSA`` (CVODES's staggered corrector, compiled
+        with the model: `pressocp.cvodes_fsa`) or ``ENGINE_CASADI`` (CasADi's forward integrator:
+        no C compiler, or that compile failed, which a warning says).
     """
 
     table: pd.DataFrame
@@ -102,6 +112,7 @@ class Sensitivities:
     periodic: bool
     wall_time: float
     unverified: str = ""
+    engine: str = ""
 
     def change(self, quantity: str, parameter: str, dp: float) -> float:
         """First-order change of J for a step `dp` of the parameter (its unit): the new maximum of
@@ -163,6 +174,22 @@ def kept_sensitivity_dae(msym: PressModel) -> dict | ca.Function:
     return msym.functions["sensitivity_dae"]
 
 
+def kept_fsa(msym: PressModel, n_parameters: int) -> ForwardSensitivities | None:
+    """The compiled forward-sensitivity integrator of `msym` (`pressocp.cvodes_fsa`), built once and
+    kept with it; None where it cannot be built (no C compiler or CVODES library, or a failed compile,
+    which a warning says once): the sensitivities then run through CasADi's forward integrator."""
+    if "cvodes_fsa" not in msym.functions:
+        fsa = None
+        if available() and use_jit("auto", "the sensitivities"):
+            try:
+                fsa = ForwardSensitivities.build(msym.dae(explicit=True, work=False), n_parameters)
+            except RuntimeError as err:
+                warnings.warn(f"compiled forward sensitivities unavailable ({first_line(err)}): CasADi's forward "
+                              "integrator runs them, about 1.7 x slower", RuntimeWarning, stacklevel=3)
+        msym.functions["cvodes_fsa"] = fsa
+    return msym.functions["cvodes_fsa"]
+
+
 def parameter_scale(values: np.ndarray) -> np.ndarray:
     """|p| per parameter, 1 where p = 0: the unit of the sensitivity directions. A direction in SI
     units can be far from the states' size (a metre of clearance is 1e4 clearances, a N/m of contact
@@ -176,14 +203,15 @@ def parameter_scale(values: np.ndarray) -> np.ndarray:
 
 def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tuple[float, int]], x0: np.ndarray,
                      n_parameters: int, rtol: float, periodic: bool,
-                     nominal: dict[float, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray]:
+                     nominal: dict[float, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray, str]:
     """Outputs y at given times and sign(y) dy/dp, by forward sensitivities of one period from `x0`.
 
-    The sensitivities come from CVODES's forward integration called directly: it integrates the
-    states with the directions, so the states need no run of their own, only their values at the
-    targets' times for the outputs' Jacobians (`nominal`, else one plain run of the period). On the
-    seed optimum at rtol 3e-9 the 11 directions took 0.59 s called directly and 0.72 s through a
-    Jacobian function, which runs the plain period first.
+    The sensitivities come from CVODES's own forward-sensitivity module compiled with the model
+    (`kept_fsa`), which integrates the states with them; else from CasADi's forward integrator called
+    directly, which integrates the states too but returns only the directions, so the states at the
+    targets' times come from `nominal` (else one plain run of the period). On the seed optimum at
+    rtol 3e-9 the 11 directions took 0.36-0.42 s compiled against 0.60-0.76 s through CasADi's
+    forward integrator (0.72 s through its Jacobian function, which runs the plain period first).
 
     Parameters
     ----------
@@ -196,16 +224,19 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
         Scaled start state (the periodic state when `periodic`).
     n_parameters : int
     rtol : float
-        CVODES tolerance (relative, and absolute on the scaled states).
+        CVODES tolerance (relative, and absolute on the scaled states and the directions).
     periodic : bool
         Include the motion of the periodic state, dx0/dp = (I - dPhi/dx0)^-1 dPhi/dp.
     nominal : dict, optional
-        Scaled states at each target time other than 0 (`states_from_samples`), from a run at `rtol` from `x0`.
+        Scaled states at each target time other than 0 (`states_from_samples`), from a run at `rtol`
+        from `x0`: read by CasADi's forward integrator only.
 
     Returns
     -------
     y : ndarray, shape (len(targets),)
     d : ndarray, shape (len(targets), n_parameters)
+    engine : str
+        `ENGINE_FSA` or `ENGINE_CASADI`.
     """
     T, nx = speed.period, msym.nx
     times = sorted({t for t, _ in targets if t > 0.0})
@@ -216,21 +247,21 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
     # own size, and the error control weighs them alike
     scale = parameter_scale(pv[n_speed:])
     nd = nx + n_parameters
-    with compiling():  # the compiled DAE's derivatives are compiled as these are built
-        F = ca.integrator("period", "cvodes", kept_sensitivity_dae(msym), 0.0, grid,
-                          {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**7, **SENSITIVITY_OPTIONS})
-        forward = F.forward(nd)
-    # holding the forward integrator holds the derivative functions CasADi built of the compiled DAE,
-    # which it would otherwise free and build again (about 0.8 s) for the next integrator of this model
-    msym.functions["sensitivity_forward"] = forward
-    seeds_p = np.zeros((pv.size, nd))
-    seeds_p[n_speed:, nx:] = np.diag(scale)
-    if nominal is None:
-        X = integrated(F, x0=x0, p=pv)["xf"]
-        nominal = {t: X[:, grid.index(t)] for t in times}
-    # the nominal outputs, an input of the forward integrator that it does not read, are left zero
-    S = integrated(forward, x0=x0, p=pv, fwd_x0=np.eye(nx, nd), fwd_p=seeds_p)["fwd_xf"]
-    S = S.reshape(nx, nd, len(grid))  # the directions' states at each grid time, direction by direction
+    fsa = kept_fsa(msym, n_parameters)
+    if fsa is not None:
+        Q = np.zeros((n_parameters, nd))
+        Q[:, nx:] = np.diag(scale)
+        try:
+            with interruptible():
+                X, S, _ = fsa.run(x0, pv, np.eye(nx, nd), Q, np.array(grid), rtol)
+        except FsaError as err:
+            raise SimulationError(str(err), time=err.time, method="cvodes (sensitivities)", hint=HINT) from None
+        nominal, engine = {t: X[:, grid.index(t)] for t in times}, ENGINE_FSA
+    else:
+        S, nominal, engine = casadi_forward(msym, grid, x0, pv, scale, rtol, nominal), nominal, ENGINE_CASADI
+        if nominal is None:
+            X = integrated(msym.functions["sensitivity_period"], x0=x0, p=pv)["xf"]
+            nominal = {t: X[:, grid.index(t)] for t in times}
     S[:, nx:, :] /= scale[:, None]
     end = S[:, :, -1]
     dx0 = (np.linalg.solve(np.eye(nx) - end[:, :nx], end[:, nx:]) if periodic
@@ -242,7 +273,28 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
         values, y_x, y_q = (np.asarray(v) for v in Y(t, x, pv[:n_speed], pv[n_speed:]))
         y[k] = values[i, 0]
         d[k] = np.sign(y[k]) * (y_x[i] @ (St[:, :nx] @ dx0 + St[:, nx:]) + y_q[i])
-    return y, d
+    return y, d, engine
+
+
+def casadi_forward(msym: PressModel, grid: list[float], x0: np.ndarray, pv: np.ndarray, scale: np.ndarray,
+                   rtol: float, nominal: dict | None) -> np.ndarray:
+    """The directions (nx, nx + n_parameters, len(grid)) of one period from `x0` by CasADi's forward
+    integrator (the augmented system), the parameter directions in units of `scale`; the period's
+    plain integrator is kept in ``msym.functions["sensitivity_period"]``."""
+    nx, n_parameters = msym.nx, scale.size
+    nd = nx + n_parameters
+    with compiling():  # the compiled DAE's derivatives are compiled as these are built
+        F = ca.integrator("period", "cvodes", kept_sensitivity_dae(msym), 0.0, grid,
+                          {"reltol": rtol, "abstol": rtol, "max_num_steps": 10**7, **SENSITIVITY_OPTIONS})
+        forward = F.forward(nd)
+    # holding the forward integrator holds the derivative functions CasADi built of the compiled DAE,
+    # which it would otherwise free and build again (about 0.8 s) for the next integrator of this model
+    msym.functions["sensitivity_forward"], msym.functions["sensitivity_period"] = forward, F
+    seeds_p = np.zeros((pv.size, nd))
+    seeds_p[pv.size - n_parameters:, nx:] = np.diag(scale)
+    # the nominal outputs, an input of the forward integrator that it does not read, are left zero
+    S = integrated(forward, x0=x0, p=pv, fwd_x0=np.eye(nx, nd), fwd_p=seeds_p)["fwd_xf"]
+    return S.reshape(nx, nd, len(grid))  # the directions' states at each grid time, direction by direction
 
 
 def output_jacobian(msym: PressModel) -> ca.Function:
@@ -354,10 +406,11 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     peaks = {q: [min(max(tq, 0.0), T) for tq in peak_times(t_rel, getattr(res, QUANTITIES[q]), T)]
              for q in quantities}
     targets = [(tq, OUTPUT_NAMES.index(QUANTITIES[q])) for q in quantities for tq in peaks[q]]
-    # the states at the peaks, from the sampled response: the forward run then needs no plain run
-    nominal = states_from_samples(msym, speed, t_rel, res.states / model.x_scale[:, None], [t for t, _ in targets],
-                                  rtol)
-    y, d = peak_derivatives(msym, speed, targets, x0, len(names), rtol, periodic, nominal)
+    # the states at the peaks: CVODES's own sensitivities integrate them; CasADi's forward integrator
+    # does not return them, so they come from the sampled response
+    nominal = None if kept_fsa(msym, len(names)) is not None else states_from_samples(
+        msym, speed, t_rel, res.states / model.x_scale[:, None], [t for t, _ in targets], rtol)
+    y, d, engine = peak_derivatives(msym, speed, targets, x0, len(names), rtol, periodic, nominal)
     if not error_estimate:
         errors = np.full(d.shape, np.inf)
         unverified = "no error estimate was asked for (error_estimate=False)"
@@ -367,7 +420,7 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     import pandas as pd  # 0.5 s to import: only where a table is made
 
     return Sensitivities(pd.DataFrame(rows), pd.DataFrame(per_peak), periodic, time.perf_counter() - t_start,
-                         unverified)
+                         unverified, engine)
 
 
 def estimated_errors(model: PressModel, msym: PressModel, speed: FourierSpeed, targets: Sequence[tuple[float, int]],
