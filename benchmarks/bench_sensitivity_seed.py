@@ -9,7 +9,9 @@ differentiated with respect to slider mass, wrist-pin clearance and crank-pin st
   and without (``error_estimate=False``);
 * central differences: the periodic state of each perturbed press (one model with the parameters
   as inputs; settled cycle by cycle from the nominal periodic state), |torque| at each rival
-  peak's time (the finest AD's), relative steps of `STEP`, at rtol 1e-9 to 1e-11.
+  peak's time (the finest AD's), relative steps of `STEP`, at rtol 1e-9 to 1e-11; once on CasADi's
+  CVODES (as the package simulates: the goal's comparison) and once on the compiled CVODES driver
+  that integrates AD's sensitivities (`pressocp.cvodes_fsa`): the two methods on one integrator.
 
 Both run their integrators on compiled right-hand sides (`PressModel.jit` True; `po.sensitivities`
 compiles its sensitivity equations in any case). At a peak's time the difference of |torque| is the
@@ -45,6 +47,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import pressocp as po  # noqa: E402
+from pressocp.cvodes_fsa import ForwardSensitivities  # noqa: E402
 from pressocp.io import versions  # noqa: E402
 from pressocp.model import OUTPUT_NAMES  # noqa: E402
 from pressocp.plots import save  # noqa: E402
@@ -58,6 +61,10 @@ AD_RTOLS = (1e-8, 3e-9, 1e-9, 1e-10)
 CD_RTOLS = (1e-9, 3e-10, 1e-10, 1e-11)
 #: The AD rows: label and whether `po.sensitivities` runs its error estimate.
 AD_METHODS = (("AD", True), ("AD, no estimate", False))
+#: Central differences on CasADi's CVODES (as the package simulates), and on the compiled CVODES driver
+#: that integrates AD's sensitivities (the same integrator as AD's).
+CD_DRIVER = "central differences (AD's CVODES driver)"
+CD_METHODS = (("central differences", False), (CD_DRIVER, True))
 REFERENCE_RTOL = 1e-12
 STEP = 1e-3  # relative
 GOAL_ERROR = 0.02
@@ -66,13 +73,17 @@ PERIODIC_TOL = 1e3  # x rtol, as `po.sensitivities` searches its periodic state
 
 
 def central_differences(model: po.PressModel, speed: po.FourierSpeed, peaks: dict[str, np.ndarray],
-                        rtol: float) -> dict[str, list[float]]:
+                        rtol: float, driver: bool = False) -> dict[str, list[float]]:
     """d|torque|/dp at each parameter's rival peak times (s within the cycle): the nominal periodic
     state (`periodic_state`, as `po.sensitivities` finds its own), then for each parameter two
     perturbed periodic responses on `model`, which carries the parameters as inputs, each settled
     cycle by cycle from the nominal state, |torque| read at the peak times (CVODES, explicit form,
     no work quadratures). Its integrators are kept in ``model.functions`` for the next call at the
-    same rtol, as `po.sensitivities` keeps its derivatives with the model it is given."""
+    same rtol, as `po.sensitivities` keeps its derivatives with the model it is given. With `driver`
+    the perturbed cycles and the runs to the peaks go through the compiled CVODES driver that
+    integrates AD's sensitivities (`pressocp.cvodes_fsa`, no directions) instead of CasADi's CVODES:
+    the two methods on the same integrator (the nominal periodic state is the package's search in
+    both, as in AD)."""
     tol = PERIODIC_TOL * rtol
     x_nominal = periodic_state(model, speed, Integrator("cvodes", rtol), tol=tol)[0]
     times = np.unique(np.concatenate(list(peaks.values())))
@@ -83,6 +94,16 @@ def central_differences(model: po.PressModel, speed: po.FourierSpeed, peaks: dic
         model.functions[key] = (ca.integrator("cycle", "cvodes", dae, 0.0, speed.period, opts),
                                 ca.integrator("to_peaks", "cvodes", dae, 0.0, [float(t) for t in times], opts))
     cycle, to_peaks = model.functions[key]
+    if driver:
+        if "cd_driver" not in model.functions:
+            model.functions["cd_driver"] = ForwardSensitivities.build(model.dae(explicit=True, work=False), 0)
+        fsa, none = model.functions["cd_driver"], (np.zeros((model.nx, 0)), np.zeros((0, 0)))
+
+        def cycle(x0, p):  # noqa: F811 (the driver's period)
+            return {"xf": fsa.run(x0, p, *none, np.array([speed.period]), rtol)[0]}
+
+        def to_peaks(x0, p):  # noqa: F811 (the driver's runs to the peaks)
+            return {"xf": fsa.run(x0, p, *none, times, rtol)[0]}
     k = OUTPUT_NAMES.index("torque")
     p0 = model.parameters(speed)
     out = {}
@@ -161,42 +182,46 @@ def measure(repeat: int) -> dict:
         err, where = largest_error(d, reference)
         rows.append({"method": label, "rtol": rtol, "times_s": times, "median_s": float(np.median(times)),
                      "error": err, "worst": where, "error_estimate": estimate, "derivatives": d})
-    for rtol in CD_RTOLS:
-        times, d = [], None
-        for _ in range(repeat):
-            t0 = time.perf_counter()
-            d = central_differences(cd_model, speed, peaks, rtol)
-            times.append(time.perf_counter() - t0)
-        err, where = largest_error(d, reference)
-        rows.append({"method": "central differences", "rtol": rtol, "times_s": times,
-                     "median_s": float(np.median(times)), "error": err, "worst": where, "derivatives": d})
-        print(f"central differences rtol {rtol:g}: {[round(t, 2) for t in times]} s, error {err:.2g} ({where})",
-              flush=True)
-    methods = [label for label, _ in AD_METHODS] + ["central differences"]
+    for label, driver in CD_METHODS:
+        for rtol in CD_RTOLS:
+            times, d = [], None
+            for _ in range(repeat):
+                t0 = time.perf_counter()
+                d = central_differences(cd_model, speed, peaks, rtol, driver)
+                times.append(time.perf_counter() - t0)
+            err, where = largest_error(d, reference)
+            rows.append({"method": label, "rtol": rtol, "times_s": times,
+                         "median_s": float(np.median(times)), "error": err, "worst": where, "derivatives": d})
+            print(f"{label} rtol {rtol:g}: {[round(t, 2) for t in times]} s, error {err:.2g} ({where})", flush=True)
+    methods = [label for label, _ in AD_METHODS] + [label for label, _ in CD_METHODS]
     best = {m: min((r for r in rows if r["method"] == m and r["error"] <= GOAL_ERROR), key=lambda r: r["median_s"],
                    default=None) for m in methods}
 
-    def ratio(ad_label: str) -> float | None:
-        cd = best["central differences"]
+    def ratio(ad_label: str, cd_label: str = "central differences") -> float | None:
+        cd = best[cd_label]
         return cd["median_s"] / best[ad_label]["median_s"] if best[ad_label] and cd else None
 
     cd10 = next(r for r in rows if r["method"] == "central differences" and r["rtol"] == 1e-10)["derivatives"]
     within = {f"{r['method']} rtol {r['rtol']:g}": largest_error(r["derivatives"], cd10)[0] for r in rows
               if r["method"] != "central differences"}
+    engines = {label: po.sensitivities(model, speed, PARAMETERS, rtol=AD_RTOLS[0], error_estimate=estimate).engine
+               for label, estimate in AD_METHODS}
     return {**stamp(), "versions": versions(), "case": "press75 seed optimum, default model, peak motor torque",
             "parameters": list(PARAMETERS), "peaks_s": {n: list(peaks[n]) for n in PARAMETERS}, "step": STEP,
             "reference_rtol": REFERENCE_RTOL, "reference_s": ref_s, "reference": reference, "repeat": repeat,
             "goal_error": GOAL_ERROR, "goal_ratio": GOAL_RATIO, "rows": rows,
             "equal_accuracy": {**{m: best[m] and {k: best[m][k] for k in ("rtol", "median_s", "error")}
                                   for m in methods},
-                               "ratio": ratio("AD, no estimate"), "ratio_with_estimate": ratio("AD")},
+                               "ratio": ratio("AD, no estimate"), "ratio_with_estimate": ratio("AD"),
+                               "ratio_same_integrator": ratio("AD, no estimate", CD_DRIVER)},
+            "ad_engine": engines["AD, no estimate"],
             "ad_against_cd_1e-10": within}
 
 
 def plot(data: dict) -> plt.Figure:
     """Wall time against the largest error, each method at each rtol."""
-    fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    for m, mark in (("AD", "o-"), ("AD, no estimate", "^-"), ("central differences", "s-")):
+    fig, ax = plt.subplots(figsize=(7.6, 5.0))
+    for m, mark in (("AD", "o-"), ("AD, no estimate", "^-"), ("central differences", "s-"), (CD_DRIVER, "d--")):
         rows = [r for r in data["rows"] if r["method"] == m]
         ax.semilogx([r["error"] for r in rows], [r["median_s"] for r in rows], mark, label=m)
         for r in rows:
@@ -205,17 +230,17 @@ def plot(data: dict) -> plt.Figure:
     ax.axvline(data["goal_error"], ls="--", color="tab:red", lw=0.8, label=f"{100 * data['goal_error']:g} % error")
     ax.set_ylim(bottom=0.0)
     eq = data["equal_accuracy"]
-    ratio, with_estimate = eq["ratio"], eq.get("ratio_with_estimate")
+    ratio, with_estimate, same = eq["ratio"], eq.get("ratio_with_estimate"), eq.get("ratio_same_integrator")
     ax.set_xlabel(f"largest relative error of dJ/dp (against central differences at rtol {data['reference_rtol']:g})")
     ax.set_ylabel(f"wall time, s (median of {data['repeat']})")
-    ax.set_title("peak torque of the 75 spm seed optimum, 3 parameters: AD against central differences\n"
-                 f"at equal accuracy (≤ {100 * data['goal_error']:g} %): "
-                 f"AD without its estimate {'no pair' if ratio is None else f'{ratio:.2f} ×'}, with it "
-                 f"{'no pair' if with_estimate is None else f'{with_estimate:.2f} ×'} (goal {data['goal_ratio']:g} ×), "
-                 f"{data['date']}",
+    pair = (lambda r: "no pair" if r is None else f"{r:.2f} ×")
+    ax.set_title(f"peak torque of the 75 spm seed optimum, 3 parameters, at equal accuracy (≤ {100 * data['goal_error']:g} %), "
+                 f"{data['date']}\nAD without its estimate {pair(ratio)}, with it {pair(with_estimate)} (goal "
+                 f"{data['goal_ratio']:g} ×) against central differences on CasADi's CVODES;\n{pair(same)} against "
+                 f"central differences on AD's own CVODES driver (AD's engine: {data.get('ad_engine', '?')})",
                  fontsize=8)
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=3)
     fig.tight_layout()
     return fig
 

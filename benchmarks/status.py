@@ -643,7 +643,18 @@ def ad_row(res: Results) -> Row:
                f"estimate {ad['median_s']:.2f} s (rtol {ad['rtol']:g}, error {ad['error']:.1e}) against central "
                f"differences {cd['median_s']:.2f} s (rtol {cd['rtol']:g}, error {cd['error']:.1e}): "
                f"**{eq['ratio']:.2f} ×**{with_estimate}; AD against central differences at rtol 1e-10: "
-               f"{100 * against:.2g} %", verdict(ok), f"sensitivity_seed.json, {r['date']}")
+               f"{100 * against:.2g} %{same_integrator(r)}", verdict(ok), f"sensitivity_seed.json, {r['date']}")
+
+
+def same_integrator(r: dict) -> str:
+    """The AD row's comparison on one integrator: central differences on the compiled CVODES driver
+    that integrates AD's sensitivities (empty for a run before it was measured)."""
+    eq, label = r["equal_accuracy"], "central differences (AD's CVODES driver)"
+    if eq.get("ratio_same_integrator") is None or eq.get(label) is None:
+        return ""
+    return (f"; AD's engine: {r.get('ad_engine', '?')}; central differences on that same compiled CVODES driver "
+            f"{eq[label]['median_s']:.2f} s (rtol {eq[label]['rtol']:g}): **{eq['ratio_same_integrator']:.2f} ×** "
+            f"on one integrator")
 
 
 CHECKS: tuple[Callable[[Results], Row | list[Row]], ...] = (
