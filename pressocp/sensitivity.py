@@ -387,14 +387,7 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
             raise ValueError(f"quantity {q!r} is not one of {', '.join(QUANTITIES)}")
     if model.is_rigid:
         raise ValueError("the model has no states: differentiate the closed-form rigid response instead")
-    # kept with the model: a study differentiating one model again reuses its built derivatives (about
-    # 1 s of building per call)
-    key = ("sensitivity_model", names, model.params)
-    if key not in model.functions:
-        model.functions[key] = build_model(model.params, model.rod, model.clearance, model.n_elements,
-                                           model.n_harmonics, names, n_modes=model.n_modes,
-                                           mechanism=model.mechanism)
-    msym = model.functions[key]
+    msym = sensitivity_model(model, names)
     pv = msym.parameters(speed)
     T = speed.period
     model = for_repeated_use(model)  # three periodic runs of it: compiled, as the sensitivities are
@@ -421,6 +414,17 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
 
     return Sensitivities(pd.DataFrame(rows), pd.DataFrame(per_peak), periodic, time.perf_counter() - t_start,
                          unverified, engine)
+
+
+def sensitivity_model(model: PressModel, names: tuple[str, ...]) -> PressModel:
+    """`model` with the parameters `names` as symbols, kept with it: a study differentiating one model
+    again reuses its built derivatives (about 1 s of building per call)."""
+    key = ("sensitivity_model", names, model.params)
+    if key not in model.functions:
+        model.functions[key] = build_model(model.params, model.rod, model.clearance, model.n_elements,
+                                           model.n_harmonics, names, n_modes=model.n_modes,
+                                           mechanism=model.mechanism)
+    return model.functions[key]
 
 
 def estimated_errors(model: PressModel, msym: PressModel, speed: FourierSpeed, targets: Sequence[tuple[float, int]],
