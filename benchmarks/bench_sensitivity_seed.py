@@ -17,6 +17,11 @@ Both run their integrators on compiled right-hand sides (`PressModel.jit` True; 
 compiles its sensitivity equations in any case). At a peak's time the difference of |torque| is the
   peak's derivative (the time moves with p, but d|torque|/dt = 0 there).
 
+AD's engine is CVODES's own sensitivity module compiled with the model (`pressocp.cvodes_fsa`); the
+same call on CasADi's forward integrator is measured at `ENGINE_RTOL` (``AD, no estimate, CasADi's
+forward integrator``), and one period by each engine, with and without the 11 directions, in
+``engine_periods``.
+
 Every derivative is compared with central differences at rtol `REFERENCE_RTOL`; a method's error is
 its largest relative difference over parameters and rival peaks. Each timing is the median of
 `--repeat` runs in this process: a repeated call's. Each method keeps what it builds with the model
@@ -36,6 +41,7 @@ from __future__ import annotations
 import argparse
 import json
 import time
+import warnings
 from dataclasses import replace
 from pathlib import Path
 
@@ -47,6 +53,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import pressocp as po  # noqa: E402
+import pressocp.sensitivity as sens  # noqa: E402
 from pressocp.cvodes_fsa import ForwardSensitivities  # noqa: E402
 from pressocp.io import versions  # noqa: E402
 from pressocp.model import OUTPUT_NAMES  # noqa: E402
@@ -61,6 +68,9 @@ AD_RTOLS = (1e-8, 3e-9, 1e-9, 1e-10)
 CD_RTOLS = (1e-9, 3e-10, 1e-10, 1e-11)
 #: The AD rows: label and whether `po.sensitivities` runs its error estimate.
 AD_METHODS = (("AD", True), ("AD, no estimate", False))
+#: AD without its estimate on CasADi's forward integrator, at `ENGINE_RTOL` (its first call, which builds, not
+#: counted): the engine's share of AD's time.
+AD_CASADI = "AD, no estimate, CasADi's forward integrator"
 #: Central differences on CasADi's CVODES (as the package simulates), and on the compiled CVODES driver
 #: that integrates AD's sensitivities (the same integrator as AD's).
 CD_DRIVER = "central differences (AD's CVODES driver)"
@@ -158,6 +168,49 @@ def largest_error(derivs: dict[str, list[float]], reference: dict[str, list[floa
     return worst, where
 
 
+ENGINE_RTOL = 3e-9  # the AD rtol at equal accuracy (2026-12-01)
+ENGINE_REPEAT = 7
+
+
+def engine_periods(model: po.PressModel, speed: po.FourierSpeed) -> dict:
+    """One period of the seed optimum from its periodic state at `ENGINE_RTOL`, each engine alternately,
+    `ENGINE_REPEAT` times: the 11 directions by the compiled CVODES driver and by CasADi's forward
+    integrator, and a plain period (no directions) by each; medians, the driver's steps, and the
+    largest difference of the directions (relative to their largest entry)."""
+    msym = sens.sensitivity_model(model, PARAMETERS)
+    pv = msym.parameters(speed)
+    scale = sens.parameter_scale(pv[-len(PARAMETERS):])
+    nx, nq, grid = msym.nx, len(PARAMETERS), [speed.period]
+    x0 = periodic_state(model, speed, Integrator("cvodes", ENGINE_RTOL), tol=PERIODIC_TOL * ENGINE_RTOL)[0]
+    fsa = sens.kept_fsa(msym, nq)
+    plain_fsa = ForwardSensitivities.build(msym.dae(explicit=True, work=False), 0)
+    plain = ca.integrator("period", "cvodes", integrator_dae(msym, True, False), 0.0, speed.period,
+                          {"reltol": ENGINE_RTOL, "abstol": ENGINE_RTOL, "max_num_steps": 10**8})
+    Q = np.hstack([np.zeros((nq, nx)), np.diag(scale)])
+    runs = {
+        "driver, 11 directions": lambda: fsa.run(x0, pv, np.eye(nx, nx + nq), Q, np.array(grid), ENGINE_RTOL),
+        "CasADi forward integrator, 11 directions": lambda: sens.casadi_forward(msym, grid, x0, pv, scale,
+                                                                                 ENGINE_RTOL, None),
+        "driver, plain": lambda: plain_fsa.run(x0, pv, np.zeros((nx, 0)), np.zeros((0, 0)), np.array(grid),
+                                               ENGINE_RTOL),
+        "CasADi CVODES, plain": lambda: plain(x0=x0, p=pv),
+    }
+    times: dict[str, list[float]] = {k: [] for k in runs}
+    out = {}
+    for _ in range(ENGINE_REPEAT + 1):  # the first of each builds what it keeps: not counted
+        for k, run in runs.items():
+            t0 = time.perf_counter()
+            out[k] = run()
+            times[k].append(time.perf_counter() - t0)
+    S_driver, S_casadi = out["driver, 11 directions"][1][:, :, -1], out["CasADi forward integrator, 11 directions"][:, :, -1]
+    return {"rtol": ENGINE_RTOL, "repeat": ENGINE_REPEAT,
+            "median_s": {k: float(np.median(v[1:])) for k, v in times.items()},
+            "times_s": {k: v[1:] for k, v in times.items()},
+            "driver_steps": {"11 directions": out["driver, 11 directions"][2]["steps"],
+                             "plain": out["driver, plain"][2]["steps"]},
+            "directions_difference": float(np.max(np.abs(S_driver - S_casadi)) / np.max(np.abs(S_casadi)))}
+
+
 def measure(repeat: int) -> dict:
     press = po.PressParams()
     speed = po.FourierSpeed.from_dict(json.loads(SEED.read_text()))
@@ -169,6 +222,18 @@ def measure(repeat: int) -> dict:
             ad[label, rtol] = runs[-1][:3] + ([r[3] for r in runs],)
             print(f"{label} rtol {rtol:g}: {[round(r[3], 2) for r in runs]} s, largest error estimate "
                   f"{runs[-1][2]:.2g}", flush=True)
+    # the same call on CasADi's forward integrator (the engine where the driver cannot be built), on a model
+    # of its own (the driver is kept with the first)
+    other, available = replace(po.build_model(press), jit=True), sens.unavailable
+    sens.unavailable = lambda: "the benchmark's comparison"
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            runs = [ad_derivatives(other, speed, ENGINE_RTOL, False) for _ in range(repeat + 1)][1:]
+    finally:
+        sens.unavailable = available
+    ad[AD_CASADI, ENGINE_RTOL] = runs[-1][:3] + ([r[3] for r in runs],)
+    print(f"{AD_CASADI} rtol {ENGINE_RTOL:g}: {[round(r[3], 2) for r in runs]} s", flush=True)
     finest = ad["AD", AD_RTOLS[-1]][0]
     peaks = {n: np.array(sorted(finest[n])) for n in PARAMETERS}
     cd_model = replace(po.build_model(press, parameters=PARAMETERS), jit=True)  # built once, as the AD's
@@ -206,6 +271,8 @@ def measure(repeat: int) -> dict:
               if r["method"] != "central differences"}
     engines = {label: po.sensitivities(model, speed, PARAMETERS, rtol=AD_RTOLS[0], error_estimate=estimate).engine
                for label, estimate in AD_METHODS}
+    periods = engine_periods(model, speed)
+    print(f"one period at rtol {ENGINE_RTOL:g}: {periods['median_s']}", flush=True)
     return {**stamp(), "versions": versions(), "case": "press75 seed optimum, default model, peak motor torque",
             "parameters": list(PARAMETERS), "peaks_s": {n: list(peaks[n]) for n in PARAMETERS}, "step": STEP,
             "reference_rtol": REFERENCE_RTOL, "reference_s": ref_s, "reference": reference, "repeat": repeat,
@@ -214,14 +281,15 @@ def measure(repeat: int) -> dict:
                                   for m in methods},
                                "ratio": ratio("AD, no estimate"), "ratio_with_estimate": ratio("AD"),
                                "ratio_same_integrator": ratio("AD, no estimate", CD_DRIVER)},
-            "ad_engine": engines["AD, no estimate"],
+            "ad_engine": engines["AD, no estimate"], "engine_periods": periods,
             "ad_against_cd_1e-10": within}
 
 
 def plot(data: dict) -> plt.Figure:
     """Wall time against the largest error, each method at each rtol."""
     fig, ax = plt.subplots(figsize=(7.6, 5.0))
-    for m, mark in (("AD", "o-"), ("AD, no estimate", "^-"), ("central differences", "s-"), (CD_DRIVER, "d--")):
+    for m, mark in (("AD", "o-"), ("AD, no estimate", "^-"), (AD_CASADI, "kx"), ("central differences", "s-"),
+                    (CD_DRIVER, "d--")):
         rows = [r for r in data["rows"] if r["method"] == m]
         ax.semilogx([r["error"] for r in rows], [r["median_s"] for r in rows], mark, label=m)
         for r in rows:

@@ -13,33 +13,40 @@ On the seed optimum (8 states, 11 directions, one period at rtol 3e-9) it took 0
 0.60-0.76 s for CasADi's forward integrator in the same runs, the sensitivities the same to 2e-5
 (docs/decisions/2026-12-01-cvodes-staggered-sensitivities.md).
 
-    fsa = ForwardSensitivities.build(dae, n_parameters=3)   # None: no C compiler or no CVODES library
-    x, S, stats = fsa.run(x0, p, S0, Q, grid, rtol)
+    if not unavailable():                                    # a C compiler, CasADi 3.8's CVODES
+        fsa = ForwardSensitivities.build(dae, n_parameters=3)
+        x, S, stats = fsa.run(x0, p, S0, Q, grid, rtol)
 """
 
 from __future__ import annotations
 
+import atexit
 import ctypes
 import hashlib
-import os
+import shutil
 import tempfile
+import threading
 from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 
 import casadi as ca
 import numpy as np
 
 from .compile_cache import c_compiler, compile_library
+from .interrupt import compiling
 
 SOURCE = Path(__file__).with_name("csrc") / "cvodes_fsa.c"
 HEADERS = Path(__file__).with_name("csrc") / "sundials"
 #: The library that exports CVODES (CasADi's CVODES plugin).
 CVODES_LIBRARY = "libcasadi_integrator_cvodes.so"
+#: CasADi's SUNDIALS support library beside it (the serial vectors).
+SUNDIALS_COMMON = "libcasadi_sundials_common.so"
 #: CVODES's return flags (cvodes.h), for the messages of a failed run.
 FLAGS = {-1: "CV_TOO_MUCH_WORK", -2: "CV_TOO_MUCH_ACC", -3: "CV_ERR_FAILURE", -4: "CV_CONV_FAILURE",
          -5: "CV_LINIT_FAIL", -6: "CV_LSETUP_FAIL", -7: "CV_LSOLVE_FAIL", -8: "CV_RHSFUNC_FAIL",
          -9: "CV_FIRST_RHSFUNC_ERR", -10: "CV_REPTD_RHSFUNC_ERR", -11: "CV_UNREC_RHSFUNC_ERR",
-         -20: "CV_MEM_FAIL", -22: "CV_ILL_INPUT", -41: "CV_SRHSFUNC_FAIL", -42: "CV_FIRST_SRHSFUNC_ERR",
+         -20: "CV_MEM_FAIL", -22: "CV_ILL_INPUT", -27: "CV_TOO_CLOSE", -41: "CV_SRHSFUNC_FAIL", -42: "CV_FIRST_SRHSFUNC_ERR",
          -43: "CV_REPTD_SRHSFUNC_ERR", -44: "CV_UNREC_SRHSFUNC_ERR"}
 _DOUBLE_P = ctypes.POINTER(ctypes.c_double)
 
@@ -52,15 +59,42 @@ class FsaError(RuntimeError):
         super().__init__(f"CVODES returned {flag} ({FLAGS.get(flag, 'unknown flag')}) at t = {time:.6g} s")
 
 
+@lru_cache(maxsize=1)
+def library_folder() -> Path:
+    """This process's folder of built libraries, removed at exit. A loaded library stays on disk while
+    the process runs: the dynamic linker knows a library by its file, and a deleted one's file could
+    be reused by the next build and taken for the loaded library."""
+    folder = Path(tempfile.mkdtemp(prefix="pressocp_fsa_"))
+    atexit.register(shutil.rmtree, folder, ignore_errors=True)
+    return folder
+
+
 def cvodes_library() -> Path | None:
     """CasADi's CVODES plugin library, or None when this CasADi has none (not on Linux)."""
     path = Path(ca.__file__).parent / CVODES_LIBRARY
     return path if path.is_file() else None
 
 
+#: The CasADi versions whose CVODES the headers in `HEADERS` describe (CasADi's sources have not changed
+#: them since 2023; the driver writes into CVODES's internal memory, so another layout would be unsafe).
+CASADI_VERSIONS = ("3.8.",)
+
+
+def unavailable() -> str:
+    """Why `ForwardSensitivities` cannot be built here, or "" when it can: it needs a C compiler and
+    CasADi's CVODES library, of a version in `CASADI_VERSIONS`."""
+    if c_compiler() is None:
+        return "no C compiler (cc) found"
+    if cvodes_library() is None:
+        return f"CasADi has no {CVODES_LIBRARY}"
+    if not ca.__version__.startswith(CASADI_VERSIONS):
+        return f"CasADi {ca.__version__} is not {' or '.join(v + 'x' for v in CASADI_VERSIONS)}"
+    return ""
+
+
 def available() -> bool:
-    """Whether `ForwardSensitivities` can be built here: a C compiler, and CasADi's CVODES library."""
-    return c_compiler() is not None and cvodes_library() is not None
+    """Whether `ForwardSensitivities` can be built here (`unavailable`)."""
+    return not unavailable()
 
 
 def model_source(dae: dict, n_parameters: int) -> str:
@@ -87,9 +121,20 @@ def model_source(dae: dict, n_parameters: int) -> str:
 
 @dataclass
 class ForwardSensitivities:
-    """A compiled forward-sensitivity integrator of one explicit ODE (`build`)."""
+    """A compiled forward-sensitivity integrator of one explicit ODE (`build`).
+
+    Attributes
+    ----------
+    nx, n_p : int
+        Number of states and of parameters of the ODE.
+    n_parameters : int
+        The last parameters, which directions may have components in.
+    library : ctypes.CDLL
+        The compiled driver and model (kept loaded, and on disk, for the process's life).
+    """
 
     nx: int
+    n_p: int
     n_parameters: int
     library: ctypes.CDLL
 
@@ -98,28 +143,26 @@ class ForwardSensitivities:
         """Generate, compile (through the compile cache) and load the integrator of `dae` (an explicit
         ODE dict of SX: ``t``, ``x``, ``p``, ``ode``) with directions in its last `n_parameters`
         parameters. Raises RuntimeError when there is no C compiler or CVODES library, or the compile
-        fails."""
-        lib = cvodes_library()
-        if lib is None or c_compiler() is None:
-            raise RuntimeError("compiled forward sensitivities need a C compiler and CasADi's "
-                               f"{CVODES_LIBRARY}")
+        fails; OSError when the library cannot be loaded."""
+        lib, why = cvodes_library(), unavailable()
+        if lib is None or why:
+            raise RuntimeError(f"compiled forward sensitivities cannot be built: {why}")
         source = model_source(dae, n_parameters)
-        folder = Path(tempfile.mkdtemp(prefix="pressocp_fsa_"))
-        try:
-            path = folder / f"fsa_{hashlib.sha256(source.encode()).hexdigest()[:16]}.c"
+        path = library_folder() / f"fsa_{hashlib.sha256(source.encode()).hexdigest()[:24]}.c"
+        library = path.with_suffix(".so")
+        if not library.exists():
             path.write_text(source)
-            library = path.with_suffix(".so")
-            compile_library(path, library, compile_flags=(f"-I{HEADERS}",),
-                            link_flags=(f"-L{lib.parent}", f"-l:{lib.name}", f"-Wl,-rpath,{lib.parent}"))
-            handle = ctypes.CDLL(str(library))
-        finally:
-            for f in folder.iterdir():
-                f.unlink()
-            os.rmdir(folder)
+            common = lib.with_name(SUNDIALS_COMMON)
+            with compiling():  # a Ctrl-C during the compile raises KeyboardInterrupt, once
+                compile_library(path, library, compile_flags=(f"-I{HEADERS}",),
+                                link_flags=(f"-L{lib.parent}", f"-l:{lib.name}", f"-l:{common.name}", "-lm",
+                                            f"-Wl,-rpath,{lib.parent}", "-Wl,-z,defs"))
+        handle = ctypes.CDLL(str(library))
         handle.fsa_run.restype = ctypes.c_int
         handle.fsa_run.argtypes = [_DOUBLE_P, _DOUBLE_P, ctypes.c_int, _DOUBLE_P, _DOUBLE_P, ctypes.c_int,
-                                   _DOUBLE_P, ctypes.c_double, ctypes.c_long, _DOUBLE_P, _DOUBLE_P, _DOUBLE_P]
-        return cls(int(dae["x"].numel()), n_parameters, handle)
+                                   _DOUBLE_P, ctypes.c_double, ctypes.c_long, ctypes.c_int, _DOUBLE_P, _DOUBLE_P,
+                                   _DOUBLE_P]
+        return cls(int(dae["x"].numel()), int(dae["p"].numel()), n_parameters, handle)
 
     def run(self, x0: np.ndarray, p: np.ndarray, S0: np.ndarray, Q: np.ndarray, grid: np.ndarray, rtol: float,
             max_steps: int = 10**7) -> tuple[np.ndarray, np.ndarray, dict[str, float]]:
@@ -151,28 +194,38 @@ class ForwardSensitivities:
 
         Raises
         ------
+        ValueError
+            An input of the wrong size, or a grid that does not increase from above 0.
         FsaError
             CVODES failed (its flag and the time reached).
+        KeyboardInterrupt
+            Ctrl-C (in the main thread: the run stops at its next right-hand side).
         """
         S0, Q = np.asarray(S0, float), np.asarray(Q, float)
-        ns = S0.shape[1]
-        if S0.shape[0] != self.nx or Q.shape != (self.n_parameters, ns):
-            raise ValueError(f"S0 must be ({self.nx}, ns) and Q ({self.n_parameters}, ns); got {S0.shape}, {Q.shape}")
-        grid = np.ascontiguousarray(grid, float)
+        x0, p, grid = (np.ascontiguousarray(np.ravel(a), float) for a in (x0, p, grid))
+        ns = S0.shape[1] if S0.ndim == 2 else -1
+        if S0.shape[0] != self.nx or Q.shape != (self.n_parameters, ns) or x0.size != self.nx or p.size != self.n_p:
+            raise ValueError(f"x0 must have {self.nx} entries, p {self.n_p}, S0 shape ({self.nx}, ns) and Q "
+                             f"({self.n_parameters}, ns); got {x0.size}, {p.size}, {S0.shape}, {Q.shape}")
+        if grid.size == 0 or grid[0] <= 0.0 or np.any(np.diff(grid) <= 0.0):
+            raise ValueError(f"grid must increase from above 0 s; got {grid}")
         x = np.zeros((grid.size, self.nx))
         S = np.zeros((grid.size, ns, self.nx))
-        stats = np.zeros(5)
-        args = [np.ascontiguousarray(x0, float), np.ascontiguousarray(p, float), np.asfortranarray(S0),
-                np.asfortranarray(Q)]
+        stats = np.zeros(6)
+        args = [x0, p, np.asfortranarray(S0), np.asfortranarray(Q)]
+        # a Ctrl-C is caught in C (Python's handler cannot run until the call returns) in the main thread
+        main = threading.current_thread() is threading.main_thread()
         flag = self.library.fsa_run(*(a.ctypes.data_as(_DOUBLE_P) for a in args[:2]), ns,
                                     *(a.ctypes.data_as(_DOUBLE_P) for a in args[2:]), grid.size,
-                                    grid.ctypes.data_as(_DOUBLE_P), float(rtol), int(max_steps),
+                                    grid.ctypes.data_as(_DOUBLE_P), float(rtol), int(max_steps), int(main),
                                     x.ctypes.data_as(_DOUBLE_P), S.ctypes.data_as(_DOUBLE_P),
                                     stats.ctypes.data_as(_DOUBLE_P))
+        if stats[5]:
+            raise KeyboardInterrupt
         if flag < 0:
             raise FsaError(flag, float(stats[4]))
         return x.T.copy(), S.transpose(2, 1, 0).copy(), dict(zip(
             ("steps", "rhs", "jacobians", "sensitivity_jacobians"), map(float, stats[:4])))
 
 
-__all__ = ["FsaError", "ForwardSensitivities", "available"]
+__all__ = ["FsaError", "ForwardSensitivities", "available", "unavailable"]

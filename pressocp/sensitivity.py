@@ -36,7 +36,7 @@ import casadi as ca
 import numpy as np
 
 from .compile_cache import use_jit
-from .cvodes_fsa import ForwardSensitivities, FsaError, available
+from .cvodes_fsa import ForwardSensitivities, FsaError, unavailable
 from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
@@ -104,7 +104,7 @@ class Sensitivities:
     engine : str
         What integrated the sensitivities: ``ENGINE_FSA`` (CVODES's staggered corrector, compiled
         with the model: `pressocp.cvodes_fsa`) or ``ENGINE_CASADI`` (CasADi's forward integrator:
-        no C compiler, or that compile failed, which a warning says).
+        where the former cannot be built, which a warning says: `kept_fsa`).
     """
 
     table: pd.DataFrame
@@ -176,16 +176,20 @@ def kept_sensitivity_dae(msym: PressModel) -> dict | ca.Function:
 
 def kept_fsa(msym: PressModel, n_parameters: int) -> ForwardSensitivities | None:
     """The compiled forward-sensitivity integrator of `msym` (`pressocp.cvodes_fsa`), built once and
-    kept with it; None where it cannot be built (no C compiler or CVODES library, or a failed compile,
-    which a warning says once): the sensitivities then run through CasADi's forward integrator."""
+    kept with it; None where it cannot be built (no C compiler, no CasADi 3.8 CVODES library, or a
+    failed compile or load), which a warning says once per model: the sensitivities then run through
+    CasADi's forward integrator."""
     if "cvodes_fsa" not in msym.functions:
-        fsa = None
-        if available() and use_jit("auto", "the sensitivities"):
+        fsa, why = None, unavailable()
+        if not why:
             try:
                 fsa = ForwardSensitivities.build(msym.dae(explicit=True, work=False), n_parameters)
-            except RuntimeError as err:
-                warnings.warn(f"compiled forward sensitivities unavailable ({first_line(err)}): CasADi's forward "
-                              "integrator runs them, about 1.7 x slower", RuntimeWarning, stacklevel=3)
+            except (RuntimeError, OSError) as err:
+                why = first_line(err)
+        if why:
+            warnings.warn(f"compiled forward sensitivities unavailable ({why}): CasADi's forward integrator "
+                          "runs them (on the seed optimum its period took 1.7 x as long, the whole call "
+                          "1.3 x)", RuntimeWarning, stacklevel=3)
         msym.functions["cvodes_fsa"] = fsa
     return msym.functions["cvodes_fsa"]
 
@@ -251,9 +255,8 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
     if fsa is not None:
         Q = np.zeros((n_parameters, nd))
         Q[:, nx:] = np.diag(scale)
-        try:
-            with interruptible():
-                X, S, _ = fsa.run(x0, pv, np.eye(nx, nd), Q, np.array(grid), rtol)
+        try:  # Ctrl-C stops it (KeyboardInterrupt)
+            X, S, _ = fsa.run(x0, pv, np.eye(nx, nd), Q, np.array(grid), rtol)
         except FsaError as err:
             raise SimulationError(str(err), time=err.time, method="cvodes (sensitivities)", hint=HINT) from None
         nominal, engine = {t: X[:, grid.index(t)] for t in times}, ENGINE_FSA

@@ -57,6 +57,33 @@ def test_without_directions_it_integrates_the_states(linear):
     assert S.shape == (3, 0, 1)
 
 
+def test_a_time_dependent_nonlinear_ode_matches_its_closed_form():
+    """x' = -q t x, x = x0 exp(-q t^2 / 2): dx/dx0 = exp(-q t^2 / 2), dx/dq = -t^2 / 2 x
+    (the Jacobian changes with t and x, so it is refreshed along the run), and a second state
+    y' = -y^2 + q (nonlinear, y = sqrt(q) tanh(sqrt(q) t + atanh(y0 / sqrt(q)))) with its directions
+    from the derivative of that closed form. Another state count than `linear`'s, in the same process."""
+    t, x, p = ca.SX.sym("t"), ca.SX.sym("x", 2), ca.SX.sym("p", 1)
+    fsa = ForwardSensitivities.build({"t": t, "x": x, "p": p, "ode": ca.vertcat(-p[0] * t * x[0], -x[1] ** 2 + p[0])},
+                                     n_parameters=1)
+    grid = np.array([0.3, 1.0, 2.5])
+    q, x0 = 1.7, np.array([0.8, 0.2])
+    X, S, stats = fsa.run(x0, np.array([q]), np.eye(2, 3), np.array([[0.0, 0.0, 1.0]]), grid, rtol=1e-10)
+
+    def closed(tk, x0, q):
+        r = np.sqrt(q)
+        return np.array([x0[0] * np.exp(-q * tk ** 2 / 2), r * np.tanh(r * tk + np.arctanh(x0[1] / r))])
+
+    for k, tk in enumerate(grid):
+        np.testing.assert_allclose(X[:, k], closed(tk, x0, q), atol=2e-8)
+        h = 1e-6  # the closed form's derivatives by central differences of the closed form itself
+        d_x0 = [(closed(tk, x0 + h * e, q) - closed(tk, x0 - h * e, q)) / (2 * h) for e in np.eye(2)]
+        d_q = (closed(tk, x0, q + h) - closed(tk, x0, q - h)) / (2 * h)
+        np.testing.assert_allclose(S[:, :2, k], np.column_stack(d_x0), atol=2e-7)
+        np.testing.assert_allclose(S[:, 2, k], d_q, atol=2e-7)
+        assert S[0, 2, k] == pytest.approx(-tk ** 2 / 2 * X[0, k], abs=2e-7)
+    assert stats["jacobians"] > 1
+
+
 def test_a_failed_run_raises_with_cvodes_flag_and_time(linear):
     _, _, fsa = linear
     with pytest.raises(FsaError, match="CV_TOO_MUCH_WORK") as err:
@@ -64,26 +91,83 @@ def test_a_failed_run_raises_with_cvodes_flag_and_time(linear):
     assert err.value.flag == -1 and 0.0 < err.value.time < 50.0
 
 
-def test_wrong_shapes_fail_before_integrating(linear):
+@pytest.mark.parametrize("x0, p, S0, grid", [
+    (np.ones(3), np.zeros(3), np.eye(2), [1.0]),  # S0 of 2 states
+    (np.ones(2), np.zeros(3), np.eye(3), [1.0]),  # x0 of 2
+    (np.ones(3), np.zeros(4), np.eye(3), [1.0]),  # p of 4
+    (np.ones(3), np.zeros(3), np.eye(3), [0.0, 1.0]),  # a grid from 0
+    (np.ones(3), np.zeros(3), np.eye(3), [1.0, 0.5]),  # a decreasing grid
+])
+def test_wrong_inputs_fail_before_integrating(linear, x0, p, S0, grid):
     _, _, fsa = linear
-    with pytest.raises(ValueError, match=r"S0 must be \(3, ns\)"):
-        fsa.run(np.ones(3), np.zeros(3), np.eye(2), np.zeros((2, 2)), np.array([1.0]), rtol=1e-8)
+    with pytest.raises(ValueError, match="x0 must have 3 entries, p 3|grid must increase"):
+        fsa.run(x0, p, S0, np.zeros((2, S0.shape[1])), np.array(grid), rtol=1e-8)
+
+
+def test_where_it_cannot_be_built_casadis_forward_integrator_runs_and_a_warning_says_why(monkeypatch):
+    """A failed compile (here: a stand-in build that raises) leaves the sensitivities to CasADi's
+    forward integrator, with a warning naming the cause, and the result says which ran."""
+    def fails(cls, dae, n_parameters):
+        raise RuntimeError("compiling fsa.c failed (exit 1): error: something")
+
+    monkeypatch.setattr(ForwardSensitivities, "build", classmethod(fails))
+    model = po.build_model(po.PressParams(), clearance=("wrist_pin",))
+    with pytest.warns(RuntimeWarning, match="compiled forward sensitivities unavailable.*exit 1"):
+        s = sens.sensitivities(model, po.FourierSpeed.constant(0.8), ("slider_mass",), rtol=1e-8,
+                               error_estimate=False)
+    assert s.engine == sens.ENGINE_CASADI and 0.4 < s.table["derivative"].iloc[0] < 0.6
 
 
 def test_press_peak_derivatives_match_casadis_forward_integrator(monkeypatch):
-    """The seed optimum's peak-torque derivatives (3 parameters, 4 rival peaks, rtol 1e-9) through
-    CVODES's staggered sensitivities and through CasADi's augmented forward integrator: within
-    2e-3 of each other (each is within 2e-3 of central differences at rtol 1e-12,
-    `benchmarks/results/sensitivity_seed.json`)."""
+    """The seed optimum's 11 directions over a period at rtol 1e-10, from one state on one grid,
+    through CVODES's staggered sensitivities and through CasADi's augmented forward integrator:
+    within 1e-5 of their largest entry. Then the peak-torque derivatives (3 parameters, 4 rival
+    peaks, rtol 1e-9) of each engine's `sensitivities`: within 2e-3 of each other (each is within
+    2e-3 of central differences at rtol 1e-12, `benchmarks/results/sensitivity_seed.json`; the
+    states at the peaks come from the driver's run and from the sampled response)."""
     speed = po.FourierSpeed.from_dict(json.loads(OPTIMUM.read_text()))
     model = replace(po.build_model(po.PressParams()), jit=True)
     native = sens.sensitivities(model, speed, PARAMETERS, rtol=1e-9, error_estimate=False)
-    monkeypatch.setattr(sens, "available", lambda: False)
+    # the directions themselves, on one grid from one state, against CasADi's augmented system
+    msym = sens.sensitivity_model(model, PARAMETERS)
+    pv = msym.parameters(speed)
+    scale = sens.parameter_scale(pv[-3:])
+    grid = [0.1, 0.4, speed.period]
+    x0 = po.simulate(model, speed, periodic=True, work=False,
+                     integrator=po.Integrator("cvodes", 1e-10, periodic_tol=1e-7)).states[:, 0] / model.x_scale
+    Q = np.hstack([np.zeros((3, msym.nx)), np.diag(scale)])
+    _, S, _ = sens.kept_fsa(msym, 3).run(x0, pv, np.eye(msym.nx, msym.nx + 3), Q, np.array(grid), 1e-10)
+    S_casadi = sens.casadi_forward(msym, grid, x0, pv, scale, 1e-10, None)
+    assert np.max(np.abs(S - S_casadi)) <= 1e-5 * np.max(np.abs(S_casadi))  # 1.0e-6 measured
+    monkeypatch.setattr(sens, "unavailable", lambda: "switched off by the test")
     other = replace(po.build_model(po.PressParams()), jit=True)
-    casadi = sens.sensitivities(other, speed, PARAMETERS, rtol=1e-9, error_estimate=False)
+    with pytest.warns(RuntimeWarning, match="switched off by the test"):
+        casadi = sens.sensitivities(other, speed, PARAMETERS, rtol=1e-9, error_estimate=False)
     assert native.engine == sens.ENGINE_FSA and casadi.engine == sens.ENGINE_CASADI
     a, b = native.per_peak, casadi.per_peak
     assert len(a) == len(b) == 12
     np.testing.assert_allclose(a["time"], b["time"], atol=1e-9)
     np.testing.assert_allclose(a["value"], b["value"], rtol=2e-6)  # the states at the peaks, two integrations
     np.testing.assert_allclose(a["derivative"], b["derivative"], rtol=2e-3)
+
+
+def test_ctrl_c_stops_a_run_and_leaves_pythons_handler():
+    """A SIGINT during a long run (an undamped oscillator over 1e5 s at rtol 1e-12: about 1e7 steps,
+    a minute) ends it within a right-hand side and raises KeyboardInterrupt; the process's own
+    SIGINT handler is in place again afterwards."""
+    import os
+    import signal
+    import threading
+    import time
+
+    t, x, p = ca.SX.sym("t"), ca.SX.sym("x", 2), ca.SX.sym("p", 1)
+    fsa = ForwardSensitivities.build({"t": t, "x": x, "p": p, "ode": ca.vertcat(x[1], -100 * x[0] + 0 * p[0])}, 0)
+    before = signal.getsignal(signal.SIGINT)
+    timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT))
+    started = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        fsa.run(np.ones(2), np.zeros(1), np.eye(2), np.zeros((0, 2)), np.array([1e5]), rtol=1e-12, max_steps=10**9)
+    timer.join()
+    assert time.perf_counter() - started < 3.0
+    assert signal.getsignal(signal.SIGINT) is before

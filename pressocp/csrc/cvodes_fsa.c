@@ -15,6 +15,7 @@
  * when gamma has changed since the factorisation.
  */
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -39,8 +40,14 @@ typedef struct {
   casadi_real w[SZ_W + 1];
 } Mem;
 
+/* Set by a SIGINT during a run that asked to catch it: the right-hand side then fails, which ends the run. */
+static volatile sig_atomic_t interrupted = 0;
+
+static void on_sigint(int signum) { interrupted = 1; }
+
 static int rhs(realtype t, N_Vector x, N_Vector xdot, void *user_data) {
   Mem *m = (Mem *)user_data;
+  if (interrupted) return -1;
   m->arg[0] = &t;
   m->arg[1] = NV_DATA_S(x);
   m->arg[2] = m->p;
@@ -171,9 +178,12 @@ static void quiet(int error_code, const char *module, const char *function, char
  * Q, NQ x ns, both column major) to each time of grid (increasing, > 0); write the states (NX x ngrid)
  * and the directions (NX x ns x ngrid). rtol is the relative and absolute tolerance of the states and
  * of the directions. stats: steps, right-hand sides, Jacobians of the linear solver, sensitivity
- * Jacobians, and the time reached. Returns 0 or CVODES's (negative) flag. */
+ * Jacobians, the time reached, and 1 when a SIGINT stopped the run (caught only with catch_sigint: the
+ * caller's handler is restored afterwards). Returns 0 or CVODES's (negative) flag; -22 (CV_ILL_INPUT)
+ * also when CVODES's memory does not have the layout of the headers this was compiled with. */
 int fsa_run(const double *x0, const double *p, int ns, const double *S0, const double *Q, int ngrid,
-            const double *grid, double rtol, long max_steps, double *xout, double *Sout, double *stats) {
+            const double *grid, double rtol, long max_steps, int catch_sigint, double *xout, double *Sout,
+            double *stats) {
   Mem *m = (Mem *)calloc(1, sizeof(Mem));
   void *cv = CVodeCreate(CV_BDF, CV_NEWTON);
   N_Vector x = N_VNew_Serial(NX);
@@ -181,6 +191,14 @@ int fsa_run(const double *x0, const double *p, int ns, const double *S0, const d
   double t = 0.0;
   long nst = 0, nfe = 0;
   int flag = 0, j, k;
+  struct sigaction caught, previous;
+  interrupted = 0;
+  if (catch_sigint) {
+    memset(&caught, 0, sizeof(caught));
+    caught.sa_handler = on_sigint;
+    sigemptyset(&caught.sa_mask);
+    sigaction(SIGINT, &caught, &previous);
+  }
   if (!m || !cv || !x) {
     flag = -20; /* CV_MEM_FAIL */
     goto done;
@@ -195,6 +213,11 @@ int fsa_run(const double *x0, const double *p, int ns, const double *S0, const d
   if ((flag = CVodeSetMaxNumSteps(cv, max_steps))) goto done;
   {
     CVodeMem cm = (CVodeMem)cv;
+    if (cm->cv_user_data != (void *)m || cm->cv_mxstep != max_steps || cm->cv_reltol != rtol ||
+        cm->cv_lmm != CV_BDF) {
+      flag = CV_ILL_INPUT; /* not the layout of the headers: writing into it would be unsafe */
+      goto done;
+    }
     cm->cv_linit = NULL;
     cm->cv_lsetup = lsetup;
     cm->cv_lsolve = lsolve;
@@ -204,6 +227,10 @@ int fsa_run(const double *x0, const double *p, int ns, const double *S0, const d
   }
   if (ns > 0) {
     xS = N_VCloneVectorArray_Serial(ns, x);
+    if (!xS) {
+      flag = CV_MEM_FAIL;
+      goto done;
+    }
     for (j = 0; j < ns; ++j) memcpy(NV_DATA_S(xS[j]), S0 + j * NX, NX * sizeof(double));
     if ((flag = CVodeSensInit(cv, ns, CV_STAGGERED, sensitivity_rhs, xS))) goto done;
     if ((flag = CVodeSensEEtolerances(cv))) goto done;
@@ -215,7 +242,7 @@ int fsa_run(const double *x0, const double *p, int ns, const double *S0, const d
     flag = 0;
     memcpy(xout + k * NX, NV_DATA_S(x), NX * sizeof(double));
     if (ns > 0) {
-      CVodeGetSens(cv, &t, xS);
+      if ((flag = CVodeGetSens(cv, &t, xS))) goto done;
       for (j = 0; j < ns; ++j) memcpy(Sout + (k * ns + j) * NX, NV_DATA_S(xS[j]), NX * sizeof(double));
     }
   }
@@ -230,6 +257,8 @@ done:
   stats[2] = m ? (double)m->njac : 0.0;
   stats[3] = m ? (double)m->njfull : 0.0;
   stats[4] = t;
+  stats[5] = interrupted ? 1.0 : 0.0;
+  if (catch_sigint) sigaction(SIGINT, &previous, NULL);
   if (xS) N_VDestroyVectorArray_Serial(xS, ns);
   if (x) N_VDestroy_Serial(x);
   if (cv) CVodeFree(&cv);
