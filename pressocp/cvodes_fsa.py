@@ -9,9 +9,10 @@ CVODES 2.6.1 as exported by CasADi's own ``libcasadi_integrator_cvodes`` (header
 `csrc/sundials`, copied from CasADi's sources), with a dense direct linear solver, and the library is
 compiled through the compile cache.
 
-On the seed optimum (8 states, 11 directions, one period at rtol 3e-9) it took 0.36-0.42 s against
-0.60-0.76 s for CasADi's forward integrator in the same runs, the sensitivities the same to 2e-5
-(docs/decisions/2026-12-01-cvodes-staggered-sensitivities.md).
+On the seed optimum (8 states, 11 directions, one period at rtol 3e-9) it took 0.30 s against 0.49 s
+for CasADi's forward integrator in the same run, the directions the same to 2e-5
+(`benchmarks/results/sensitivity_seed.json`, ``engine_periods``;
+docs/decisions/2026-12-01-cvodes-staggered-sensitivities.md).
 
     if not unavailable():                                    # a C compiler, CasADi 3.8's CVODES
         fsa = ForwardSensitivities.build(dae, n_parameters=3)

@@ -188,8 +188,8 @@ def kept_fsa(msym: PressModel, n_parameters: int) -> ForwardSensitivities | None
                 why = first_line(err)
         if why:
             warnings.warn(f"compiled forward sensitivities unavailable ({why}): CasADi's forward integrator "
-                          "runs them (on the seed optimum its period took 1.7 x as long, the whole call "
-                          "1.3 x)", RuntimeWarning, stacklevel=3)
+                          "runs them (on the seed optimum its period took 1.6 x as long, the whole call "
+                          "1.5 x)", RuntimeWarning, stacklevel=3)
         msym.functions["cvodes_fsa"] = fsa
     return msym.functions["cvodes_fsa"]
 
@@ -214,8 +214,8 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
     (`kept_fsa`), which integrates the states with them; else from CasADi's forward integrator called
     directly, which integrates the states too but returns only the directions, so the states at the
     targets' times come from `nominal` (else one plain run of the period). On the seed optimum at
-    rtol 3e-9 the 11 directions took 0.36-0.42 s compiled against 0.60-0.76 s through CasADi's
-    forward integrator (0.72 s through its Jacobian function, which runs the plain period first).
+    rtol 3e-9 the 11 directions took 0.30 s compiled against 0.49 s through CasADi's forward
+    integrator (`benchmarks/results/sensitivity_seed.json`).
 
     Parameters
     ----------
