@@ -59,7 +59,7 @@ from pressocp.io import versions  # noqa: E402
 from pressocp.model import OUTPUT_NAMES  # noqa: E402
 from pressocp.plots import save  # noqa: E402
 from pressocp.report import stamp  # noqa: E402
-from pressocp.simulate import Integrator, integrator_dae, periodic_state  # noqa: E402
+from pressocp.simulate import Integrator, direct_driver, integrator_dae, periodic_state  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 SEED = Path(__file__).parent.parent / "tests" / "references" / "press75_optimum_speed.json"
@@ -91,11 +91,11 @@ def central_differences(model: po.PressModel, speed: po.FourierSpeed, peaks: dic
     no work quadratures). Its integrators are kept in ``model.functions`` for the next call at the
     same rtol, as `po.sensitivities` keeps its derivatives with the model it is given. With `driver`
     the perturbed cycles and the runs to the peaks go through the compiled CVODES driver that
-    integrates AD's sensitivities (`pressocp.cvodes_fsa`, no directions) instead of CasADi's CVODES:
-    the two methods on the same integrator (the nominal periodic state is the package's search in
-    both, as in AD)."""
+    integrates AD's sensitivities (`pressocp.cvodes_fsa`, no directions) instead of CasADi's CVODES,
+    and so does the nominal periodic state's search (``Integrator("cvodes-direct")``, as AD's): the
+    two methods on the same integrator."""
     tol = PERIODIC_TOL * rtol
-    x_nominal = periodic_state(model, speed, Integrator("cvodes", rtol), tol=tol)[0]
+    x_nominal = periodic_state(model, speed, Integrator("cvodes-direct" if driver else "cvodes", rtol), tol=tol)[0]
     times = np.unique(np.concatenate(list(peaks.values())))
     key = ("central_differences", rtol, tuple(times))
     if key not in model.functions:
@@ -105,9 +105,7 @@ def central_differences(model: po.PressModel, speed: po.FourierSpeed, peaks: dic
                                 ca.integrator("to_peaks", "cvodes", dae, 0.0, [float(t) for t in times], opts))
     cycle, to_peaks = model.functions[key]
     if driver:
-        if "cd_driver" not in model.functions:
-            model.functions["cd_driver"] = ForwardSensitivities.build(model.dae(explicit=True, work=False), 0)
-        fsa, none = model.functions["cd_driver"], (np.zeros((model.nx, 0)), np.zeros((0, 0)))
+        fsa, none = direct_driver(model, False), (np.zeros((model.nx, 0)), np.zeros((0, 0)))
 
         def cycle(x0, p):  # noqa: F811 (the driver's period)
             return {"xf": fsa.run(x0, p, *none, np.array([speed.period]), rtol)[0]}

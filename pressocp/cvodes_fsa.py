@@ -161,12 +161,12 @@ class ForwardSensitivities:
         handle = ctypes.CDLL(str(library))
         handle.fsa_run.restype = ctypes.c_int
         handle.fsa_run.argtypes = [_DOUBLE_P, _DOUBLE_P, ctypes.c_int, _DOUBLE_P, _DOUBLE_P, ctypes.c_int,
-                                   _DOUBLE_P, ctypes.c_double, ctypes.c_long, ctypes.c_int, _DOUBLE_P, _DOUBLE_P,
-                                   _DOUBLE_P]
+                                   _DOUBLE_P, ctypes.c_double, ctypes.c_double, ctypes.c_long, ctypes.c_int,
+                                   _DOUBLE_P, _DOUBLE_P, _DOUBLE_P]
         return cls(int(dae["x"].numel()), int(dae["p"].numel()), n_parameters, handle)
 
     def run(self, x0: np.ndarray, p: np.ndarray, S0: np.ndarray, Q: np.ndarray, grid: np.ndarray, rtol: float,
-            max_steps: int = 10**7) -> tuple[np.ndarray, np.ndarray, dict[str, float]]:
+            max_steps: int = 10**7, atol: float | None = None) -> tuple[np.ndarray, np.ndarray, dict[str, float]]:
         """Integrate from t = 0.
 
         Parameters
@@ -182,8 +182,10 @@ class ForwardSensitivities:
         grid : ndarray
             Output times, increasing, > 0 (s).
         rtol : float
-            Relative and absolute tolerance, of the states and of the directions.
+            Relative tolerance of the states; the directions' tolerances are estimated from the states'.
         max_steps : int
+        atol : float, optional
+            Absolute tolerance of the states; None: `rtol`.
 
         Returns
         -------
@@ -218,7 +220,8 @@ class ForwardSensitivities:
         main = threading.current_thread() is threading.main_thread()
         flag = self.library.fsa_run(*(a.ctypes.data_as(_DOUBLE_P) for a in args[:2]), ns,
                                     *(a.ctypes.data_as(_DOUBLE_P) for a in args[2:]), grid.size,
-                                    grid.ctypes.data_as(_DOUBLE_P), float(rtol), int(max_steps), int(main),
+                                    grid.ctypes.data_as(_DOUBLE_P), float(rtol), float(rtol if atol is None else atol),
+                                    int(max_steps), int(main),
                                     x.ctypes.data_as(_DOUBLE_P), S.ctypes.data_as(_DOUBLE_P),
                                     stats.ctypes.data_as(_DOUBLE_P))
         if stats[5]:

@@ -40,8 +40,8 @@ from .cvodes_fsa import ForwardSensitivities, FsaError, unavailable
 from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
-from .simulate import (HINT, Integrator, SimulationError, calling, compiled_dae, first_line, for_repeated_use,
-                       periodic_state, simulate)
+from .simulate import (DIRECT, DIRECT_DRIVER, HINT, Integrator, SimulationError, calling, compiled_dae, first_line,
+                       for_repeated_use, periodic_state, simulate)
 from .speed import FourierSpeed
 
 if TYPE_CHECKING:
@@ -191,6 +191,8 @@ def kept_fsa(msym: PressModel, n_parameters: int) -> ForwardSensitivities | None
                           "runs them (on the seed optimum its period took 1.6 x as long, the whole call "
                           "1.5 x)", RuntimeWarning, stacklevel=3)
         msym.functions["cvodes_fsa"] = fsa
+        if fsa is not None:  # its periodic searches run on the same library, without directions
+            msym.functions[DIRECT_DRIVER] = fsa
     return msym.functions["cvodes_fsa"]
 
 
@@ -393,10 +395,12 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     msym = sensitivity_model(model, names)
     pv = msym.parameters(speed)
     T = speed.period
-    model = for_repeated_use(model)  # three periodic runs of it: compiled, as the sensitivities are
+    # the periodic search on the integrator of the sensitivities: their compiled driver (with the
+    # parameterised model, whose states are the model's), else CasADi's CVODES compiled
+    search = (msym, DIRECT) if kept_fsa(msym, len(names)) is not None else (for_repeated_use(model), "cvodes")
     # periodic: the search's last cycle is the sampled response (one cycle fewer than a search and a run)
-    res = simulate(model, speed, periodic=periodic, n_out=SAMPLES, work=False,
-                   integrator=Integrator("cvodes", rtol, periodic_tol=PERIODIC_TOL * rtol))
+    res = simulate(search[0], speed, periodic=periodic, n_out=SAMPLES, work=False,
+                   integrator=Integrator(search[1], rtol, periodic_tol=PERIODIC_TOL * rtol))
     x0 = res.states[:, 0] / model.x_scale
     t_rel = res.t - res.t[0]
     peaks = {q: [min(max(tq, 0.0), T) for tq in peak_times(t_rel, getattr(res, QUANTITIES[q]), T)]
@@ -411,7 +415,7 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
         errors = np.full(d.shape, np.inf)
         unverified = "no error estimate was asked for (error_estimate=False)"
     else:
-        errors, unverified = estimated_errors(model, msym, speed, targets, x0, d, rtol, periodic)
+        errors, unverified = estimated_errors(search, msym, speed, targets, x0, d, rtol, periodic)
     rows, per_peak = sensitivity_rows(peaks, names, pv[pv.size - len(names):], y, d, errors)
     import pandas as pd  # 0.5 s to import: only where a table is made
 
@@ -430,16 +434,18 @@ def sensitivity_model(model: PressModel, names: tuple[str, ...]) -> PressModel:
     return model.functions[key]
 
 
-def estimated_errors(model: PressModel, msym: PressModel, speed: FourierSpeed, targets: Sequence[tuple[float, int]],
-                     x0: np.ndarray, d: np.ndarray, rtol: float, periodic: bool) -> tuple[np.ndarray, str]:
+def estimated_errors(search: tuple[PressModel, str], msym: PressModel, speed: FourierSpeed,
+                     targets: Sequence[tuple[float, int]], x0: np.ndarray, d: np.ndarray, rtol: float,
+                     periodic: bool) -> tuple[np.ndarray, str]:
     """Relative error estimates of the derivatives `d` (computed from `x0` at `rtol`, `peak_derivatives`):
     |d - d'| / |d| with d' the same derivatives at `LOOSER` times rtol from a periodic state found
-    anew at that tolerance; and "" or, when that run fails, inf for every entry and why."""
+    anew at that tolerance (by the model and integrator method of `search`); and "" or, when that run
+    fails, inf for every entry and why."""
     # the estimate repeats everything at the looser tolerance, the periodic state included (found anew
     # from the model's start): on the wall of a stiff contact its error moves a small derivative most
     try:
-        loose = Integrator("cvodes", LOOSER * rtol)
-        x_loose = periodic_state(model, speed, loose, tol=PERIODIC_TOL * loose.rtol)[0] if periodic else x0
+        loose = Integrator(search[1], LOOSER * rtol)
+        x_loose = periodic_state(search[0], speed, loose, tol=PERIODIC_TOL * loose.rtol)[0] if periodic else x0
         d_loose = peak_derivatives(msym, speed, targets, x_loose, d.shape[1], LOOSER * rtol, periodic)[1]
     except SimulationError as err:  # no estimate: every derivative is unverified, and says why
         return np.full(d.shape, np.inf), f"the run at {LOOSER:g} rtol failed: {str(err).splitlines()[0]}"

@@ -18,12 +18,20 @@ import numpy as np
 from . import checks as chk
 from .buffers import call, evaluate
 from .compile_cache import check_jit, function_options, jit_options, use_jit
+from .cvodes_fsa import ForwardSensitivities, FsaError, unavailable
 from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, QUADRATURE_NAMES, PressModel
 from .result import SimResult
 from .speed import FourierSpeed
 
-METHODS = ("idas", "cvodes", "collocation", "rk", "scipy-radau", "scipy-bdf")
+METHODS = ("idas", "cvodes", "cvodes-direct", "collocation", "rk", "scipy-radau", "scipy-bdf")
+#: CVODES called from compiled code (`DirectCvodes`).
+DIRECT = "cvodes-direct"
+#: Where a model keeps its `direct_driver` (``PressModel.functions``): a driver built with directions
+#: for parameters (the sensitivities') serves too.
+DIRECT_DRIVER = "cvodes_direct"
+#: The methods a periodic search shoots with as they are; it shoots with CVODES for the others.
+SHOOTING = ("idas", "cvodes", DIRECT)
 #: Default output samples per cycle (impacts last a fraction of a millisecond at T = 1 s).
 OUTPUTS_PER_CYCLE = 4000
 #: Default step of the fixed-step methods ("rk", "collocation"), s.
@@ -37,10 +45,12 @@ class Integrator:
 
     Attributes
     ----------
-    method : {"idas", "cvodes", "collocation", "rk", "scipy-radau", "scipy-bdf"}
+    method : {"idas", "cvodes", "cvodes-direct", "collocation", "rk", "scipy-radau", "scipy-bdf"}
         "idas" integrates the semi-explicit DAE (accelerations algebraic), the others the explicit
-        ODE; "collocation" and "rk" are CasADi's fixed-step methods (step `step`), the scipy ones
-        baselines.
+        ODE; "cvodes-direct" is CVODES called from code compiled with the model (`DirectCvodes`:
+        a dense direct solver, no CasADi integrator between; no work quadratures, so ``work=False``;
+        needs a C compiler), "collocation" and "rk" are CasADi's fixed-step methods (step `step`),
+        the scipy ones baselines.
     rtol : float
         Relative tolerance, > 0.
     atol : float or None
@@ -118,6 +128,8 @@ def _integrator(model: PressModel, integ: Integrator, grid: np.ndarray, work: bo
     With ``model.jit`` the SUNDIALS integrators evaluate the compiled right-hand side
     (`integrator_dae`)."""
     grid = np.asarray(grid, float)
+    if integ.method == DIRECT:
+        return DirectCvodes(direct_driver(model, work), grid, integ)
     key = ("integrator", integ.method, grid.tobytes(), float(integ.rtol), float(integ.abstol), int(integ.max_steps),
            float(integ.step), bool(work), str(model.jit))
     kept = model.functions.setdefault("integrators", {})
@@ -127,6 +139,67 @@ def _integrator(model: PressModel, integ: Integrator, grid: np.ndarray, work: bo
         with compiling():  # SUNDIALS's Jacobian of a compiled DAE is compiled here
             kept[key] = _build_integrator(model, integ, grid, work)
     return kept[key]
+
+
+def direct_driver(model: PressModel, work: bool) -> ForwardSensitivities:
+    """The compiled CVODES driver of `model`'s explicit ODE (`pressocp.cvodes_fsa`, no directions),
+    built once and kept with it. Raises ValueError (before any integration) when the run asks for the
+    work quadratures, which it does not integrate, or when it cannot be built here."""
+    if work:
+        raise ValueError(f'integrator "{DIRECT}" integrates no work quadratures: simulate with work=False, '
+                         'or use "cvodes"')
+    if DIRECT_DRIVER not in model.functions:
+        why = unavailable()
+        if why:
+            raise ValueError(f'integrator "{DIRECT}" cannot run here ({why}): use "cvodes"')
+        model.functions[DIRECT_DRIVER] = ForwardSensitivities.build(model.dae(explicit=True, work=False), 0)
+    return model.functions[DIRECT_DRIVER]
+
+
+class DirectCvodes:
+    """CVODES over `grid` through the compiled driver (`direct_driver`), called where CasADi's
+    integrator is (`first_try`: inputs ``x0`` and ``p``, one column per run; outputs ``xf`` and an
+    empty ``qf``). `map` runs the columns in threads: the driver holds no global state and releases
+    the GIL. On the 75 spm seed optimum a period at rtol 3e-9 took 0.035 s against 0.100 s through
+    CasADi's CVODES (`benchmarks/results/sensitivity_seed.json`, ``engine_periods``); the states
+    agree to the integration error, not to the bit (another linear solver and Jacobian policy)."""
+
+    def __init__(self, driver: ForwardSensitivities, grid: np.ndarray, integ: Integrator, threads: int = 1) -> None:
+        self.driver, self.grid, self.integ, self.threads = driver, np.asarray(grid, float), integ, threads
+
+    def map(self, n: int, parallelization: str = "serial", threads: int = 1) -> DirectCvodes:
+        """The same runs, the columns in `threads` threads when ``parallelization == "thread"``."""
+        return DirectCvodes(self.driver, self.grid, self.integ, threads if parallelization == "thread" else 1)
+
+    def run(self, stats: dict, x0: np.ndarray, p: np.ndarray, **unused: np.ndarray) -> dict[str, np.ndarray]:
+        """The states at the grid of the runs from the columns of `x0` (or from `x0`), with the
+        parameters `p` (a column, or one per run); CVODES's steps and right-hand sides summed into
+        `stats`. Raises FsaError (a RuntimeError) with the time reached in ``stats["tcur"]``."""
+        x0, p = np.asarray(x0, float), np.asarray(p, float)
+        cols = x0.reshape(self.driver.nx, -1, order="F")
+        ps = np.broadcast_to(p.reshape(self.driver.n_p, -1, order="F"), (self.driver.n_p, cols.shape[1]))
+        none = (np.zeros((self.driver.nx, 0)), np.zeros((self.driver.n_parameters, 0)))
+
+        def one(k: int) -> tuple[np.ndarray, dict]:
+            X, _, st = self.driver.run(cols[:, k], ps[:, k], *none, self.grid, self.integ.rtol, self.integ.max_steps,
+                                       self.integ.abstol)
+            return X, st
+
+        try:
+            if self.threads > 1 and cols.shape[1] > 1:
+                from concurrent.futures import ThreadPoolExecutor
+
+                with ThreadPoolExecutor(self.threads) as pool:
+                    runs = list(pool.map(one, range(cols.shape[1])))
+            else:
+                runs = [one(k) for k in range(cols.shape[1])]
+        except FsaError as err:
+            stats["tcur"] = err.time
+            raise
+        stats["nsteps"] = int(sum(st["steps"] for _, st in runs))
+        stats["nfevals"] = int(sum(st["rhs"] for _, st in runs))
+        X = np.hstack([X for X, _ in runs]) if x0.ndim > 1 else runs[0][0]
+        return {"xf": X, "qf": np.zeros((0, X.shape[1]))}
 
 
 #: What `started_consistently` records in a run's statistics (``initial_conditions``).
@@ -145,6 +218,8 @@ def first_try(F: ca.Function, stats: dict, args: dict) -> dict[str, np.ndarray]:
     IDACalcIC. That failure's messages ("The linesearch algorithm failed with too small a step.", once
     per attempt: six to nine lines per periodic search on the 8-element rod) are dropped, because
     `started_consistently` restarts the run and records the failure in its statistics."""
+    if isinstance(F, DirectCvodes):  # compiled code: it says nothing, and a Ctrl-C stops it in C
+        return F.run(stats, **args)
     held, drop = io.StringIO(), False
     try:
         with contextlib.redirect_stderr(held), interruptible():
@@ -470,7 +545,7 @@ def periodic_orbit(model: PressModel, speed: FourierSpeed, times: np.ndarray, in
     if model.is_rigid:
         return np.zeros((0, times.size)), {"cycles": 0, "newton": 0, "residual": 0.0}
     chk.instance("integrator", integrator, Integrator)
-    shots = replace(integrator, method=integrator.method if integrator.method in ("idas", "cvodes") else "cvodes",
+    shots = replace(integrator, method=integrator.method if integrator.method in SHOOTING else "cvodes",
                     max_steps=10**8, step=FIXED_STEP)
     tol = max(1e-4, 100 * shots.rtol) if tol is None else tol
     sh = PeriodicShots(model, speed, times, shots)
@@ -683,7 +758,7 @@ def periodic_start(model: PressModel, speed: FourierSpeed, integrator: Integrato
     <= 1e-8 with atol = rtol), else None; periodic to `Integrator.periodic_tol` either way. The search's
     statistics go to ``stats["periodic"]`` (and its last cycle's to `stats`)."""
     t0, r = time.perf_counter(), integrator.rtol
-    search = "idas" if integrator.method == "idas" else "cvodes"
+    search = integrator.method if integrator.method in SHOOTING else "cvodes"
     X = None
     if not work and integrator.method == search and r <= 1e-8 and integrator.abstol == r and t[-1] == speed.period:
         X, info = periodic_orbit(model, speed, t, Integrator(search, r), x_start=x_init,

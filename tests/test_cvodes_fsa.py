@@ -3,6 +3,7 @@ closed-form sensitivities of a linear ODE, and against CasADi's forward integrat
 implementation: the augmented system) on the press."""
 
 import json
+import sys
 from dataclasses import replace
 from pathlib import Path
 
@@ -124,7 +125,7 @@ def test_press_peak_derivatives_match_casadis_forward_integrator(monkeypatch):
     within 1e-5 of their largest entry. Then the peak-torque derivatives (3 parameters, 4 rival
     peaks, rtol 1e-9) of each engine's `sensitivities`: within 2e-3 of each other (each is within
     2e-3 of central differences at rtol 1e-12, `benchmarks/results/sensitivity_seed.json`; the
-    states at the peaks come from the driver's run and from the sampled response)."""
+    states at the peaks, and the periodic searches, come from the driver and from CasADi's CVODES)."""
     speed = po.FourierSpeed.from_dict(json.loads(OPTIMUM.read_text()))
     model = replace(po.build_model(po.PressParams()), jit=True)
     native = sens.sensitivities(model, speed, PARAMETERS, rtol=1e-9, error_estimate=False)
@@ -146,7 +147,7 @@ def test_press_peak_derivatives_match_casadis_forward_integrator(monkeypatch):
     assert native.engine == sens.ENGINE_FSA and casadi.engine == sens.ENGINE_CASADI
     a, b = native.per_peak, casadi.per_peak
     assert len(a) == len(b) == 12
-    np.testing.assert_allclose(a["time"], b["time"], atol=1e-9)
+    np.testing.assert_allclose(a["time"], b["time"], atol=1e-6)  # 5e-8 s measured (a sample is 4e-5 s)
     np.testing.assert_allclose(a["value"], b["value"], rtol=2e-6)  # the states at the peaks, two integrations
     np.testing.assert_allclose(a["derivative"], b["derivative"], rtol=2e-3)
 
@@ -171,3 +172,44 @@ def test_ctrl_c_stops_a_run_and_leaves_pythons_handler():
     timer.join()
     assert time.perf_counter() - started < 3.0
     assert signal.getsignal(signal.SIGINT) is before
+
+
+@pytest.fixture(scope="module")
+def seed():
+    """The seed optimum on the default model (compiled)."""
+    return replace(po.build_model(po.PressParams()), jit=True), po.FourierSpeed.from_dict(json.loads(OPTIMUM.read_text()))
+
+
+def test_simulate_with_cvodes_direct_matches_cvodes(seed):
+    """`Integrator("cvodes-direct")`: the seed optimum's periodic response at rtol 1e-9 by the compiled
+    driver and by CasADi's CVODES, the same peaks to 1e-6 and states to 1e-5 (the integration error,
+    another linear solver); the search and the run's statistics are reported."""
+    model, speed = seed
+    runs = {m: po.simulate(model, speed, periodic=True, work=False, n_out=4001,
+                           integrator=po.Integrator(m, 1e-9, periodic_tol=1e-6)) for m in ("cvodes", "cvodes-direct")}
+    a, b = runs["cvodes-direct"], runs["cvodes"]
+    assert np.max(np.abs(a.torque)) == pytest.approx(np.max(np.abs(b.torque)), rel=1e-6)
+    np.testing.assert_allclose(a.states / model.x_scale[:, None], b.states / model.x_scale[:, None], atol=1e-5)
+    assert a.stats["steps"] > 1000 and a.stats["periodic"]["cycles"] >= 1
+
+
+def test_cvodes_direct_refuses_work_and_a_missing_driver_before_integrating(seed, monkeypatch):
+    sim = sys.modules["pressocp.simulate"]  # the module (po.simulate is the function)
+    model, speed = seed
+    with pytest.raises(ValueError, match="integrates no work quadratures: simulate with work=False"):
+        po.simulate(model, speed, integrator=po.Integrator("cvodes-direct", 1e-8))
+    monkeypatch.setattr(sim, "unavailable", lambda: "no C compiler (cc) found")
+    with pytest.raises(ValueError, match=r'"cvodes-direct" cannot run here \(no C compiler'):
+        po.simulate(po.build_model(po.PressParams()), speed, work=False, integrator=po.Integrator("cvodes-direct"))
+
+
+def test_cvodes_direct_runs_columns_in_threads_as_one_by_one(seed):
+    """The periodic search's Newton shots: several start states in 2 threads give what each gives alone."""
+    sim = sys.modules["pressocp.simulate"]
+    model, speed = seed
+    F = sim.DirectCvodes(sim.direct_driver(model, False), np.array([0.2, speed.period]), po.Integrator("cvodes-direct", 1e-8))
+    p = model.parameters(speed)
+    xs = model.x0[:, None] + 1e-3 * np.arange(3)[None, :]
+    together = F.map(3, "thread", 2).run({}, xs, np.tile(p[:, None], (1, 3)))["xf"]
+    alone = np.hstack([F.run({}, xs[:, k], p)["xf"] for k in range(3)])
+    np.testing.assert_array_equal(together, alone)

@@ -176,14 +176,14 @@ static void quiet(int error_code, const char *module, const char *function, char
 
 /* Integrate from t = 0 and x0 with ns directions (initial values S0, NX x ns, and parameter directions
  * Q, NQ x ns, both column major) to each time of grid (increasing, > 0); write the states (NX x ngrid)
- * and the directions (NX x ns x ngrid). rtol is the relative and absolute tolerance of the states and
- * of the directions. stats: steps, right-hand sides, Jacobians of the linear solver, sensitivity
+ * and the directions (NX x ns x ngrid). rtol and atol are the tolerances of the states; the
+ * directions' are estimated from them (CVodeSensEEtolerances). stats: steps, right-hand sides, Jacobians of the linear solver, sensitivity
  * Jacobians, the time reached, and 1 when a SIGINT stopped the run (caught only with catch_sigint: the
  * caller's handler is restored afterwards). Returns 0 or CVODES's (negative) flag; -22 (CV_ILL_INPUT)
  * also when CVODES's memory does not have the layout of the headers this was compiled with. */
 int fsa_run(const double *x0, const double *p, int ns, const double *S0, const double *Q, int ngrid,
-            const double *grid, double rtol, long max_steps, int catch_sigint, double *xout, double *Sout,
-            double *stats) {
+            const double *grid, double rtol, double atol, long max_steps, int catch_sigint, double *xout,
+            double *Sout, double *stats) {
   Mem *m = (Mem *)calloc(1, sizeof(Mem));
   void *cv = CVodeCreate(CV_BDF, CV_NEWTON);
   N_Vector x = N_VNew_Serial(NX);
@@ -208,7 +208,7 @@ int fsa_run(const double *x0, const double *p, int ns, const double *S0, const d
   memcpy(NV_DATA_S(x), x0, NX * sizeof(double));
   CVodeSetErrHandlerFn(cv, quiet, NULL);
   if ((flag = CVodeInit(cv, rhs, 0.0, x))) goto done;
-  if ((flag = CVodeSStolerances(cv, rtol, rtol))) goto done;
+  if ((flag = CVodeSStolerances(cv, rtol, atol))) goto done;
   if ((flag = CVodeSetUserData(cv, m))) goto done;
   if ((flag = CVodeSetMaxNumSteps(cv, max_steps))) goto done;
   {
