@@ -40,7 +40,7 @@ from .cvodes_fsa import ForwardSensitivities, FsaError, unavailable
 from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
-from .simulate import (DIRECT, DIRECT_DRIVER, HINT, Integrator, SimulationError, calling, compiled_dae, first_line,
+from .simulate import (DIRECT, HINT, Integrator, SimulationError, calling, compiled_dae, first_line,
                        for_repeated_use, periodic_state, simulate)
 from .speed import FourierSpeed
 
@@ -191,8 +191,6 @@ def kept_fsa(msym: PressModel, n_parameters: int) -> ForwardSensitivities | None
                           "runs them (on the seed optimum its period took 1.6 x as long, the whole call "
                           "1.5 x)", RuntimeWarning, stacklevel=3)
         msym.functions["cvodes_fsa"] = fsa
-        if fsa is not None:  # its periodic searches run on the same library, without directions
-            msym.functions[DIRECT_DRIVER] = fsa
     return msym.functions["cvodes_fsa"]
 
 
@@ -395,9 +393,9 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     msym = sensitivity_model(model, names)
     pv = msym.parameters(speed)
     T = speed.period
-    # the periodic search on the integrator of the sensitivities: their compiled driver (with the
-    # parameterised model, whose states are the model's), else CasADi's CVODES compiled
-    search = (msym, DIRECT) if kept_fsa(msym, len(names)) is not None else (for_repeated_use(model), "cvodes")
+    # the periodic search on the integrator of the sensitivities (their compiled driver, else CasADi's
+    # CVODES compiled), on the model itself: one periodic state whichever parameters are asked
+    search = (model, DIRECT) if kept_fsa(msym, len(names)) is not None else (for_repeated_use(model), "cvodes")
     # periodic: the search's last cycle is the sampled response (one cycle fewer than a search and a run)
     res = simulate(search[0], speed, periodic=periodic, n_out=SAMPLES, work=False,
                    integrator=Integrator(search[1], rtol, periodic_tol=PERIODIC_TOL * rtol))

@@ -27,8 +27,7 @@ from .speed import FourierSpeed
 METHODS = ("idas", "cvodes", "cvodes-direct", "collocation", "rk", "scipy-radau", "scipy-bdf")
 #: CVODES called from compiled code (`DirectCvodes`).
 DIRECT = "cvodes-direct"
-#: Where a model keeps its `direct_driver` (``PressModel.functions``): a driver built with directions
-#: for parameters (the sensitivities') serves too.
+#: Where a model keeps its `direct_driver` (``PressModel.functions``).
 DIRECT_DRIVER = "cvodes_direct"
 #: The methods a periodic search shoots with as they are; it shoots with CVODES for the others.
 SHOOTING = ("idas", "cvodes", DIRECT)
