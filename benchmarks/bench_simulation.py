@@ -8,9 +8,10 @@ method whose peak-torque error is below a target. No method integrates the work 
 here reads them). Every method runs on the compiled model (``model.jit``: the SUNDIALS integrators and
 scipy's call compiled code; the compile, once per method and model, is timed apart as
 ``compile_s``); "idas (interpreted)" and "cvodes (interpreted)" are the same integrators on CasADi's
-virtual machine, and "idas (CasADi's clock)" compiled IDAS with CasADi's statistics reading the
+virtual machine, "idas (CasADi's clock)" compiled IDAS with CasADi's statistics reading the
 process CPU clock in every call of its inner functions, as without `pressocp`
-(`pressocp.casadi_clock`).
+(`pressocp.casadi_clock`), and "cvodes-direct" the same CVODES called from code compiled with the
+model, without CasADi's integrator object (`pressocp.cvodes_fsa`; its compile timed like the others').
 
 ``--case periodic69`` and ``--case seed`` run one scene each, apart from the default two: the same
 design at 69 spm, whose impacts repeat cycle after cycle, and the 75 spm seed optimum, whose cycle
@@ -188,7 +189,7 @@ def main() -> None:
     args = ap.parse_args()
     if args.replot:
         data = json.loads((OUT / "simulation.json").read_text())
-        plot_results(data["results"], ("idas", "cvodes", "scipy-radau", "idas" + INTERPRETED,
+        plot_results(data["results"], ("idas", "cvodes", "cvodes-direct", "scipy-radau", "idas" + INTERPRETED,
                                        "cvodes" + INTERPRETED, "idas" + CLOCKED), OUT / "simulation.png")
         return
     OUT.mkdir(exist_ok=True)
@@ -196,19 +197,19 @@ def main() -> None:
     speed = design_speed(SpeedProblem(p, period=0.8, ram_speed=-0.1)).speed
     repeats = 1 if args.quick else 3
     rtols = [1e-5, 1e-7] if args.quick else [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9]
-    methods = ["idas", "cvodes", "scipy-radau", "idas" + INTERPRETED, "cvodes" + INTERPRETED]
+    methods = ["idas", "cvodes", "cvodes-direct", "scipy-radau", "idas" + INTERPRETED, "cvodes" + INTERPRETED]
     results = {}
     if args.case in ("all", "clearance"):
         results["clearance"] = run_case("clearance", build_model(p), speed, [*methods, "idas" + CLOCKED], rtols,
                                         repeats, budget=120)
     if args.case == "periodic69":
         slow = design_speed(SpeedProblem(p, period=PERIODIC_69, ram_speed=-0.1)).speed
-        results["periodic69"] = run_case("clearance, 69 spm", build_model(p), slow, methods[:3], rtols, repeats,
+        results["periodic69"] = run_case("clearance, 69 spm", build_model(p), slow, methods[:4], rtols, repeats,
                                          budget=120)
         results["periodic69"]["period"] = PERIODIC_69
     if args.case == "seed":
         seed = FourierSpeed.from_dict(json.loads(SEED_OPTIMUM.read_text()))
-        results["seed"] = run_case("clearance, seed optimum", build_model(p), seed, methods[:3], [1e-3, *rtols], repeats,
+        results["seed"] = run_case("clearance, seed optimum", build_model(p), seed, methods[:4], [1e-3, *rtols], repeats,
                                    budget=120)
     if args.case in ("all", "flexible"):
         # the flexible model is ~20x dearer: looser reference, tolerances down to 1e-7, one repeat;

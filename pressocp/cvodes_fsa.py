@@ -53,11 +53,12 @@ _DOUBLE_P = ctypes.POINTER(ctypes.c_double)
 
 
 class FsaError(RuntimeError):
-    """A run of `ForwardSensitivities` failed. Attributes: ``flag`` (CVODES's), ``time`` reached (s)."""
+    """A run of `ForwardSensitivities` failed. Attributes: ``flag`` (CVODES's), ``time`` reached (s; not
+    in the message, which `pressocp.simulate.SimulationError` completes with it)."""
 
     def __init__(self, flag: int, time: float):
         self.flag, self.time = flag, time
-        super().__init__(f"CVODES returned {flag} ({FLAGS.get(flag, 'unknown flag')}) at t = {time:.6g} s")
+        super().__init__(f"CVODES returned {flag} ({FLAGS.get(flag, 'unknown flag')})")
 
 
 @lru_cache(maxsize=1)
@@ -106,9 +107,10 @@ def model_source(dae: dict, n_parameters: int) -> str:
     t, x, p, ode = dae["t"], dae["x"], dae["p"], dae["ode"]
     q = p[p.numel() - n_parameters:]
     functions = [ca.Function("f_ode", [t, x, p], [ode]),
-                 ca.Function("f_jac", [t, x, p], [ca.densify(ca.jacobian(ode, x))]),
-                 ca.Function("f_jfull", [t, x, p], [ca.densify(ca.jacobian(ode, ca.vertcat(x, q)))],
-                             {"cse": True})]
+                 ca.Function("f_jac", [t, x, p], [ca.densify(ca.jacobian(ode, x))])]
+    if n_parameters:  # without parameter directions df/d[x; q] is df/dx: the same function serves
+        functions.append(ca.Function("f_jfull", [t, x, p], [ca.densify(ca.jacobian(ode, ca.vertcat(x, q)))],
+                                     {"cse": True}))
     cg = ca.CodeGenerator("model.c", {"with_header": False, "casadi_int": "long long int"})
     for f in functions:
         cg.add(f)
@@ -117,7 +119,8 @@ def model_source(dae: dict, n_parameters: int) -> str:
              "SZ_W": max(f.sz_w() for f in functions)}
     headers = hashlib.sha256(b"".join(p.read_bytes() for p in sorted(HEADERS.rglob("*.h")))).hexdigest()
     return "\n".join([f"/* pressocp forward sensitivities; SUNDIALS headers {headers} */",
-                      *(f"#define {k} {v}" for k, v in sizes.items()), cg.dump(), SOURCE.read_text()])
+                      *(f"#define {k} {v}" for k, v in sizes.items()), cg.dump(),
+                      "" if n_parameters else "#define f_jfull f_jac", SOURCE.read_text()])
 
 
 @dataclass
@@ -162,11 +165,12 @@ class ForwardSensitivities:
         handle.fsa_run.restype = ctypes.c_int
         handle.fsa_run.argtypes = [_DOUBLE_P, _DOUBLE_P, ctypes.c_int, _DOUBLE_P, _DOUBLE_P, ctypes.c_int,
                                    _DOUBLE_P, ctypes.c_double, ctypes.c_double, ctypes.c_long, ctypes.c_int,
-                                   _DOUBLE_P, _DOUBLE_P, _DOUBLE_P]
+                                   ctypes.POINTER(ctypes.c_int), _DOUBLE_P, _DOUBLE_P, _DOUBLE_P]
         return cls(int(dae["x"].numel()), int(dae["p"].numel()), n_parameters, handle)
 
     def run(self, x0: np.ndarray, p: np.ndarray, S0: np.ndarray, Q: np.ndarray, grid: np.ndarray, rtol: float,
-            max_steps: int = 10**7, atol: float | None = None) -> tuple[np.ndarray, np.ndarray, dict[str, float]]:
+            max_steps: int = 10**7, atol: float | None = None,
+            stop: ctypes.c_int | None = None) -> tuple[np.ndarray, np.ndarray, dict[str, float]]:
         """Integrate from t = 0.
 
         Parameters
@@ -186,6 +190,9 @@ class ForwardSensitivities:
         max_steps : int
         atol : float, optional
             Absolute tolerance of the states; None: `rtol`.
+        stop : ctypes.c_int, optional
+            Another thread sets it nonzero to stop the run (KeyboardInterrupt), as Ctrl-C does in the main
+            thread.
 
         Returns
         -------
@@ -202,7 +209,7 @@ class ForwardSensitivities:
         FsaError
             CVODES failed (its flag and the time reached).
         KeyboardInterrupt
-            Ctrl-C (in the main thread: the run stops at its next right-hand side).
+            Ctrl-C (in the main thread), or `stop` set: the run stops at its next right-hand side.
         """
         S0, Q = np.asarray(S0, float), np.asarray(Q, float)
         x0, p, grid = (np.ascontiguousarray(np.ravel(a), float) for a in (x0, p, grid))
@@ -221,7 +228,7 @@ class ForwardSensitivities:
         flag = self.library.fsa_run(*(a.ctypes.data_as(_DOUBLE_P) for a in args[:2]), ns,
                                     *(a.ctypes.data_as(_DOUBLE_P) for a in args[2:]), grid.size,
                                     grid.ctypes.data_as(_DOUBLE_P), float(rtol), float(rtol if atol is None else atol),
-                                    int(max_steps), int(main),
+                                    int(max_steps), int(main), None if stop is None else ctypes.byref(stop),
                                     x.ctypes.data_as(_DOUBLE_P), S.ctypes.data_as(_DOUBLE_P),
                                     stats.ctypes.data_as(_DOUBLE_P))
         if stats[5]:

@@ -40,7 +40,7 @@ from .cvodes_fsa import ForwardSensitivities, FsaError, unavailable
 from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
-from .simulate import (DIRECT, HINT, Integrator, SimulationError, calling, compiled_dae, first_line,
+from .simulate import (DIRECT, HINT, direct_driver, Integrator, SimulationError, calling, compiled_dae, first_line,
                        for_repeated_use, periodic_state, simulate)
 from .speed import FourierSpeed
 
@@ -228,7 +228,8 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
         Scaled start state (the periodic state when `periodic`).
     n_parameters : int
     rtol : float
-        CVODES tolerance (relative, and absolute on the scaled states and the directions).
+        CVODES tolerance (relative, and absolute on the scaled states; the directions' from the
+        states' in their units, `parameter_scale`).
     periodic : bool
         Include the motion of the periodic state, dx0/dp = (I - dPhi/dx0)^-1 dPhi/dp.
     nominal : dict, optional
@@ -395,7 +396,8 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     T = speed.period
     # the periodic search on the integrator of the sensitivities (their compiled driver, else CasADi's
     # CVODES compiled), on the model itself: one periodic state whichever parameters are asked
-    search = (model, DIRECT) if kept_fsa(msym, len(names)) is not None else (for_repeated_use(model), "cvodes")
+    search = (model, DIRECT) if kept_fsa(msym, len(names)) is not None and direct_search(model) else \
+        (for_repeated_use(model), "cvodes")
     # periodic: the search's last cycle is the sampled response (one cycle fewer than a search and a run)
     res = simulate(search[0], speed, periodic=periodic, n_out=SAMPLES, work=False,
                    integrator=Integrator(search[1], rtol, periodic_tol=PERIODIC_TOL * rtol))
@@ -419,6 +421,17 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
 
     return Sensitivities(pd.DataFrame(rows), pd.DataFrame(per_peak), periodic, time.perf_counter() - t_start,
                          unverified, engine)
+
+
+def direct_search(model: PressModel) -> bool:
+    """Whether `model`'s own compiled CVODES driver (`pressocp.simulate.direct_driver`) builds, for the
+    periodic searches; a warning says why not when it does not."""
+    try:
+        direct_driver(model, False)
+        return True
+    except ValueError as err:
+        warnings.warn(f"{err}: the periodic search runs on CasADi's CVODES", RuntimeWarning, stacklevel=3)
+        return False
 
 
 def sensitivity_model(model: PressModel, names: tuple[str, ...]) -> PressModel:

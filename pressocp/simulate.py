@@ -5,10 +5,12 @@ scipy baselines on the same equations, with an optional periodic steady state.
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import io
 import re
 import sys
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -48,8 +50,9 @@ class Integrator:
         "idas" integrates the semi-explicit DAE (accelerations algebraic), the others the explicit
         ODE; "cvodes-direct" is CVODES called from code compiled with the model (`DirectCvodes`:
         a dense direct solver, no CasADi integrator between; no work quadratures, so ``work=False``;
-        needs a C compiler), "collocation" and "rk" are CasADi's fixed-step methods (step `step`),
-        the scipy ones baselines.
+        needs a C compiler and CasADi 3.8's CVODES library, and compiles whatever ``model.jit``
+        says), "collocation" and "rk" are CasADi's fixed-step methods (step `step`), the scipy ones
+        baselines.
     rtol : float
         Relative tolerance, > 0.
     atol : float or None
@@ -142,16 +145,21 @@ def _integrator(model: PressModel, integ: Integrator, grid: np.ndarray, work: bo
 
 def direct_driver(model: PressModel, work: bool) -> ForwardSensitivities:
     """The compiled CVODES driver of `model`'s explicit ODE (`pressocp.cvodes_fsa`, no directions),
-    built once and kept with it. Raises ValueError (before any integration) when the run asks for the
-    work quadratures, which it does not integrate, or when it cannot be built here."""
+    built once and kept with it (compiled whatever ``model.jit`` says). Raises ValueError (before any
+    integration) when the run asks for the work quadratures, which it does not integrate, or when it
+    cannot be built here (no C compiler, no CasADi 3.8 CVODES library, a failed compile or load)."""
     if work:
         raise ValueError(f'integrator "{DIRECT}" integrates no work quadratures: simulate with work=False, '
                          'or use "cvodes"')
     if DIRECT_DRIVER not in model.functions:
         why = unavailable()
+        if not why:
+            try:
+                model.functions[DIRECT_DRIVER] = ForwardSensitivities.build(model.dae(explicit=True, work=False), 0)
+            except (RuntimeError, OSError) as err:
+                why = first_line(err)
         if why:
             raise ValueError(f'integrator "{DIRECT}" cannot run here ({why}): use "cvodes"')
-        model.functions[DIRECT_DRIVER] = ForwardSensitivities.build(model.dae(explicit=True, work=False), 0)
     return model.functions[DIRECT_DRIVER]
 
 
@@ -159,12 +167,15 @@ class DirectCvodes:
     """CVODES over `grid` through the compiled driver (`direct_driver`), called where CasADi's
     integrator is (`first_try`: inputs ``x0`` and ``p``, one column per run; outputs ``xf`` and an
     empty ``qf``). `map` runs the columns in threads: the driver holds no global state and releases
-    the GIL. On the 75 spm seed optimum a period at rtol 3e-9 took 0.035 s against 0.100 s through
-    CasADi's CVODES (`benchmarks/results/sensitivity_seed.json`, ``engine_periods``); the states
-    agree to the integration error, not to the bit (another linear solver and Jacobian policy)."""
+    the GIL; a Ctrl-C meanwhile stops every run. On the 75 spm seed optimum a period at rtol 3e-9 took
+    0.035 s against 0.100 s through CasADi's CVODES (`benchmarks/results/sensitivity_seed.json`,
+    ``engine_periods``); the states agree to the integration error, not to the bit (another linear
+    solver and Jacobian policy)."""
 
     def __init__(self, driver: ForwardSensitivities, grid: np.ndarray, integ: Integrator, threads: int = 1) -> None:
         self.driver, self.grid, self.integ, self.threads = driver, np.asarray(grid, float), integ, threads
+        # the driver integrates to increasing times after 0: repeated ones and 0 are filled in
+        self.times, self.index = np.unique(self.grid, return_inverse=True)
 
     def map(self, n: int, parallelization: str = "serial", threads: int = 1) -> DirectCvodes:
         """The same runs, the columns in `threads` threads when ``parallelization == "thread"``."""
@@ -178,18 +189,26 @@ class DirectCvodes:
         cols = x0.reshape(self.driver.nx, -1, order="F")
         ps = np.broadcast_to(p.reshape(self.driver.n_p, -1, order="F"), (self.driver.n_p, cols.shape[1]))
         none = (np.zeros((self.driver.nx, 0)), np.zeros((self.driver.n_parameters, 0)))
+        after = self.times > 0.0
+        stop = ctypes.c_int(0)
 
         def one(k: int) -> tuple[np.ndarray, dict]:
-            X, _, st = self.driver.run(cols[:, k], ps[:, k], *none, self.grid, self.integ.rtol, self.integ.max_steps,
-                                       self.integ.abstol)
-            return X, st
+            X, st = np.repeat(cols[:, [k]], self.times.size, axis=1), {"steps": 0, "rhs": 0}
+            if after.any():
+                X[:, after], _, st = self.driver.run(cols[:, k], ps[:, k], *none, self.times[after], self.integ.rtol,
+                                                     self.integ.max_steps, self.integ.abstol, stop)
+            return X[:, self.index], st
 
         try:
             if self.threads > 1 and cols.shape[1] > 1:
-                from concurrent.futures import ThreadPoolExecutor
-
-                with ThreadPoolExecutor(self.threads) as pool:
+                pool = ThreadPoolExecutor(self.threads)
+                try:
                     runs = list(pool.map(one, range(cols.shape[1])))
+                except BaseException:  # a Ctrl-C here: the running calls stop at their next step
+                    stop.value = 1
+                    raise
+                finally:
+                    pool.shutdown(wait=True, cancel_futures=True)
             else:
                 runs = [one(k) for k in range(cols.shape[1])]
         except FsaError as err:
@@ -476,7 +495,8 @@ def periodic_state(model: PressModel, speed: FourierSpeed, integrator: Integrato
     model : PressModel
     speed : FourierSpeed
     integrator : Integrator
-        Integrator of the shots ("idas" or "cvodes"; any other method shoots with CVODES), default
+        Integrator of the shots ("idas", "cvodes" or "cvodes-direct"; any other method shoots with
+        CVODES), default
         CVODES at rtol 1e-8 (`SHOTS`).
     x_start : ndarray, optional
         Scaled start state; default the model's initial state.
@@ -580,7 +600,7 @@ class PeriodicShots:
     times : ndarray
         Sample times in [0, T] from 0, s; T is appended for the shots when the last one is earlier.
     shots : Integrator
-        IDAS or CVODES.
+        IDAS, CVODES or CVODES direct (`SHOOTING`).
     """
 
     def __init__(self, model: PressModel, speed: FourierSpeed, times: np.ndarray, shots: Integrator) -> None:
@@ -605,8 +625,8 @@ class PeriodicShots:
             grid = self.grid if F is self.F else np.array([self.period])
             res = started_consistently(self.model, self.shots, grid, False, err, {"x0": xs, "p": p}, self.last)
             if res is None:
-                raise SimulationError(first_line(err), method=self.shots.method + " (periodic shooting)",
-                                      hint=HINT) from None
+                raise SimulationError(first_line(err), time=float(self.last.get("tcur", np.nan)),
+                                      method=self.shots.method + " (periodic shooting)", hint=HINT) from None
             return res["xf"]
 
     def end_only(self) -> ca.Function:
@@ -703,16 +723,15 @@ def simulate(
     work : bool
         Integrate the work quadratures (motor, contact, process and damping work in ``energy``); they
         cost 30-48 % of an integration, so a run that reads no work should say False. Without them,
-        a periodic run of one cycle at rtol <= 1e-8 by IDAS or CVODES (atol = rtol) is the periodic
+        a periodic run of one cycle at rtol <= 1e-8 by a `SHOOTING` method (atol = rtol) is the periodic
         search's own last cycle (`periodic_orbit`), not a cycle integrated again. Either way the
         cycle is periodic to `Integrator.periodic_tol`.
 
     Returns
     -------
     SimResult
-        Includes ``stats`` (wall_time, steps, rhs evaluations, failures) and ``energy``
-        (kinetic and potential energy at start and end, and with `work` the motor, contact,
-        process and damping work, J).
+        Includes ``stats`` (wall_time, steps, rhs evaluations, failures) and ``energy`` (kinetic and
+        potential energy at both ends, and with `work` the motor, contact, process and damping work, J).
 
     Raises
     ------
@@ -753,9 +772,11 @@ def simulate(
 def periodic_start(model: PressModel, speed: FourierSpeed, integrator: Integrator, t: np.ndarray, x_init: np.ndarray,
                    from_rest: bool, work: bool, stats: dict) -> tuple[np.ndarray | None, np.ndarray]:
     """The periodic state of a periodic `simulate` run, searched from `x_init`, and the run's states at
-    `t` when the search's own last cycle is the answer (no work, one cycle, IDAS or CVODES at rtol
+    `t` when the search's own last cycle is the answer (no work, one cycle, a `SHOOTING` method at rtol
     <= 1e-8 with atol = rtol), else None; periodic to `Integrator.periodic_tol` either way. The search's
     statistics go to ``stats["periodic"]`` (and its last cycle's to `stats`)."""
+    if integrator.method == DIRECT:  # work=True, or a driver it cannot build, refused before searching
+        direct_driver(model, work)
     t0, r = time.perf_counter(), integrator.rtol
     search = integrator.method if integrator.method in SHOOTING else "cvodes"
     X = None

@@ -188,16 +188,35 @@ def test_simulate_with_cvodes_direct_matches_cvodes(seed):
     runs = {m: po.simulate(model, speed, periodic=True, work=False, n_out=4001,
                            integrator=po.Integrator(m, 1e-9, periodic_tol=1e-6)) for m in ("cvodes", "cvodes-direct")}
     a, b = runs["cvodes-direct"], runs["cvodes"]
+    assert sys.modules["pressocp.simulate"].DIRECT_DRIVER in model.functions  # the driver ran, not CasADi's
     assert np.max(np.abs(a.torque)) == pytest.approx(np.max(np.abs(b.torque)), rel=1e-6)
     np.testing.assert_allclose(a.states / model.x_scale[:, None], b.states / model.x_scale[:, None], atol=1e-5)
-    assert a.stats["steps"] > 1000 and a.stats["periodic"]["cycles"] >= 1
+    assert a.stats["steps"] > 1000 and a.stats["periodic"]["residual"] <= 1e-6
+
+
+def test_cvodes_direct_takes_its_absolute_tolerance(seed):
+    """atol 1e-6 against rtol 1e-10: the driver's steps and states follow CasADi's CVODES at the same
+    tolerances, not at atol = rtol (0.2 s from the model's start: 9 808 steps against 9 389 for
+    CasADi's; 33 076 and 32 720 at atol = rtol)."""
+    model, speed = seed
+    x0 = model.x0
+    runs = {(m, a): po.simulate(model, speed, x0=x0, t_end=0.2, n_out=3, work=False,
+                                integrator=po.Integrator(m, 1e-10, atol=a)) for m in ("cvodes", "cvodes-direct")
+            for a in (1e-6, None)}
+    loose, tight = runs["cvodes-direct", 1e-6], runs["cvodes-direct", None]
+    assert loose.stats["steps"] < 0.8 * tight.stats["steps"]
+    assert loose.stats["steps"] == pytest.approx(runs["cvodes", 1e-6].stats["steps"], rel=0.2)
+    scaled = (loose.states - runs["cvodes", 1e-6].states) / model.x_scale[:, None]
+    assert np.max(np.abs(scaled)) < 1e-2  # loose runs: their errors, not each other's digits
 
 
 def test_cvodes_direct_refuses_work_and_a_missing_driver_before_integrating(seed, monkeypatch):
     sim = sys.modules["pressocp.simulate"]  # the module (po.simulate is the function)
     model, speed = seed
-    with pytest.raises(ValueError, match="integrates no work quadratures: simulate with work=False"):
-        po.simulate(model, speed, integrator=po.Integrator("cvodes-direct", 1e-8))
+    for periodic in (False, True):  # the periodic search does not run first
+        with pytest.raises(ValueError, match="integrates no work quadratures: simulate with work=False"):
+            po.simulate(po.build_model(po.PressParams()), speed, periodic=periodic,
+                        integrator=po.Integrator("cvodes-direct", 1e-8))
     monkeypatch.setattr(sim, "unavailable", lambda: "no C compiler (cc) found")
     with pytest.raises(ValueError, match=r'"cvodes-direct" cannot run here \(no C compiler'):
         po.simulate(po.build_model(po.PressParams()), speed, work=False, integrator=po.Integrator("cvodes-direct"))
@@ -213,3 +232,15 @@ def test_cvodes_direct_runs_columns_in_threads_as_one_by_one(seed):
     together = F.map(3, "thread", 2).run({}, xs, np.tile(p[:, None], (1, 3)))["xf"]
     alone = np.hstack([F.run({}, xs[:, k], p)["xf"] for k in range(3)])
     np.testing.assert_array_equal(together, alone)
+
+
+def test_cvodes_direct_fills_in_repeated_times_and_zero(seed):
+    """A periodic search's sample times may repeat (and start at 0): the driver integrates to the
+    distinct times after 0 and the others are filled in."""
+    sim = sys.modules["pressocp.simulate"]
+    model, speed = seed
+    p, integ = model.parameters(speed), po.Integrator("cvodes-direct", 1e-8)
+    driver = sim.direct_driver(model, False)
+    X = sim.DirectCvodes(driver, np.array([0.0, 0.1, 0.1, 0.3]), integ).run({}, model.x0, p)["xf"]
+    Y = sim.DirectCvodes(driver, np.array([0.1, 0.3]), integ).run({}, model.x0, p)["xf"]
+    np.testing.assert_array_equal(X, np.column_stack([model.x0, Y[:, 0], Y[:, 0], Y[:, 1]]))

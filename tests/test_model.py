@@ -260,14 +260,17 @@ def test_simulate_takes_integrator_settings_only_as_an_integrator():
         simulate(build_model(PressParams()), FourierSpeed.constant(1.0), integrator="cvodes")
 
 
-@pytest.mark.parametrize("method", ["idas", "cvodes", "scipy-bdf"])
+@pytest.mark.parametrize("method", ["idas", "cvodes", "cvodes-direct", "scipy-bdf"])
 def test_forced_integrator_failure_is_typed_and_readable(method):
     m = build_model(PressParams())
-    with pytest.raises(SimulationError) as info:
-        simulate(m, FourierSpeed.constant(1.0), integrator=Integrator(method=method, max_steps=20))
+    with pytest.raises(SimulationError) as info:  # cvodes-direct integrates no work quadratures
+        simulate(m, FourierSpeed.constant(1.0), integrator=Integrator(method=method, max_steps=20),
+                 work=method != "cvodes-direct")
     msg = str(info.value)
     assert method in msg and "hint" in msg
     assert info.value.method == method
+    if method.startswith("cvodes"):
+        assert "CV_TOO_MUCH_WORK" in msg and 0.0 < info.value.time < 1.0
 
 
 @pytest.mark.parametrize("method, step", [("rk", 1e-5),

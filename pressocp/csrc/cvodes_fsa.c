@@ -34,6 +34,7 @@ typedef struct {
   double tc, xc[NX];
   int have_jfull;
   long nstlj, njac, njfull;
+  const volatile int *stop; /* the caller's stop request (may be NULL) */
   const casadi_real *arg[SZ_ARG];
   casadi_real *res[SZ_RES];
   casadi_int iw[SZ_IW + 1];
@@ -47,7 +48,7 @@ static void on_sigint(int signum) { interrupted = 1; }
 
 static int rhs(realtype t, N_Vector x, N_Vector xdot, void *user_data) {
   Mem *m = (Mem *)user_data;
-  if (interrupted) return -1;
+  if (interrupted || (m->stop && *m->stop)) return -1;
   m->arg[0] = &t;
   m->arg[1] = NV_DATA_S(x);
   m->arg[2] = m->p;
@@ -179,11 +180,12 @@ static void quiet(int error_code, const char *module, const char *function, char
  * and the directions (NX x ns x ngrid). rtol and atol are the tolerances of the states; the
  * directions' are estimated from them (CVodeSensEEtolerances). stats: steps, right-hand sides, Jacobians of the linear solver, sensitivity
  * Jacobians, the time reached, and 1 when a SIGINT stopped the run (caught only with catch_sigint: the
- * caller's handler is restored afterwards). Returns 0 or CVODES's (negative) flag; -22 (CV_ILL_INPUT)
+ * caller's handler is restored afterwards). A run also stops when *stop (if stop is not NULL) becomes
+ * nonzero: another thread's request. Returns 0 or CVODES's (negative) flag; -22 (CV_ILL_INPUT)
  * also when CVODES's memory does not have the layout of the headers this was compiled with. */
 int fsa_run(const double *x0, const double *p, int ns, const double *S0, const double *Q, int ngrid,
-            const double *grid, double rtol, double atol, long max_steps, int catch_sigint, double *xout,
-            double *Sout, double *stats) {
+            const double *grid, double rtol, double atol, long max_steps, int catch_sigint,
+            const volatile int *stop, double *xout, double *Sout, double *stats) {
   Mem *m = (Mem *)calloc(1, sizeof(Mem));
   void *cv = CVodeCreate(CV_BDF, CV_NEWTON);
   N_Vector x = N_VNew_Serial(NX);
@@ -192,8 +194,8 @@ int fsa_run(const double *x0, const double *p, int ns, const double *S0, const d
   long nst = 0, nfe = 0;
   int flag = 0, j, k;
   struct sigaction caught, previous;
-  interrupted = 0;
   if (catch_sigint) {
+    interrupted = 0;
     memset(&caught, 0, sizeof(caught));
     caught.sa_handler = on_sigint;
     sigemptyset(&caught.sa_mask);
@@ -205,6 +207,7 @@ int fsa_run(const double *x0, const double *p, int ns, const double *S0, const d
   }
   m->p = p;
   m->Q = Q;
+  m->stop = stop;
   memcpy(NV_DATA_S(x), x0, NX * sizeof(double));
   CVodeSetErrHandlerFn(cv, quiet, NULL);
   if ((flag = CVodeInit(cv, rhs, 0.0, x))) goto done;
@@ -257,7 +260,7 @@ done:
   stats[2] = m ? (double)m->njac : 0.0;
   stats[3] = m ? (double)m->njfull : 0.0;
   stats[4] = t;
-  stats[5] = interrupted ? 1.0 : 0.0;
+  stats[5] = (catch_sigint && interrupted) || (stop && *stop) ? 1.0 : 0.0;
   if (catch_sigint) sigaction(SIGINT, &previous, NULL);
   if (xS) N_VDestroyVectorArray_Serial(xS, ns);
   if (x) N_VDestroy_Serial(x);
