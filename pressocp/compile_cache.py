@@ -246,24 +246,24 @@ def jit_options() -> dict:
                             "directory": os.path.join(tempfile.gettempdir(), "")}}
 
 
-def compile_library(source: Path, library: Path, compile_flags: Sequence[str] = (),
+def compile_library(sources: Sequence[tuple[Path, Sequence[str]]], library: Path,
                     link_flags: Sequence[str] = ()) -> None:
-    """Compile one C `source` into the shared `library` through the object-file cache, as CasADi's
-    JIT compiles (`pressocp.jitcc`: a second process with the same source and flags compiles and links
-    nothing; the compile's time goes to `compile_seconds`). `compile_flags` follow `FLAGS`; the
-    library is linked with `link_flags`. Raises RuntimeError (with the compiler's output) when a step
-    fails or there is no C compiler; a Ctrl-C stops the compiler and raises KeyboardInterrupt."""
+    """Compile C `sources` (each with its own flags after `FLAGS`) into the shared `library` through
+    the object-file cache, as CasADi's JIT compiles (`pressocp.jitcc`: a second process with the same
+    sources and flags compiles nothing; the compiles' time goes to `compile_seconds`), and link them
+    with `link_flags`. Raises RuntimeError (with the compiler's output) when a step fails or there is
+    no C compiler; a Ctrl-C stops the compiler and raises KeyboardInterrupt."""
     import subprocess
 
     jit_options()  # the compiler's environment: its time log and status file
     cc, folder = c_compiler(), cache_dir()
     command = [sys.executable, "-I", "-S", str(Path(__file__).with_name("jitcc.py")),
                NO_CACHE if folder is None else str(folder), str(cc)]
-    obj = library.with_suffix(".o")
-    steps = (("compiling", [*FLAGS, *compile_flags, "-fPIC", "-c", str(source), "-o", str(obj)]),
-             ("linking", [str(obj), "-o", str(library), "-shared", *link_flags]))
+    objects = [source.with_suffix(".o") for source, _ in sources]
+    steps = [(f"compiling {source.name}", [*FLAGS, *flags, "-fPIC", "-c", str(source), "-o", str(obj)])
+             for (source, flags), obj in zip(sources, objects)]
+    steps.append((f"linking {library.name}", [*map(str, objects), "-o", str(library), "-shared", *link_flags]))
     for what, args in steps:
         done = subprocess.run([*command, *args], capture_output=True, text=True)
         if done.returncode != 0:
-            raise RuntimeError(f"{what} {source.name} failed (exit {done.returncode}): "
-                               f"{(done.stderr or done.stdout).strip()[-2000:]}")
+            raise RuntimeError(f"{what} failed (exit {done.returncode}): {(done.stderr or done.stdout).strip()[-2000:]}")

@@ -34,7 +34,7 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 
-from .compile_cache import c_compiler, compile_library
+from .compile_cache import QUICK_FLAGS, c_compiler, compile_library
 from .interrupt import compiling
 
 SOURCE = Path(__file__).with_name("csrc") / "cvodes_fsa.c"
@@ -99,28 +99,35 @@ def available() -> bool:
     return not unavailable()
 
 
-def model_source(dae: dict, n_parameters: int) -> str:
-    """C source of the model functions the driver calls (`csrc/cvodes_fsa.c`), for the explicit ODE
-    `dae` (``x``, ``p``, ``t``, ``ode``; SX) whose last `n_parameters` parameters have directions,
-    followed by the driver and a line that names the headers' content (the compile cache keys by the
-    source)."""
+def model_source(dae: dict, n_parameters: int) -> tuple[str, str]:
+    """C sources of the model functions the driver calls (`csrc/cvodes_fsa.c`), for the explicit ODE
+    `dae` (``x``, ``p``, ``t``, ``ode``; SX) whose last `n_parameters` parameters have directions:
+    the right-hand side (and with directions the Jacobian with respect to the states and those
+    parameters, evaluated at every step) followed by the driver and a line that names the headers'
+    content (the compile cache keys by the source); and apart, the Jacobian the linear solver
+    evaluates every few dozen steps, compiled at `QUICK_FLAGS` (`ForwardSensitivities.build`)."""
     t, x, p, ode = dae["t"], dae["x"], dae["p"], dae["ode"]
     q = p[p.numel() - n_parameters:]
-    functions = [ca.Function("f_ode", [t, x, p], [ode]),
-                 ca.Function("f_jac", [t, x, p], [ca.densify(ca.jacobian(ode, x))])]
-    if n_parameters:  # without parameter directions df/d[x; q] is df/dx: the same function serves
-        functions.append(ca.Function("f_jfull", [t, x, p], [ca.densify(ca.jacobian(ode, ca.vertcat(x, q)))],
-                                     {"cse": True}))
-    cg = ca.CodeGenerator("model.c", {"with_header": False, "casadi_int": "long long int"})
-    for f in functions:
-        cg.add(f)
+    step = [ca.Function("f_ode", [t, x, p], [ode])]
+    if n_parameters:  # without parameter directions df/d[x; q] is df/dx: the Jacobian serves
+        step.append(ca.Function("f_jfull", [t, x, p], [ca.densify(ca.jacobian(ode, ca.vertcat(x, q)))],
+                                {"cse": True}))
+    jac = ca.Function("f_jac", [t, x, p], [ca.densify(ca.jacobian(ode, x))])
+    functions = [*step, jac]
     sizes = {"NX": x.numel(), "NQ": n_parameters, "SZ_ARG": max(f.sz_arg() for f in functions),
              "SZ_RES": max(f.sz_res() for f in functions), "SZ_IW": max(f.sz_iw() for f in functions),
              "SZ_W": max(f.sz_w() for f in functions)}
     headers = hashlib.sha256(b"".join(p.read_bytes() for p in sorted(HEADERS.rglob("*.h")))).hexdigest()
-    return "\n".join([f"/* pressocp forward sensitivities; SUNDIALS headers {headers} */",
-                      *(f"#define {k} {v}" for k, v in sizes.items()), cg.dump(),
-                      "" if n_parameters else "#define f_jfull f_jac", SOURCE.read_text()])
+    main, apart = (ca.CodeGenerator(name, {"with_header": False, "casadi_int": "long long int"})
+                   for name in ("model.c", "jacobian.c"))
+    for f in step:
+        main.add(f)
+    apart.add(jac)
+    signature = "(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem)"
+    return ("\n".join([f"/* pressocp forward sensitivities; SUNDIALS headers {headers} */",
+                       *(f"#define {k} {v}" for k, v in sizes.items()), main.dump(), f"int f_jac{signature};",
+                       "" if n_parameters else "#define f_jfull f_jac", SOURCE.read_text()]),
+            apart.dump())
 
 
 @dataclass
@@ -151,14 +158,16 @@ class ForwardSensitivities:
         lib, why = cvodes_library(), unavailable()
         if lib is None or why:
             raise RuntimeError(f"compiled forward sensitivities cannot be built: {why}")
-        source = model_source(dae, n_parameters)
-        path = library_folder() / f"fsa_{hashlib.sha256(source.encode()).hexdigest()[:24]}.c"
-        library = path.with_suffix(".so")
+        main, jacobian = model_source(dae, n_parameters)
+        name = f"fsa_{hashlib.sha256((main + jacobian).encode()).hexdigest()[:24]}"
+        library = library_folder() / f"{name}.so"
         if not library.exists():
-            path.write_text(source)
+            paths = (library_folder() / f"{name}.c", library_folder() / f"{name}_jacobian.c")
+            for path, text in zip(paths, (main, jacobian)):
+                path.write_text(text)
             common = lib.with_name(SUNDIALS_COMMON)
             with compiling():  # a Ctrl-C during the compile raises KeyboardInterrupt, once
-                compile_library(path, library, compile_flags=(f"-I{HEADERS}",),
+                compile_library(((paths[0], (f"-I{HEADERS}",)), (paths[1], QUICK_FLAGS)), library,
                                 link_flags=(f"-L{lib.parent}", f"-l:{lib.name}", f"-l:{common.name}", "-lm",
                                             f"-Wl,-rpath,{lib.parent}", "-Wl,-z,defs"))
         handle = ctypes.CDLL(str(library))
