@@ -188,8 +188,8 @@ def kept_fsa(msym: PressModel, n_parameters: int) -> ForwardSensitivities | None
                 why = first_line(err)
         if why:
             warnings.warn(f"compiled forward sensitivities unavailable ({why}): CasADi's forward integrator "
-                          "runs them (on the seed optimum its period took 1.6 x as long, the whole call "
-                          "1.5 x)", RuntimeWarning, stacklevel=3)
+                          "runs them (on the seed optimum its period took 1.7 x as long, the whole call "
+                          "about 2 x)", RuntimeWarning, stacklevel=3)
         msym.functions["cvodes_fsa"] = fsa
     return msym.functions["cvodes_fsa"]
 
