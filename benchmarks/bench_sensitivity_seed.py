@@ -53,8 +53,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import pressocp as po  # noqa: E402
+import pressocp.cvodes_fsa as cvodes_fsa  # noqa: E402
 import pressocp.sensitivity as sens  # noqa: E402
-from pressocp.cvodes_fsa import ForwardSensitivities  # noqa: E402
 from pressocp.io import versions  # noqa: E402
 from pressocp.model import OUTPUT_NAMES  # noqa: E402
 from pressocp.plots import save  # noqa: E402
@@ -181,14 +181,14 @@ def engine_periods(model: po.PressModel, speed: po.FourierSpeed) -> dict:
     nx, nq, grid = msym.nx, len(PARAMETERS), [speed.period]
     x0 = periodic_state(model, speed, Integrator("cvodes", ENGINE_RTOL), tol=PERIODIC_TOL * ENGINE_RTOL)[0]
     fsa = sens.kept_fsa(msym, nq)
-    plain_fsa = ForwardSensitivities.build(msym.dae(explicit=True, work=False), 0)
+    plain_fsa = direct_driver(msym, False)
     plain = ca.integrator("period", "cvodes", integrator_dae(msym, True, False), 0.0, speed.period,
                           {"reltol": ENGINE_RTOL, "abstol": ENGINE_RTOL, "max_num_steps": 10**8})
     Q = np.hstack([np.zeros((nq, nx)), np.diag(scale)])
     runs = {
         "driver, 11 directions": lambda: fsa.run(x0, pv, np.eye(nx, nx + nq), Q, np.array(grid), ENGINE_RTOL),
         "CasADi forward integrator, 11 directions": lambda: sens.casadi_forward(msym, grid, x0, pv, scale,
-                                                                                 ENGINE_RTOL, None),
+                                                                                 ENGINE_RTOL),
         "driver, plain": lambda: plain_fsa.run(x0, pv, np.zeros((nx, 0)), np.zeros((0, 0)), np.array(grid),
                                                ENGINE_RTOL),
         "CasADi CVODES, plain": lambda: plain(x0=x0, p=pv),
@@ -222,14 +222,14 @@ def measure(repeat: int) -> dict:
                   f"{runs[-1][2]:.2g}", flush=True)
     # the same call on CasADi's forward integrator (the engine where the driver cannot be built), on a model
     # of its own (the driver is kept with the first)
-    other, available = replace(po.build_model(press), jit=True), sens.unavailable
-    sens.unavailable = lambda: "the benchmark's comparison"
+    other, available = replace(po.build_model(press), jit=True), cvodes_fsa.unavailable
+    cvodes_fsa.unavailable = lambda: "the benchmark's comparison"
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
             runs = [ad_derivatives(other, speed, ENGINE_RTOL, False) for _ in range(repeat + 1)][1:]
     finally:
-        sens.unavailable = available
+        cvodes_fsa.unavailable = available
     ad[AD_CASADI, ENGINE_RTOL] = runs[-1][:3] + ([r[3] for r in runs],)
     print(f"{AD_CASADI} rtol {ENGINE_RTOL:g}: {[round(r[3], 2) for r in runs]} s", flush=True)
     finest = ad["AD", AD_RTOLS[-1]][0]

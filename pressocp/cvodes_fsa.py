@@ -99,6 +99,18 @@ def available() -> bool:
     return not unavailable()
 
 
+def built(dae: dict, n_parameters: int) -> tuple[ForwardSensitivities | None, str]:
+    """`ForwardSensitivities.build` of `dae`, or None and why it cannot be built here (`unavailable`,
+    a failed compile or load: the first line of the error)."""
+    why = unavailable()
+    if why:
+        return None, why
+    try:
+        return ForwardSensitivities.build(dae, n_parameters), ""
+    except (RuntimeError, OSError) as err:
+        return None, str(err).splitlines()[0]
+
+
 def model_source(dae: dict, n_parameters: int) -> tuple[str, str]:
     """C sources of the model functions the driver calls (`csrc/cvodes_fsa.c`), for the explicit ODE
     `dae` (``x``, ``p``, ``t``, ``ode``; SX) whose last `n_parameters` parameters have directions:
@@ -248,4 +260,4 @@ class ForwardSensitivities:
             ("steps", "rhs", "jacobians", "sensitivity_jacobians"), map(float, stats[:4])))
 
 
-__all__ = ["FsaError", "ForwardSensitivities", "available", "unavailable"]
+__all__ = ["FsaError", "ForwardSensitivities", "available", "built", "unavailable"]

@@ -36,7 +36,7 @@ import casadi as ca
 import numpy as np
 
 from .compile_cache import use_jit
-from .cvodes_fsa import ForwardSensitivities, FsaError, unavailable
+from .cvodes_fsa import ForwardSensitivities, FsaError, built
 from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
@@ -180,13 +180,8 @@ def kept_fsa(msym: PressModel, n_parameters: int) -> ForwardSensitivities | None
     failed compile or load), which a warning says once per model: the sensitivities then run through
     CasADi's forward integrator."""
     if "cvodes_fsa" not in msym.functions:
-        fsa, why = None, unavailable()
-        if not why:
-            try:
-                fsa = ForwardSensitivities.build(msym.dae(explicit=True, work=False), n_parameters)
-            except (RuntimeError, OSError) as err:
-                why = first_line(err)
-        if why:
+        fsa, why = built(msym.dae(explicit=True, work=False), n_parameters)
+        if fsa is None:
             warnings.warn(f"compiled forward sensitivities unavailable ({why}): CasADi's forward integrator "
                           "runs them (on the seed optimum its period took 1.7 x as long, the whole call "
                           "about 2 x)", RuntimeWarning, stacklevel=3)
@@ -262,7 +257,7 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
             raise SimulationError(str(err), time=err.time, method="cvodes (sensitivities)", hint=HINT) from None
         nominal, engine = {t: X[:, grid.index(t)] for t in times}, ENGINE_FSA
     else:
-        S, nominal, engine = casadi_forward(msym, grid, x0, pv, scale, rtol, nominal), nominal, ENGINE_CASADI
+        S, engine = casadi_forward(msym, grid, x0, pv, scale, rtol), ENGINE_CASADI
         if nominal is None:
             X = integrated(msym.functions["sensitivity_period"], x0=x0, p=pv)["xf"]
             nominal = {t: X[:, grid.index(t)] for t in times}
@@ -281,7 +276,7 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
 
 
 def casadi_forward(msym: PressModel, grid: list[float], x0: np.ndarray, pv: np.ndarray, scale: np.ndarray,
-                   rtol: float, nominal: dict | None) -> np.ndarray:
+                   rtol: float) -> np.ndarray:
     """The directions (nx, nx + n_parameters, len(grid)) of one period from `x0` by CasADi's forward
     integrator (the augmented system), the parameter directions in units of `scale`; the period's
     plain integrator is kept in ``msym.functions["sensitivity_period"]``."""
@@ -396,8 +391,8 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     T = speed.period
     # the periodic search on the integrator of the sensitivities (their compiled driver, else CasADi's
     # CVODES compiled), on the model itself: one periodic state whichever parameters are asked
-    search = (model, DIRECT) if kept_fsa(msym, len(names)) is not None and direct_search(model) else \
-        (for_repeated_use(model), "cvodes")
+    fsa = kept_fsa(msym, len(names))
+    search = (model, DIRECT) if fsa is not None and direct_search(model) else (for_repeated_use(model), "cvodes")
     # periodic: the search's last cycle is the sampled response (one cycle fewer than a search and a run)
     res = simulate(search[0], speed, periodic=periodic, n_out=SAMPLES, work=False,
                    integrator=Integrator(search[1], rtol, periodic_tol=PERIODIC_TOL * rtol))
@@ -408,7 +403,7 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     targets = [(tq, OUTPUT_NAMES.index(QUANTITIES[q])) for q in quantities for tq in peaks[q]]
     # the states at the peaks: CVODES's own sensitivities integrate them; CasADi's forward integrator
     # does not return them, so they come from the sampled response
-    nominal = None if kept_fsa(msym, len(names)) is not None else states_from_samples(
+    nominal = None if fsa is not None else states_from_samples(
         msym, speed, t_rel, res.states / model.x_scale[:, None], [t for t, _ in targets], rtol)
     y, d, engine = peak_derivatives(msym, speed, targets, x0, len(names), rtol, periodic, nominal)
     if not error_estimate:

@@ -20,7 +20,7 @@ import numpy as np
 from . import checks as chk
 from .buffers import call, evaluate
 from .compile_cache import check_jit, function_options, jit_options, use_jit
-from .cvodes_fsa import ForwardSensitivities, FsaError, unavailable
+from .cvodes_fsa import ForwardSensitivities, FsaError, built
 from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, QUADRATURE_NAMES, PressModel
 from .result import SimResult
@@ -152,14 +152,10 @@ def direct_driver(model: PressModel, work: bool) -> ForwardSensitivities:
         raise ValueError(f'integrator "{DIRECT}" integrates no work quadratures: simulate with work=False, '
                          'or use "cvodes"')
     if DIRECT_DRIVER not in model.functions:
-        why = unavailable()
-        if not why:
-            try:
-                model.functions[DIRECT_DRIVER] = ForwardSensitivities.build(model.dae(explicit=True, work=False), 0)
-            except (RuntimeError, OSError) as err:
-                why = first_line(err)
-        if why:
+        driver, why = built(model.dae(explicit=True, work=False), 0)
+        if driver is None:
             raise ValueError(f'integrator "{DIRECT}" cannot run here ({why}): use "cvodes"')
+        model.functions[DIRECT_DRIVER] = driver
     return model.functions[DIRECT_DRIVER]
 
 

@@ -13,6 +13,7 @@ import pytest
 from scipy.linalg import expm
 
 import pressocp as po
+import pressocp.cvodes_fsa as cvodes_fsa
 import pressocp.sensitivity as sens
 from pressocp.cvodes_fsa import ForwardSensitivities, FsaError, available
 
@@ -138,9 +139,9 @@ def test_press_peak_derivatives_match_casadis_forward_integrator(monkeypatch):
                      integrator=po.Integrator("cvodes", 1e-10, periodic_tol=1e-7)).states[:, 0] / model.x_scale
     Q = np.hstack([np.zeros((3, msym.nx)), np.diag(scale)])
     _, S, _ = sens.kept_fsa(msym, 3).run(x0, pv, np.eye(msym.nx, msym.nx + 3), Q, np.array(grid), 1e-10)
-    S_casadi = sens.casadi_forward(msym, grid, x0, pv, scale, 1e-10, None)
+    S_casadi = sens.casadi_forward(msym, grid, x0, pv, scale, 1e-10)
     assert np.max(np.abs(S - S_casadi)) <= 1e-5 * np.max(np.abs(S_casadi))  # 1.0e-6 measured
-    monkeypatch.setattr(sens, "unavailable", lambda: "switched off by the test")
+    monkeypatch.setattr(cvodes_fsa, "unavailable", lambda: "switched off by the test")
     other = replace(po.build_model(po.PressParams()), jit=True)
     with pytest.warns(RuntimeWarning, match="switched off by the test"):
         casadi = sens.sensitivities(other, speed, PARAMETERS, rtol=1e-9, error_estimate=False)
@@ -211,13 +212,12 @@ def test_cvodes_direct_takes_its_absolute_tolerance(seed):
 
 
 def test_cvodes_direct_refuses_work_and_a_missing_driver_before_integrating(seed, monkeypatch):
-    sim = sys.modules["pressocp.simulate"]  # the module (po.simulate is the function)
     model, speed = seed
     for periodic in (False, True):  # the periodic search does not run first
         with pytest.raises(ValueError, match="integrates no work quadratures: simulate with work=False"):
             po.simulate(po.build_model(po.PressParams()), speed, periodic=periodic,
                         integrator=po.Integrator("cvodes-direct", 1e-8))
-    monkeypatch.setattr(sim, "unavailable", lambda: "no C compiler (cc) found")
+    monkeypatch.setattr(cvodes_fsa, "unavailable", lambda: "no C compiler (cc) found")
     with pytest.raises(ValueError, match=r'"cvodes-direct" cannot run here \(no C compiler'):
         po.simulate(po.build_model(po.PressParams()), speed, work=False, integrator=po.Integrator("cvodes-direct"))
 
