@@ -162,7 +162,7 @@ def test_press_peak_derivatives_match_casadis_forward_integrator(monkeypatch):
     Q = np.hstack([np.zeros((3, msym.nx)), np.diag(scale)])
     _, S, _ = sens.kept_fsa(msym, 3).run(x0, pv, np.eye(msym.nx, msym.nx + 3), Q, np.array(grid), 1e-10)
     S_casadi = sens.casadi_forward(msym, grid, x0, pv, scale, 1e-10)
-    assert np.max(np.abs(S - S_casadi)) <= 1e-5 * np.max(np.abs(S_casadi))  # 1.0e-6 measured
+    assert np.max(np.abs(S - S_casadi)) <= 1e-5 * np.max(np.abs(S_casadi))  # 1.7e-7 measured (staggered: 9.9e-7)
     monkeypatch.setattr(cvodes_fsa, "unavailable", lambda: "switched off by the test")
     other = replace(po.build_model(po.PressParams()), jit=True)
     with pytest.warns(RuntimeWarning, match="switched off by the test"):
