@@ -186,8 +186,8 @@ def kept_fsa(msym: PressModel, n_parameters: int) -> ForwardSensitivities | None
         fsa, why = built(msym.dae(explicit=True, work=False), n_parameters, msym.nx + n_parameters)
         if fsa is None:
             warnings.warn(f"compiled forward sensitivities unavailable ({why}): CasADi's forward integrator "
-                          "runs them (on the seed optimum its period took 1.7 x as long, the whole call "
-                          "about 2 x)", RuntimeWarning, stacklevel=3)
+                          "runs them (on the seed optimum its period took 4.6 x as long, the whole call "
+                          "about 5 x)", RuntimeWarning, stacklevel=3)
         msym.functions["cvodes_fsa"] = fsa
     return msym.functions["cvodes_fsa"]
 
