@@ -17,9 +17,10 @@ Both run their integrators on compiled right-hand sides (`PressModel.jit` True; 
 compiles its sensitivity equations in any case). At a peak's time the difference of |torque| is the
   peak's derivative (the time moves with p, but d|torque|/dt = 0 there).
 
-AD's engine is CVODES's own sensitivity module compiled with the model (`pressocp.cvodes_fsa`); the
-same call on CasADi's forward integrator is measured at `ENGINE_RTOL` (``AD, no estimate, CasADi's
-forward integrator``), and one period by each engine, with and without the 11 directions, in
+AD's engine is CVODES compiled with the model, the states and directions as one system
+(`pressocp.cvodes_fsa`); the same call on CasADi's forward integrator is measured at `ENGINE_RTOL`
+(``AD, no estimate, CasADi's forward integrator``), and one period by each engine (and by the driver
+through CVODES's staggered sensitivity module), with and without the 11 directions, in
 ``engine_periods``.
 
 Every derivative is compared with central differences at rtol `REFERENCE_RTOL`; a method's error is
@@ -172,21 +173,26 @@ ENGINE_REPEAT = 7
 
 def engine_periods(model: po.PressModel, speed: po.FourierSpeed) -> dict:
     """One period of the seed optimum from its periodic state at `ENGINE_RTOL`, each engine alternately,
-    `ENGINE_REPEAT` times: the 11 directions by the compiled CVODES driver and by CasADi's forward
-    integrator, and a plain period (no directions) by each; medians, the driver's steps, and the
-    largest difference of the directions (relative to their largest entry)."""
+    `ENGINE_REPEAT` times: the 11 directions by the compiled CVODES driver both ways (with the states
+    as one system, as `po.sensitivities` runs them, and through CVODES's staggered sensitivity
+    module) and by CasADi's forward integrator, and a plain period (no directions) by the driver and
+    by CasADi's CVODES; medians, the driver's steps, and the largest difference of each driver's
+    directions from CasADi's (relative to their largest entry)."""
     msym = sens.sensitivity_model(model, PARAMETERS)
     pv = msym.parameters(speed)
     scale = sens.parameter_scale(pv[-len(PARAMETERS):])
     nx, nq, grid = msym.nx, len(PARAMETERS), [speed.period]
     x0 = periodic_state(model, speed, Integrator("cvodes", ENGINE_RTOL), tol=PERIODIC_TOL * ENGINE_RTOL)[0]
     fsa = sens.kept_fsa(msym, nq)
+    staggered = cvodes_fsa.ForwardSensitivities.build(msym.dae(explicit=True, work=False), nq)
     plain_fsa = direct_driver(msym, False)
     plain = ca.integrator("period", "cvodes", integrator_dae(msym, True, False), 0.0, speed.period,
                           {"reltol": ENGINE_RTOL, "abstol": ENGINE_RTOL, "max_num_steps": 10**8})
     Q = np.hstack([np.zeros((nq, nx)), np.diag(scale)])
     runs = {
         "driver, 11 directions": lambda: fsa.run(x0, pv, np.eye(nx, nx + nq), Q, np.array(grid), ENGINE_RTOL),
+        "driver, 11 directions, CVODES staggered": lambda: staggered.run(x0, pv, np.eye(nx, nx + nq), Q,
+                                                                         np.array(grid), ENGINE_RTOL),
         "CasADi forward integrator, 11 directions": lambda: sens.casadi_forward(msym, grid, x0, pv, scale,
                                                                                  ENGINE_RTOL),
         "driver, plain": lambda: plain_fsa.run(x0, pv, np.zeros((nx, 0)), np.zeros((0, 0)), np.array(grid),
@@ -200,13 +206,17 @@ def engine_periods(model: po.PressModel, speed: po.FourierSpeed) -> dict:
             t0 = time.perf_counter()
             out[k] = run()
             times[k].append(time.perf_counter() - t0)
-    S_driver, S_casadi = out["driver, 11 directions"][1][:, :, -1], out["CasADi forward integrator, 11 directions"][:, :, -1]
+    S_casadi = out["CasADi forward integrator, 11 directions"][:, :, -1]
+    difference = {k: float(np.max(np.abs(out[k][1][:, :, -1] - S_casadi)) / np.max(np.abs(S_casadi)))
+                  for k in ("driver, 11 directions", "driver, 11 directions, CVODES staggered")}
     return {"rtol": ENGINE_RTOL, "repeat": ENGINE_REPEAT,
             "median_s": {k: float(np.median(v[1:])) for k, v in times.items()},
             "times_s": {k: v[1:] for k, v in times.items()},
             "driver_steps": {"11 directions": out["driver, 11 directions"][2]["steps"],
+                             "11 directions, CVODES staggered": out["driver, 11 directions, CVODES staggered"][2]["steps"],
                              "plain": out["driver, plain"][2]["steps"]},
-            "directions_difference": float(np.max(np.abs(S_driver - S_casadi)) / np.max(np.abs(S_casadi)))}
+            "directions_difference": difference["driver, 11 directions"],
+            "directions_difference_staggered": difference["driver, 11 directions, CVODES staggered"]}
 
 
 def measure(repeat: int) -> dict:

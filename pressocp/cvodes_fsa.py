@@ -1,21 +1,26 @@
-"""Forward sensitivities through CVODES's own sensitivity module, compiled with the model.
+"""Forward sensitivities through CVODES, compiled with the model.
 
-CasADi 3.8 differentiates an integrator by integrating an augmented system: the states and every
-direction as ordinary states, all of them iterated in every Newton iteration. CVODES's own forward
-sensitivity module (staggered corrector: the directions are corrected once the state has converged,
-with the state's factorisation) is not reached through CasADi's interface. This module reaches it:
-CasADi generates C code of the model's right-hand side and Jacobians, `csrc/cvodes_fsa.c` drives
-CVODES 2.6.1 as exported by CasADi's own ``libcasadi_integrator_cvodes`` (headers in
-`csrc/sundials`, copied from CasADi's sources), with a dense direct linear solver, and the library is
-compiled through the compile cache.
+CasADi 3.8 differentiates an integrator through its own interface to CVODES, with the overhead of
+its function calls at every step; CVODES's own forward-sensitivity module (staggered or simultaneous
+corrector) is not reached through that interface. This module drives CVODES 2.6.1 as exported by
+CasADi's own ``libcasadi_integrator_cvodes`` (`csrc/cvodes_fsa.c`, headers in `csrc/sundials`,
+copied from CasADi's sources) with CasADi-generated C code of the model's right-hand side and
+Jacobians and a dense direct linear solver, the library compiled through the compile cache. Two
+ways (`ForwardSensitivities.build`):
 
-On the seed optimum (8 states, 11 directions, one period at rtol 3e-9) it took 0.30 s against 0.49 s
-for CasADi's forward integrator in the same run, the directions the same to 2e-5
+* the directions integrated with the states as one system under one error control, each Newton
+  step solved block by block with the states' factorisation (the Newton matrix of CVODES's
+  simultaneous corrector, its vector operations on one vector);
+* CVODES's staggered sensitivity module, the directions corrected once the state has converged,
+  each a vector of its own.
+
+On the seed optimum (8 states, 11 directions, one period at rtol 3e-9) one system took 0.14 s, the
+staggered module 0.30 s and CasADi's forward integrator 0.49 s, the directions the same to 2e-5
 (`benchmarks/results/sensitivity_seed.json`, ``engine_periods``;
-docs/decisions/2026-12-01-cvodes-staggered-sensitivities.md).
+docs/decisions/2026-12-01-fused-sensitivities.md).
 
     if not unavailable():                                    # a C compiler, CasADi 3.8's CVODES
-        fsa = ForwardSensitivities.build(dae, n_parameters=3)
+        fsa = ForwardSensitivities.build(dae, n_parameters=3, directions=11)
         x, S, stats = fsa.run(x0, p, S0, Q, grid, rtol)
 """
 
@@ -99,36 +104,50 @@ def available() -> bool:
     return not unavailable()
 
 
-def built(dae: dict, n_parameters: int) -> tuple[ForwardSensitivities | None, str]:
+def built(dae: dict, n_parameters: int, directions: int | None = None) -> tuple[ForwardSensitivities | None, str]:
     """`ForwardSensitivities.build` of `dae`, or None and why it cannot be built here (`unavailable`,
     a failed compile or load: the first line of the error)."""
     why = unavailable()
     if why:
         return None, why
     try:
-        return ForwardSensitivities.build(dae, n_parameters), ""
+        return ForwardSensitivities.build(dae, n_parameters, directions), ""
     except (RuntimeError, OSError) as err:
         return None, str(err).splitlines()[0]
 
 
-def model_source(dae: dict, n_parameters: int) -> tuple[str, str]:
+def model_source(dae: dict, n_parameters: int, directions: int | None = None) -> tuple[str, str]:
     """C sources of the model functions the driver calls (`csrc/cvodes_fsa.c`), for the explicit ODE
     `dae` (``x``, ``p``, ``t``, ``ode``; SX) whose last `n_parameters` parameters have directions:
-    the right-hand side (and with directions the Jacobian with respect to the states and those
-    parameters, evaluated at every step) followed by the driver and a line that names the headers'
-    content (the compile cache keys by the source); and apart, the Jacobian the linear solver
-    evaluates every few dozen steps, compiled at `QUICK_FLAGS` (`ForwardSensitivities.build`)."""
+    the right-hand side (and with CVODES's own directions the Jacobian with respect to the states and
+    those parameters, evaluated at every step) followed by the driver and a line that names the
+    headers' content (the compile cache keys by the source); and apart, the Jacobian the linear solver
+    evaluates every few dozen steps, compiled at `QUICK_FLAGS` (`ForwardSensitivities.build`).
+
+    With `directions` the right-hand side is that of the states and that many directions as one
+    system, x' = f and S' = f_x S + f_q Q, its parameters followed by the directions' parameter
+    components Q (n_parameters x directions, column major); the linear solver's Jacobian is f_x."""
     t, x, p, ode = dae["t"], dae["x"], dae["p"], dae["ode"]
+    nx = x.numel()
     q = p[p.numel() - n_parameters:]
-    step = [ca.Function("f_ode", [t, x, p], [ode])]
-    if n_parameters:  # without parameter directions df/d[x; q] is df/dx: the Jacobian serves
-        step.append(ca.Function("f_jfull", [t, x, p], [ca.densify(ca.jacobian(ode, ca.vertcat(x, q)))],
-                                {"cse": True}))
-    jac = ca.Function("f_jac", [t, x, p], [ca.densify(ca.jacobian(ode, x))])
+    if directions is None:
+        step = [ca.Function("f_ode", [t, x, p], [ode])]
+        if n_parameters:  # without parameter directions df/d[x; q] is df/dx: the Jacobian serves
+            step.append(ca.Function("f_jfull", [t, x, p], [ca.densify(ca.jacobian(ode, ca.vertcat(x, q)))],
+                                    {"cse": True}))
+        args, blocks = [t, x, p], {}
+    else:
+        S, Q = ca.SX.sym("S", nx, directions), ca.SX.sym("Q", n_parameters, directions)
+        args = [t, ca.vertcat(x, ca.vec(S)), ca.vertcat(p, ca.vec(Q))]
+        # f_x S as a product with the Jacobian: its forward derivatives (jtimes) took 1.8 x as long
+        S_dot = ca.mtimes(ca.jacobian(ode, x), S) + ca.mtimes(ca.jacobian(ode, q), Q)
+        step = [ca.Function("f_ode", args, [ca.vertcat(ode, ca.vec(S_dot))], {"cse": True})]
+        blocks = {"NB": 1 + directions, "NXB": nx}
+    jac = ca.Function("f_jac", args, [ca.densify(ca.jacobian(ode, x))])
     functions = [*step, jac]
-    sizes = {"NX": x.numel(), "NQ": n_parameters, "SZ_ARG": max(f.sz_arg() for f in functions),
-             "SZ_RES": max(f.sz_res() for f in functions), "SZ_IW": max(f.sz_iw() for f in functions),
-             "SZ_W": max(f.sz_w() for f in functions)}
+    sizes = {"NX": args[1].numel(), "NQ": n_parameters if directions is None else 0, **blocks,
+             "SZ_ARG": max(f.sz_arg() for f in functions), "SZ_RES": max(f.sz_res() for f in functions),
+             "SZ_IW": max(f.sz_iw() for f in functions), "SZ_W": max(f.sz_w() for f in functions)}
     headers = hashlib.sha256(b"".join(p.read_bytes() for p in sorted(HEADERS.rglob("*.h")))).hexdigest()
     main, apart = (ca.CodeGenerator(name, {"with_header": False, "casadi_int": "long long int"})
                    for name in ("model.c", "jacobian.c"))
@@ -138,7 +157,7 @@ def model_source(dae: dict, n_parameters: int) -> tuple[str, str]:
     signature = "(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem)"
     return ("\n".join([f"/* pressocp forward sensitivities; SUNDIALS headers {headers} */",
                        *(f"#define {k} {v}" for k, v in sizes.items()), main.dump(), f"int f_jac{signature};",
-                       "" if n_parameters else "#define f_jfull f_jac", SOURCE.read_text()]),
+                       "" if len(step) > 1 else "#define f_jfull f_jac", SOURCE.read_text()]),
             apart.dump())
 
 
@@ -154,23 +173,36 @@ class ForwardSensitivities:
         The last parameters, which directions may have components in.
     library : ctypes.CDLL
         The compiled driver and model (kept loaded, and on disk, for the process's life).
+    directions : int or None
+        The number of directions integrated with the states as one system (`build`), or None:
+        CVODES's staggered sensitivities, any number.
     """
 
     nx: int
     n_p: int
     n_parameters: int
     library: ctypes.CDLL
+    directions: int | None = None
 
     @classmethod
-    def build(cls, dae: dict, n_parameters: int) -> ForwardSensitivities:
+    def build(cls, dae: dict, n_parameters: int, directions: int | None = None) -> ForwardSensitivities:
         """Generate, compile (through the compile cache) and load the integrator of `dae` (an explicit
         ODE dict of SX: ``t``, ``x``, ``p``, ``ode``) with directions in its last `n_parameters`
         parameters. Raises RuntimeError when there is no C compiler or CVODES library, or the compile
-        fails; OSError when the library cannot be loaded."""
+        fails; OSError when the library cannot be loaded.
+
+        With `directions` (a number), every run has that many directions, integrated with the states
+        as one system of nx (1 + directions) equations under one error control, each Newton step
+        solved block by block with the states' factorisation (the Newton matrix of CVODES's
+        simultaneous corrector); without, CVODES's staggered sensitivity module integrates any
+        number of directions beside the states, each a vector of its own. On the seed optimum (8
+        states, 11 directions, one period at rtol 3e-9) the one system took 0.14 s against 0.30 s,
+        the directions the same to 2e-7 at the peaks
+        (docs/decisions/2026-12-01-fused-sensitivities.md)."""
         lib, why = cvodes_library(), unavailable()
         if lib is None or why:
             raise RuntimeError(f"compiled forward sensitivities cannot be built: {why}")
-        main, jacobian = model_source(dae, n_parameters)
+        main, jacobian = model_source(dae, n_parameters, directions)
         name = f"fsa_{hashlib.sha256((main + jacobian).encode()).hexdigest()[:24]}"
         library = library_folder() / f"{name}.so"
         if not library.exists():
@@ -187,7 +219,7 @@ class ForwardSensitivities:
         handle.fsa_run.argtypes = [_DOUBLE_P, _DOUBLE_P, ctypes.c_int, _DOUBLE_P, _DOUBLE_P, ctypes.c_int,
                                    _DOUBLE_P, ctypes.c_double, ctypes.c_double, ctypes.c_long, ctypes.c_int,
                                    ctypes.POINTER(ctypes.c_int), _DOUBLE_P, _DOUBLE_P, _DOUBLE_P]
-        return cls(int(dae["x"].numel()), int(dae["p"].numel()), n_parameters, handle)
+        return cls(int(dae["x"].numel()), int(dae["p"].numel()), n_parameters, handle, directions)
 
     def run(self, x0: np.ndarray, p: np.ndarray, S0: np.ndarray, Q: np.ndarray, grid: np.ndarray, rtol: float,
             max_steps: int = 10**7, atol: float | None = None,
@@ -201,13 +233,13 @@ class ForwardSensitivities:
         p : ndarray
             Every parameter of the ODE.
         S0 : ndarray, shape (nx, ns)
-            The directions' start values.
+            The directions' start values (ns = `directions` when that is set).
         Q : ndarray, shape (n_parameters, ns)
             The directions' parameter components (constant).
         grid : ndarray
             Output times, increasing, > 0 (s).
         rtol : float
-            Relative tolerance of the states; the directions' tolerances are estimated from the states'.
+            Relative tolerance of the states, and of the directions (which are in the states' units).
         max_steps : int
         atol : float, optional
             Absolute tolerance of the states; None: `rtol`.
@@ -221,7 +253,7 @@ class ForwardSensitivities:
         S : ndarray, shape (nx, ns, len(grid))
         stats : dict
             ``steps``, ``rhs`` (right-hand sides), ``jacobians`` (of the linear solver),
-            ``sensitivity_jacobians``.
+            ``sensitivity_jacobians`` (of CVODES's staggered directions).
 
         Raises
         ------
@@ -235,13 +267,28 @@ class ForwardSensitivities:
         S0, Q = np.asarray(S0, float), np.asarray(Q, float)
         x0, p, grid = (np.ascontiguousarray(np.ravel(a), float) for a in (x0, p, grid))
         ns = S0.shape[1] if S0.ndim == 2 else -1
-        if S0.shape[0] != self.nx or Q.shape != (self.n_parameters, ns) or x0.size != self.nx or p.size != self.n_p:
-            raise ValueError(f"x0 must have {self.nx} entries, p {self.n_p}, S0 shape ({self.nx}, ns) and Q "
-                             f"({self.n_parameters}, ns); got {x0.size}, {p.size}, {S0.shape}, {Q.shape}")
+        if S0.shape[0] != self.nx or Q.shape != (self.n_parameters, ns) or x0.size != self.nx or p.size != self.n_p \
+                or ns != (ns if self.directions is None else self.directions):
+            raise ValueError(f"x0 must have {self.nx} entries, p {self.n_p}, S0 shape ({self.nx}, "
+                             f"{'ns' if self.directions is None else self.directions}) and Q ({self.n_parameters}, "
+                             f"ns); got {x0.size}, {p.size}, {S0.shape}, {Q.shape}")
         if grid.size == 0 or grid[0] <= 0.0 or np.any(np.diff(grid) <= 0.0):
             raise ValueError(f"grid must increase from above 0 s; got {grid}")
-        x = np.zeros((grid.size, self.nx))
-        S = np.zeros((grid.size, ns, self.nx))
+        if self.directions is not None:  # the directions are states, their parameter components parameters
+            x, _, stats = self._integrate(np.concatenate([x0, S0.ravel(order="F")]),
+                                          np.concatenate([p, Q.ravel(order="F")]), np.zeros((0, 0)), Q, grid,
+                                          rtol, atol, max_steps, stop)
+            return x[:self.nx].copy(), x[self.nx:].reshape(self.nx, ns, grid.size, order="F"), stats
+        return self._integrate(x0, p, S0, Q, grid, rtol, atol, max_steps, stop)
+
+    def _integrate(self, x0: np.ndarray, p: np.ndarray, S0: np.ndarray, Q: np.ndarray, grid: np.ndarray,
+                   rtol: float, atol: float | None, max_steps: int,
+                   stop: ctypes.c_int | None) -> tuple[np.ndarray, np.ndarray, dict[str, float]]:
+        """`run` on the driver's own states `x0` (with `directions`, the states and directions as one
+        vector, and `S0` empty) and parameters `p`, the inputs checked."""
+        n, ns = x0.size, S0.shape[1]
+        x = np.zeros((grid.size, n))
+        S = np.zeros((grid.size, ns, n))
         stats = np.zeros(6)
         args = [x0, p, np.asfortranarray(S0), np.asfortranarray(Q)]
         # a Ctrl-C is caught in C (Python's handler cannot run until the call returns) in the main thread

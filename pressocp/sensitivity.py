@@ -66,8 +66,9 @@ RESOLVED = 0.01
 #: derivatives the same to 1e-8; CasADi's ``sensitivity_method`` and ``fsens_err_con`` changed
 #: nothing, GMRES was slower (docs/measurements.md, "AD sensitivities on the seed optimum").
 SENSITIVITY_OPTIONS = {"second_order_correction": False}
-#: `Sensitivities.engine` of CVODES's own forward-sensitivity module (`pressocp.cvodes_fsa`).
-ENGINE_FSA = "cvodes staggered (compiled)"
+#: `Sensitivities.engine` of the compiled CVODES driver, the directions integrated with the states as one
+#: system (`pressocp.cvodes_fsa`).
+ENGINE_FSA = "cvodes fused (compiled)"
 #: `Sensitivities.engine` of CasADi's forward integrator (the augmented system).
 ENGINE_CASADI = "casadi forward"
 
@@ -102,8 +103,8 @@ class Sensitivities:
         failed: through impacts its periodic search can stall above its tolerance); every
         ``error_estimate`` is then inf.
     engine : str
-        What integrated the sensitivities: ``ENGINE_FSA`` (CVODES's staggered corrector, compiled
-        with the model: `pressocp.cvodes_fsa`) or ``ENGINE_CASADI`` (CasADi's forward integrator:
+        What integrated the sensitivities: ``ENGINE_FSA`` (CVODES compiled with the model, the
+        directions integrated with the states as one system: `pressocp.cvodes_fsa`) or ``ENGINE_CASADI`` (CasADi's forward integrator:
         where the former cannot be built, which a warning says: `kept_fsa`).
     """
 
@@ -180,11 +181,13 @@ def kept_fsa(msym: PressModel, n_parameters: int) -> ForwardSensitivities | None
     failed compile or load), which a warning says once per model: the sensitivities then run through
     CasADi's forward integrator."""
     if "cvodes_fsa" not in msym.functions:
-        fsa, why = built(msym.dae(explicit=True, work=False), n_parameters)
+        # the states and their nx + n_parameters directions as one system: on the seed optimum 2.2 x
+        # faster than CVODES's staggered sensitivities (docs/decisions/2026-12-01-fused-sensitivities.md)
+        fsa, why = built(msym.dae(explicit=True, work=False), n_parameters, msym.nx + n_parameters)
         if fsa is None:
             warnings.warn(f"compiled forward sensitivities unavailable ({why}): CasADi's forward integrator "
-                          "runs them (on the seed optimum its period took 1.7 x as long, the whole call "
-                          "about 2 x)", RuntimeWarning, stacklevel=3)
+                          "runs them (on the seed optimum its period took 4.6 x as long, the whole call "
+                          "about 5 x)", RuntimeWarning, stacklevel=3)
         msym.functions["cvodes_fsa"] = fsa
     return msym.functions["cvodes_fsa"]
 
@@ -205,12 +208,12 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
                      nominal: dict[float, np.ndarray] | None = None) -> tuple[np.ndarray, np.ndarray, str]:
     """Outputs y at given times and sign(y) dy/dp, by forward sensitivities of one period from `x0`.
 
-    The sensitivities come from CVODES's own forward-sensitivity module compiled with the model
-    (`kept_fsa`), which integrates the states with them; else from CasADi's forward integrator called
-    directly, which integrates the states too but returns only the directions, so the states at the
-    targets' times come from `nominal` (else one plain run of the period). On the seed optimum at
-    rtol 3e-9 the 11 directions took 0.30 s compiled against 0.49 s through CasADi's forward
-    integrator (`benchmarks/results/sensitivity_seed.json`).
+    The sensitivities come from CVODES compiled with the model (`kept_fsa`), which integrates the
+    states and the directions as one system; else from CasADi's forward integrator called directly,
+    which integrates the states too but returns only the directions, so the states at the targets'
+    times come from `nominal` (else one plain run of the period). On the seed optimum at rtol 3e-9
+    the 11 directions took 0.14 s compiled against 0.49 s through CasADi's forward integrator
+    (`benchmarks/results/sensitivity_seed.json`, ``engine_periods``).
 
     Parameters
     ----------
@@ -401,7 +404,7 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     peaks = {q: [min(max(tq, 0.0), T) for tq in peak_times(t_rel, getattr(res, QUANTITIES[q]), T)]
              for q in quantities}
     targets = [(tq, OUTPUT_NAMES.index(QUANTITIES[q])) for q in quantities for tq in peaks[q]]
-    # the states at the peaks: CVODES's own sensitivities integrate them; CasADi's forward integrator
+    # the states at the peaks: the compiled driver integrates them; CasADi's forward integrator
     # does not return them, so they come from the sampled response
     nominal = None if fsa is not None else states_from_samples(
         msym, speed, t_rel, res.states / model.x_scale[:, None], [t for t, _ in targets], rtol)

@@ -8,6 +8,11 @@
  * with q the last NQ entries of p, and the macros NX, NQ, SZ_ARG, SZ_RES, SZ_IW, SZ_W (the largest work
  * sizes of the three). Linked against CasADi's libcasadi_integrator_cvodes, which exports CVODES 2.6.1.
  *
+ * With NB > 1 blocks of NXB states (NX = NB * NXB, NQ = 0), the state is a model's NXB states followed by
+ * NB - 1 directions integrated with them as one system: f_jac is then the model's NXB x NXB Jacobian and
+ * the Newton solve applies its factorisation to every block (the block-diagonal Newton matrix of
+ * CVODES's simultaneous corrector), with CVODES's vector operations on one vector instead of NB.
+ *
  * The sensitivity right-hand side f_x S + f_q Q is evaluated from one Jacobian per (t, x): the staggered
  * corrector iterates the sensitivities at a fixed state, so the Jacobian is reused across its
  * iterations and directions. The linear solver follows CVODES's dense one (CVDense): the Jacobian is
@@ -23,14 +28,19 @@
 #include <cvodes/cvodes_impl.h>
 #include <nvector/nvector_serial.h>
 
+#ifndef NB
+#define NB 1
+#define NXB NX
+#endif
+
 typedef struct {
   const double *p;   /* all parameters */
   const double *Q;   /* NQ x ns, column major: the parameter directions */
-  double jac[NX * NX];
-  double lu[NX * NX];
-  double inv[NX * NX]; /* (I - gamma J)^-1, row major */
-  int piv[NX];
-  double jfull[NX * (NX + NQ)];
+  double jac[NXB * NXB];
+  double lu[NXB * NXB];
+  double inv[NXB * NXB]; /* (I - gamma J)^-1, row major */
+  int piv[NXB];
+  double jfull[NXB * (NXB + NQ)];
   double tc, xc[NX];
   int have_jfull;
   long nstlj, njac, njfull;
@@ -56,39 +66,39 @@ static int rhs(realtype t, N_Vector x, N_Vector xdot, void *user_data) {
   return f_ode(m->arg, m->res, m->iw, m->w, 0) ? -1 : 0;
 }
 
-/* LU with partial pivoting of I - gamma J, then its inverse (NX is small: a product per solve) */
+/* LU with partial pivoting of I - gamma J, then its inverse (NXB is small: a product per solve) */
 static int factorise(Mem *m, double gamma) {
   int i, j, k, c;
   double *a = m->lu;
-  for (k = 0; k < NX * NX; ++k) a[k] = -gamma * m->jac[k];
-  for (k = 0; k < NX; ++k) a[k * NX + k] += 1.0;
-  for (k = 0; k < NX; ++k) { /* a(i, j) = a[j * NX + i] */
+  for (k = 0; k < NXB * NXB; ++k) a[k] = -gamma * m->jac[k];
+  for (k = 0; k < NXB; ++k) a[k * NXB + k] += 1.0;
+  for (k = 0; k < NXB; ++k) { /* a(i, j) = a[j * NXB + i] */
     int p = k;
-    double amax = fabs(a[k * NX + k]);
-    for (i = k + 1; i < NX; ++i)
-      if (fabs(a[k * NX + i]) > amax) {
-        amax = fabs(a[k * NX + i]);
+    double amax = fabs(a[k * NXB + k]);
+    for (i = k + 1; i < NXB; ++i)
+      if (fabs(a[k * NXB + i]) > amax) {
+        amax = fabs(a[k * NXB + i]);
         p = i;
       }
     m->piv[k] = p;
     if (amax == 0.0) return 1;
     if (p != k)
-      for (j = 0; j < NX; ++j) {
-        double s = a[j * NX + k];
-        a[j * NX + k] = a[j * NX + p];
-        a[j * NX + p] = s;
+      for (j = 0; j < NXB; ++j) {
+        double s = a[j * NXB + k];
+        a[j * NXB + k] = a[j * NXB + p];
+        a[j * NXB + p] = s;
       }
-    for (i = k + 1; i < NX; ++i) a[k * NX + i] /= a[k * NX + k];
-    for (j = k + 1; j < NX; ++j) {
-      double s = a[j * NX + k];
+    for (i = k + 1; i < NXB; ++i) a[k * NXB + i] /= a[k * NXB + k];
+    for (j = k + 1; j < NXB; ++j) {
+      double s = a[j * NXB + k];
       if (s != 0.0)
-        for (i = k + 1; i < NX; ++i) a[j * NX + i] -= a[k * NX + i] * s;
+        for (i = k + 1; i < NXB; ++i) a[j * NXB + i] -= a[k * NXB + i] * s;
     }
   }
-  for (c = 0; c < NX; ++c) { /* column c of the inverse */
-    double b[NX];
-    for (k = 0; k < NX; ++k) b[k] = (k == c);
-    for (k = 0; k < NX; ++k) {
+  for (c = 0; c < NXB; ++c) { /* column c of the inverse */
+    double b[NXB];
+    for (k = 0; k < NXB; ++k) b[k] = (k == c);
+    for (k = 0; k < NXB; ++k) {
       int p = m->piv[k];
       if (p != k) {
         double s = b[k];
@@ -96,13 +106,13 @@ static int factorise(Mem *m, double gamma) {
         b[p] = s;
       }
     }
-    for (k = 0; k < NX; ++k)
-      for (i = k + 1; i < NX; ++i) b[i] -= a[k * NX + i] * b[k];
-    for (k = NX - 1; k >= 0; --k) {
-      b[k] /= a[k * NX + k];
-      for (i = 0; i < k; ++i) b[i] -= a[k * NX + i] * b[k];
+    for (k = 0; k < NXB; ++k)
+      for (i = k + 1; i < NXB; ++i) b[i] -= a[k * NXB + i] * b[k];
+    for (k = NXB - 1; k >= 0; --k) {
+      b[k] /= a[k * NXB + k];
+      for (i = 0; i < k; ++i) b[i] -= a[k * NXB + i] * b[k];
     }
-    for (k = 0; k < NX; ++k) m->inv[k * NX + c] = b[k];
+    for (k = 0; k < NXB; ++k) m->inv[k * NXB + c] = b[k];
   }
   return 0;
 }
@@ -131,15 +141,18 @@ static int lsetup(CVodeMem cv, int convfail, N_Vector xpred, N_Vector fpred, boo
 
 static int lsolve(CVodeMem cv, N_Vector bv, N_Vector weight, N_Vector xcur, N_Vector fcur) {
   Mem *m = (Mem *)cv->cv_lmem;
-  double *b = NV_DATA_S(bv), r[NX];
+  double r[NXB];
   double c = cv->cv_gamrat != 1.0 ? 2.0 / (1.0 + cv->cv_gamrat) : 1.0;
-  int i, k;
-  for (i = 0; i < NX; ++i) {
-    double s = 0.0;
-    for (k = 0; k < NX; ++k) s += m->inv[i * NX + k] * b[k];
-    r[i] = s;
+  int i, k, block;
+  for (block = 0; block < NB; ++block) {
+    double *b = NV_DATA_S(bv) + block * NXB;
+    for (i = 0; i < NXB; ++i) {
+      double s = 0.0;
+      for (k = 0; k < NXB; ++k) s += m->inv[i * NXB + k] * b[k];
+      r[i] = s;
+    }
+    for (i = 0; i < NXB; ++i) b[i] = c * r[i];
   }
-  for (i = 0; i < NX; ++i) b[i] = c * r[i];
   return 0;
 }
 
@@ -229,6 +242,10 @@ int fsa_run(const double *x0, const double *p, int ns, const double *S0, const d
     cm->cv_setupNonNull = TRUE;
   }
   if (ns > 0) {
+    if (NB > 1) { /* the directions are in the state: CVODES's own have no Jacobian here */
+      flag = CV_ILL_INPUT;
+      goto done;
+    }
     xS = N_VCloneVectorArray_Serial(ns, x);
     if (!xS) {
       flag = CV_MEM_FAIL;
