@@ -24,7 +24,7 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from contextlib import contextmanager
 from typing import Any
 
-from .interrupt import sigint_held
+from .interrupt import interrupt_deferred, sigint_held
 
 #: Set (to "1") in every worker of `process_pool`: a worker owns one core and starts no pool of its own.
 WORKER_ENV = "PRESSOCP_WORKER"
@@ -136,8 +136,12 @@ class WorkerPool(ProcessPoolExecutor):
         """As `ProcessPoolExecutor.submit`. A worker started here (the pool starts them on demand)
         runs one native thread (`single_threaded_children`), does not import ``__main__``
         (`main_module_hidden`) and begins with SIGINT held until its handler is installed
-        (`worker_started`)."""
-        with single_threaded_children(), main_module_hidden(), sigint_held():
+        (`worker_started`). A Ctrl-C meanwhile raises `KeyboardInterrupt` once the worker has its
+        start-up data (`interrupt_deferred`): holding SIGINT in this thread does not stop another
+        thread from taking it, and raised between the worker's start and the pipe's write it left the
+        worker to die with a traceback (1 of 20 Ctrl-Cs in `benchmarks/bench_transaction.py
+        --sigint-window 2 6`, 2026-12-01)."""
+        with interrupt_deferred(), single_threaded_children(), main_module_hidden(), sigint_held():
             return super().submit(run_task, fn, *args, **kwargs)
 
     def interrupt(self) -> None:

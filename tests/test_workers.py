@@ -2,6 +2,7 @@
 is not run again in them."""
 
 import os
+import signal
 import subprocess
 import sys
 import textwrap
@@ -9,6 +10,7 @@ import time
 
 import pytest
 
+import pressocp.workers as workers
 from pressocp.workers import THREAD_VARIABLES, WORKER_ENV, parallel_workers, process_pool
 
 
@@ -95,3 +97,26 @@ def test_a_terminal_ctrl_c_leaves_idle_and_starting_workers_quiet(tmp_path):
     assert out.returncode == 0, out.stderr
     assert "caught 2 served True" in out.stdout
     assert "Traceback" not in out.stderr and "KeyboardInterrupt" not in out.stderr, out.stderr
+
+
+def test_a_ctrl_c_while_a_worker_starts_is_raised_once_it_has_started(monkeypatch):
+    """A SIGINT whose handler runs in the middle of starting a worker (here: called there, as Python
+    calls it in the main thread whichever thread the kernel gave the signal to) does not interrupt
+    the start; `KeyboardInterrupt` comes after it, and the worker runs its task."""
+    steps, start = [], workers.ProcessPoolExecutor.submit
+
+    def interrupted_submit(self, fn, *args, **kwargs):
+        signal.getsignal(signal.SIGINT)(signal.SIGINT, None)  # Ctrl-C arrives now
+        steps.append("started")
+        return start(self, fn, *args, **kwargs)
+
+    pool = process_pool(1, start=0)
+    try:
+        monkeypatch.setattr(workers.ProcessPoolExecutor, "submit", interrupted_submit)
+        with pytest.raises(KeyboardInterrupt):
+            pool.submit(os.getpid)
+        assert steps == ["started"]
+        monkeypatch.undo()
+        assert pool.submit(os.getpid).result(timeout=60) != os.getpid()
+    finally:
+        pool.shutdown(cancel_futures=True)
