@@ -207,16 +207,16 @@ def engine_periods(model: po.PressModel, speed: po.FourierSpeed) -> dict:
             out[k] = run()
             times[k].append(time.perf_counter() - t0)
     S_casadi = out["CasADi forward integrator, 11 directions"][:, :, -1]
+    fused, staggered = "driver, 11 directions", "driver, 11 directions, CVODES staggered"
     difference = {k: float(np.max(np.abs(out[k][1][:, :, -1] - S_casadi)) / np.max(np.abs(S_casadi)))
-                  for k in ("driver, 11 directions", "driver, 11 directions, CVODES staggered")}
+                  for k in (fused, staggered)}
     return {"rtol": ENGINE_RTOL, "repeat": ENGINE_REPEAT,
             "median_s": {k: float(np.median(v[1:])) for k, v in times.items()},
             "times_s": {k: v[1:] for k, v in times.items()},
-            "driver_steps": {"11 directions": out["driver, 11 directions"][2]["steps"],
-                             "11 directions, CVODES staggered": out["driver, 11 directions, CVODES staggered"][2]["steps"],
+            "driver_steps": {"11 directions": out[fused][2]["steps"],
+                             "11 directions, CVODES staggered": out[staggered][2]["steps"],
                              "plain": out["driver, plain"][2]["steps"]},
-            "directions_difference": difference["driver, 11 directions"],
-            "directions_difference_staggered": difference["driver, 11 directions, CVODES staggered"]}
+            "directions_difference": difference[fused], "directions_difference_staggered": difference[staggered]}
 
 
 def measure(repeat: int) -> dict:

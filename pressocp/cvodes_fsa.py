@@ -14,8 +14,9 @@ ways (`ForwardSensitivities.build`):
 * CVODES's staggered sensitivity module, the directions corrected once the state has converged,
   each a vector of its own.
 
-On the seed optimum (8 states, 11 directions, one period at rtol 3e-9) one system took 0.14 s, the
-staggered module 0.30 s and CasADi's forward integrator 0.49 s, the directions the same to 2e-5
+On the seed optimum (8 states, 11 directions, one period at rtol 3e-9) one system took 0.18 s, the
+staggered module 0.41 s and CasADi's forward integrator 0.74 s in one run, the directions the same
+to 2e-5
 (`benchmarks/results/sensitivity_seed.json`, ``engine_periods``;
 docs/decisions/2026-12-01-fused-sensitivities.md).
 
@@ -267,14 +268,15 @@ class ForwardSensitivities:
         S0, Q = np.asarray(S0, float), np.asarray(Q, float)
         x0, p, grid = (np.ascontiguousarray(np.ravel(a), float) for a in (x0, p, grid))
         ns = S0.shape[1] if S0.ndim == 2 else -1
+        fixed = self.directions is not None  # one system: its number of directions is compiled in
         if S0.shape[0] != self.nx or Q.shape != (self.n_parameters, ns) or x0.size != self.nx or p.size != self.n_p \
-                or ns != (ns if self.directions is None else self.directions):
+                or (fixed and ns != self.directions):
             raise ValueError(f"x0 must have {self.nx} entries, p {self.n_p}, S0 shape ({self.nx}, "
-                             f"{'ns' if self.directions is None else self.directions}) and Q ({self.n_parameters}, "
-                             f"ns); got {x0.size}, {p.size}, {S0.shape}, {Q.shape}")
+                             f"{self.directions if fixed else 'ns'}) and Q ({self.n_parameters}, ns); got {x0.size}, "
+                             f"{p.size}, {S0.shape}, {Q.shape}")
         if grid.size == 0 or grid[0] <= 0.0 or np.any(np.diff(grid) <= 0.0):
             raise ValueError(f"grid must increase from above 0 s; got {grid}")
-        if self.directions is not None:  # the directions are states, their parameter components parameters
+        if fixed:  # the directions are states, their parameter components parameters
             x, _, stats = self._integrate(np.concatenate([x0, S0.ravel(order="F")]),
                                           np.concatenate([p, Q.ravel(order="F")]), np.zeros((0, 0)), Q, grid,
                                           rtol, atol, max_steps, stop)

@@ -104,8 +104,9 @@ class Sensitivities:
         ``error_estimate`` is then inf.
     engine : str
         What integrated the sensitivities: ``ENGINE_FSA`` (CVODES compiled with the model, the
-        directions integrated with the states as one system: `pressocp.cvodes_fsa`) or ``ENGINE_CASADI`` (CasADi's forward integrator:
-        where the former cannot be built, which a warning says: `kept_fsa`).
+        directions integrated with the states as one system: `pressocp.cvodes_fsa`) or
+        ``ENGINE_CASADI`` (CasADi's forward integrator: where the former cannot be built, which a
+        warning says: `kept_fsa`).
     """
 
     table: pd.DataFrame
@@ -186,8 +187,8 @@ def kept_fsa(msym: PressModel, n_parameters: int) -> ForwardSensitivities | None
         fsa, why = built(msym.dae(explicit=True, work=False), n_parameters, msym.nx + n_parameters)
         if fsa is None:
             warnings.warn(f"compiled forward sensitivities unavailable ({why}): CasADi's forward integrator "
-                          "runs them (on the seed optimum its period took 4.6 x as long, the whole call "
-                          "about 5 x)", RuntimeWarning, stacklevel=3)
+                          "runs them (on the seed optimum its period took 4-5 x as long, the whole call "
+                          "about 4 x)", RuntimeWarning, stacklevel=3)
         msym.functions["cvodes_fsa"] = fsa
     return msym.functions["cvodes_fsa"]
 
@@ -212,8 +213,8 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
     states and the directions as one system; else from CasADi's forward integrator called directly,
     which integrates the states too but returns only the directions, so the states at the targets'
     times come from `nominal` (else one plain run of the period). On the seed optimum at rtol 3e-9
-    the 11 directions took 0.14 s compiled against 0.49 s through CasADi's forward integrator
-    (`benchmarks/results/sensitivity_seed.json`, ``engine_periods``).
+    the 11 directions took 0.18 s compiled against 0.74 s through CasADi's forward integrator in the
+    same run (`benchmarks/results/sensitivity_seed.json`, ``engine_periods``).
 
     Parameters
     ----------

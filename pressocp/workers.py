@@ -138,9 +138,8 @@ class WorkerPool(ProcessPoolExecutor):
         (`main_module_hidden`) and begins with SIGINT held until its handler is installed
         (`worker_started`). A Ctrl-C meanwhile raises `KeyboardInterrupt` once the worker has its
         start-up data (`interrupt_deferred`): holding SIGINT in this thread does not stop another
-        thread from taking it, and raised between the worker's start and the pipe's write it left the
-        worker to die with a traceback (1 of 20 Ctrl-Cs in `benchmarks/bench_transaction.py
-        --sigint-window 2 6`, 2026-12-01)."""
+        thread from taking it, and raised between the worker's start and the write of that data it
+        would leave the worker to die with a traceback."""
         with interrupt_deferred(), single_threaded_children(), main_module_hidden(), sigint_held():
             return super().submit(run_task, fn, *args, **kwargs)
 

@@ -1,5 +1,6 @@
-/* Forward sensitivities of an explicit ODE x' = f(t, x, p) through CVODES's own sensitivity module
- * (staggered corrector, sensitivities under the error control), with a dense direct linear solver.
+/* Forward sensitivities of an explicit ODE x' = f(t, x, p) through CVODES, with a dense direct linear
+ * solver: through CVODES's own sensitivity module (staggered corrector, sensitivities under the error
+ * control), or with the directions integrated as states (NB > 1, below).
  *
  * Compiled by pressocp.cvodes_fsa together with CasADi-generated code of the model, which defines
  *   f_ode(t, x, p) -> f                      (NX)
