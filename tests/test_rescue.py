@@ -16,7 +16,7 @@ import pytest
 import pressocp as po
 from pressocp.ocp import Transcription
 from pressocp.ocp.stage import Check, StageResult
-from pressocp.ocp.strategy import MARGIN_FACTOR, Strategy, loses_contact
+from pressocp.ocp.strategy import MARGIN_FACTOR, RAISE_AHEAD, Strategy, loses_contact
 
 
 def stage(name: str, success: bool, speed: po.FourierSpeed) -> StageResult:
@@ -74,17 +74,24 @@ class MarginRigid(po.Rigid):
         return stage(name, True, speed_of(round(margin, 6)))
 
 
+#: The stand-ins' journals below a margin of 0.1: grazing their walls (raised after a failed target
+#: stage), unless a test sets ``OFF_WALL["min"]`` below `RAISE_AHEAD` (raised before it).
+OFF_WALL = {"min": 0.995}
+
+
 @pytest.fixture
 def margin_chain(monkeypatch):
     """(problem, strategy, rigid stage, clearance model) for `Strategy.clearance_chain` with stand-ins:
-    each stage's check says its journals leave their walls below a margin of 0.1."""
+    each stage's check says its journals leave their walls below a margin of 0.1 (|e|/c down to
+    ``OFF_WALL["min"]``)."""
     problem = po.SpeedProblem(po.PressParams(), period=1.0)
     assert problem.reversal_side() == "tension"
+    monkeypatch.setitem(OFF_WALL, "min", 0.995)
 
     def check(self, model, st, problem):
         margin = float(st.speed.a[0])
         return Check(model="stand-in", objective=1.0, ratio=1.0 - margin, periodic=True, ram_speed_violation=0.0,
-                     peak_torque=1.0, verified=False, min_eccentricity=0.95 if margin < 0.1 else 1.01)
+                     peak_torque=1.0, verified=False, min_eccentricity=OFF_WALL["min"] if margin < 0.1 else 1.01)
 
     monkeypatch.setattr(Strategy, "check", check)
     strategy = Strategy(rigid=MarginRigid(), polish_rounds=0, workers=1)
@@ -115,6 +122,14 @@ def test_the_margin_is_raised_when_the_target_fails_from_a_start_that_leaves_the
     assert not stages[-1].success and not stages[-1].superseded
 
 
+class FailingRaise(MarginRigid):
+    """`MarginRigid` whose raised no-reversal stages do not converge."""
+
+    def solve(self, problem, model, start, name="rigid", progress=False):
+        st = super().solve(problem, model, start, name, progress)
+        return stage(name, False, st.speed) if name.startswith("no_reversal_raised") else st
+
+
 @dataclass(frozen=True)
 class Rescuable(Stubborn):
     """Converges rescaled, and from the speeds in `converges_from`."""
@@ -137,6 +152,27 @@ def test_a_start_that_leaves_the_walls_is_raised_not_rescaled_until_no_raise_is_
     # on the walls at 0.1: rescued, not raised
     stages = strategy.clearance_chain(problem, base, rigid, Rescuable(converges_from=(7.0,)), None, False, 0.1)
     assert [s.name for s in stages] == ["no_reversal", "target", "target_rescaled"] and stages[-1].success
+
+
+def test_a_start_far_off_the_walls_is_raised_before_the_target_stage(margin_chain):
+    problem, strategy, rigid, base = margin_chain
+    OFF_WALL["min"] = RAISE_AHEAD - 0.04
+    stages = strategy.clearance_chain(problem, base, rigid, Stubborn(scaled=True, converges_from=(0.1,)), None,
+                                      False, 0.05)
+    assert [s.name for s in stages] == ["no_reversal", "no_reversal_raised_1", "target"]
+    assert "ran again at tension margin 0.1 before the target stage" in stages[0].superseded
+    assert stages[-1].success and not stages[-1].superseded and not stages[1].superseded
+    # at most MARGIN_RAISES raises ahead, then the target stage from the last start, rescued when it can be
+    stages = strategy.clearance_chain(problem, base, rigid, Rescuable(converges_from=(7.0,)), None, False, 0.02)
+    assert [s.name for s in stages] == ["no_reversal", "no_reversal_raised_1", "no_reversal_raised_2", "target",
+                                        "target_rescaled"]
+    assert stages[-1].success and stages[2].details["tension_margin"] == pytest.approx(0.08)
+    # a raise that does not converge: the target stage runs from the start there was, and no raise follows it
+    failing = replace(strategy, rigid=FailingRaise())
+    stages = failing.clearance_chain(problem, base, rigid, Rescuable(converges_from=(0.05,)), None, False, 0.05)
+    assert [s.name for s in stages] == ["no_reversal", "no_reversal_raised_1", "target"]
+    assert "did not converge" in stages[1].superseded and stages[-1].success
+    assert stages[-1].speed.a[0] == pytest.approx(0.05)
 
 
 def test_loses_contact_reads_the_check_against_the_transcriptions_wall_setting():

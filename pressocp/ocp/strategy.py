@@ -16,12 +16,13 @@
 4. ``target``: the clearance model (rigid rod) by the given transcription. It is re-simulated
    (`verify_stage`) and, while that does not confirm the NLP, re-solved with the ram-speed bounds
    moved from its primal-dual solution (``_tightened_k``) or on a finer grid (``_refined_k``):
-   `followed`. When a polish round follows, that waits until the round was not kept. When it does
-   not converge from a no-reversal start whose journals leave their walls on this model, the
-   no-reversal stage runs again at twice the margin and the chain from there
-   (``no_reversal_raised_k``, at most `MARGIN_RAISES` times, `raises`); any other stage that does
-   not converge is solved again from the same start with the KKT matrix scaled (`rescued`,
-   ``{name}_rescaled``).
+   `followed`. When a polish round follows, that waits until the round was not kept. When the
+   no-reversal start's journals leave their walls on this model by more than 1 % of the clearance
+   (`RAISE_AHEAD`), the no-reversal stage runs again at twice the margin before the target stage
+   (``no_reversal_raised_k``, at most `MARGIN_RAISES` times); when the target stage does not
+   converge from a start whose journals leave their walls by less, the same raise follows it
+   (`raises`); any other stage that does not converge is solved again from the same start with the
+   KKT matrix scaled (`rescued`, ``{name}_rescaled``).
 5. ``polish_k``: the last stage's NLP solved again from its own answer, without multipliers. IPOPT's
    barrier restarts there and can leave the local optimum the first pass stopped at. A round is kept
    only when its periodic re-simulation lowers the objective with the ram speed in tolerance and no
@@ -121,6 +122,12 @@ DEFAULT_MARGIN = 0.05
 #: forming40 (60 kN over the window): from 0.05 the target stage did not converge, from 0.1 it did
 #: (docs/measurements.md, 2026-11-27).
 MARGIN_FACTOR, MAX_MARGIN, MARGIN_RAISES = 2.0, 0.5, 2
+#: A no-reversal start whose journals leave their walls further than this (min |e|/c below it) is raised
+#: before the target stage is solved from it, not after that stage failed: from such starts it never
+#: converged (forming40 0.79, 0.92, 0.965; press75 with a gas spring 0.988: 200 iterations each, 1-9
+#: minutes), while from press75's grazing 0.9987 it converged to the seed's optimum
+#: (docs/decisions/2026-12-02-raise-ahead.md).
+RAISE_AHEAD = 0.99
 
 
 @dataclass(frozen=True)
@@ -431,32 +438,27 @@ class Strategy:
             chain.append(("target", base))
         if not chain:
             return stages + self.rounds(problem, None, base, [rigid, *stages], transcription, progress)
+        start, margin, done = self.raised_ahead(problem, base, rigid, start, transcription, margin, stages, progress)
         first = len(stages)
-        raise_next = raises(problem, rigid, start, transcription, margin, 0)
+        raise_next = raises(problem, rigid, start, transcription, margin, done)
         solved, transcription = self.state_chain(problem, chain, transcription,
                                                  start.speed if neighbour is None else neighbour, progress,
                                                  rescue=not raise_next)
         stages += solved
-        for k in range(MARGIN_RAISES):
-            if solved[-1].success or not raise_next:
-                break
+        while raise_next and not solved[-1].success:
             # the no-reversal start's journals leave their walls on the target model, which holds them there:
             # the rod's load kept further from zero gives a start the target stage can reach
-            margin = min(MARGIN_FACTOR * margin, MAX_MARGIN)
-            held = problem.without_reversal(margin)
-            raised = self.rigid.solve(held, base, WarmStart(start.speed), f"no_reversal_raised_{k + 1}", progress)
-            raised.details["tension_margin"] = margin
+            raised = self.raised_start(problem, base, start, margin, done, progress)
             note = (f"{solved[-1].name} did not converge ({solved[-1].status}) from {start.name}, whose journals leave "
                     f"their walls on this model (|e|/c down to {start.check.min_eccentricity:.4g}); the chain ran again "
-                    f"from the no-reversal stage at tension margin {margin:g}")
+                    f"from the no-reversal stage at tension margin {raised.details['tension_margin']:g}")
             for st in stages[first - 1 :]:
                 st.superseded = st.superseded or note
             stages.append(raised)
             if not raised.success:
                 break
-            raised.check = self.check(base, raised, problem)
-            start, first = raised, len(stages)
-            raise_next = raises(problem, rigid, start, transcription, margin, k + 1)
+            start, margin, first, done = raised, raised.details["tension_margin"], len(stages), done + 1
+            raise_next = raises(problem, rigid, start, transcription, margin, done)
             solved, transcription = self.state_chain(problem, chain, transcription, start.speed, progress,
                                                      rescue=not raise_next)
             stages += solved
@@ -464,6 +466,41 @@ class Strategy:
             return stages
         return stages + self.rounds(problem, chain[-1][1], base, [rigid, *stages], transcription, progress,
                                     floor=rigid.objective)
+
+    def raised_ahead(self, problem: SpeedProblem, base: PressModel, rigid: StageResult, start: StageResult,
+                     transcription: Transcription, margin: float | None, stages: list[StageResult],
+                     progress: bool) -> tuple[StageResult, float | None, int]:
+        """The no-reversal stage raised (`raised_start`, appended to `stages`) while its start's journals
+        leave their walls by more than `RAISE_AHEAD` allows, before any target stage is solved from it:
+        the start the target stage is solved from, its margin and the raises done (`MARGIN_RAISES`
+        when a raise did not converge: the target stage then runs from the start there was, and no
+        raise follows it)."""
+        done = 0
+        while raises(problem, rigid, start, transcription, margin, done, RAISE_AHEAD):
+            raised = self.raised_start(problem, base, start, margin, done, progress)
+            stages.append(raised)
+            if not raised.success:
+                raised.superseded = f"it did not converge ({raised.status}); the target stage ran from {start.name}"
+                return start, margin, MARGIN_RAISES
+            start.superseded = start.superseded or (
+                f"its journals leave their walls on this model (|e|/c down to {start.check.min_eccentricity:.4g}, "
+                f"below {RAISE_AHEAD:g}: from such starts the target stage did not converge), so the no-reversal "
+                f"stage ran again at tension margin {raised.details['tension_margin']:g} before the target stage")
+            start, margin, done = raised, raised.details["tension_margin"], done + 1
+        return start, margin, done
+
+    def raised_start(self, problem: SpeedProblem, base: PressModel, start: StageResult, margin: float, done: int,
+                     progress: bool) -> StageResult:
+        """The no-reversal stage again from `start` (solved at tension `margin` after `done` raises) at
+        `MARGIN_FACTOR` times the margin (at most `MAX_MARGIN`): ``no_reversal_raised_{done + 1}``, its
+        margin in ``details["tension_margin"]``, checked on `base` when it converged."""
+        raised_margin = min(MARGIN_FACTOR * margin, MAX_MARGIN)
+        held = problem.without_reversal(raised_margin)
+        raised = self.rigid.solve(held, base, WarmStart(start.speed), f"no_reversal_raised_{done + 1}", progress)
+        raised.details["tension_margin"] = raised_margin
+        if raised.success:
+            raised.check = self.check(base, raised, problem)
+        return raised
 
     def state_chain(self, problem: SpeedProblem, chain: list[tuple[str, PressModel]], transcription: Transcription,
                     speed: FourierSpeed, progress: bool, rescue: bool = True) -> tuple[list[StageResult], Transcription]:
@@ -930,7 +967,7 @@ def near_peak(problem: SpeedProblem, sim: SimResult, share: float) -> np.ndarray
 
 
 def raises(problem: SpeedProblem, rigid: StageResult, start: StageResult, transcription: Transcription,
-           margin: float | None, done: int) -> bool:
+           margin: float | None, done: int, below: float | None = None) -> bool:
     """Whether a target stage from `start` that does not converge is followed by the no-reversal
     stage at a raised margin (after `done` raises of `margin`, the margin `start` was solved at): when
     `start` is a no-reversal answer (not `rigid`) whose journals leave their walls on the clearance
@@ -939,8 +976,11 @@ def raises(problem: SpeedProblem, rigid: StageResult, start: StageResult, transc
     KKT matrix's scaling. From 6 such starts (drawing75 and its two 1 kN variants, press75 with a
     gas spring at margin 0.02, forming40 at both margins) the rescaled re-solve stopped at its
     iteration limit each time; from the one start that kept its journals on their walls (the gas
-    spring at 0.05) it converged (docs/decisions/2026-12-01-raise-before-rescue.md)."""
+    spring at 0.05) it converged (docs/decisions/2026-12-01-raise-before-rescue.md). With `below`, only
+    when the start's min |e|/c is below it too (`RAISE_AHEAD`: the raise before the target stage)."""
     if start is rigid or margin is None or done >= MARGIN_RAISES or not loses_contact(start, transcription):
+        return False
+    if below is not None and not start.check.min_eccentricity < below:
         return False
     return problem.without_reversal(min(MARGIN_FACTOR * margin, MAX_MARGIN)) is not None
 
