@@ -123,10 +123,10 @@ DEFAULT_MARGIN = 0.05
 #: (docs/measurements.md, 2026-11-27).
 MARGIN_FACTOR, MAX_MARGIN, MARGIN_RAISES = 2.0, 0.5, 2
 #: A no-reversal start whose journals leave their walls further than this (min |e|/c below it) is raised
-#: before the target stage is solved from it, not after that stage failed: from such starts it never
-#: converged (forming40 0.79, 0.92, 0.965; press75 with a gas spring 0.988: 200 iterations each, 1-9
-#: minutes), while from press75's grazing 0.9987 it converged to the seed's optimum
-#: (docs/decisions/2026-12-02-raise-ahead.md).
+#: before the target stage is solved from it, not after that stage failed: from such starts no target
+#: stage gave an answer the chain kept (forming40 0.79, 0.92, 0.965: 200 iterations each, 1.5-9 minutes;
+#: press75 with a gas spring 0.988: converged on a grid too coarse, its regrid did not), while from
+#: press75's grazing 0.9987 it converged to the seed's optimum (docs/decisions/2026-12-02-raise-ahead.md).
 RAISE_AHEAD = 0.99
 
 
