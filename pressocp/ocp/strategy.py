@@ -484,8 +484,9 @@ class Strategy:
                 return start, margin, MARGIN_RAISES
             start.superseded = start.superseded or (
                 f"its journals leave their walls on this model (|e|/c down to {start.check.min_eccentricity:.4g}, "
-                f"below {RAISE_AHEAD:g}: from such starts the target stage did not converge), so the no-reversal "
-                f"stage ran again at tension margin {raised.details['tension_margin']:g} before the target stage")
+                f"below {RAISE_AHEAD:g}: from such starts no target stage gave an answer the chain kept), so the "
+                f"no-reversal stage ran again at tension margin {raised.details['tension_margin']:g} before the "
+                "target stage")
             start, margin, done = raised, raised.details["tension_margin"], done + 1
         return start, margin, done
 
