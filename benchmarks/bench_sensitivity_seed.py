@@ -4,7 +4,7 @@ The peak motor torque of the 75 spm seed optimum (`tests/references/press75_opti
 min-max optimum with several rival peaks) on the default model (rigid rod, both clearances),
 differentiated with respect to slider mass, wrist-pin clearance and crank-pin stiffness:
 
-* AD: `po.sensitivities` (forward sensitivities of the periodic response) at rtol 1e-8 to 1e-10,
+* AD: `po.sensitivities` (forward sensitivities of the periodic response) at rtol 1e-7 to 1e-10,
   twice: with its error estimate, as a user calls it by default (a second run at ten times rtol),
   and without (``error_estimate=False``);
 * central differences: the periodic state of each perturbed press (one model with the parameters
@@ -65,7 +65,7 @@ from pressocp.simulate import Integrator, direct_driver, integrator_dae, periodi
 OUT = Path(__file__).parent / "results"
 SEED = Path(__file__).parent.parent / "tests" / "references" / "press75_optimum_speed.json"
 PARAMETERS = ("slider_mass", "wrist_pin.clearance", "crank_pin.stiffness")
-AD_RTOLS = (1e-8, 3e-9, 1e-9, 1e-10)
+AD_RTOLS = (1e-7, 3e-8, 1e-8, 3e-9, 1e-9, 1e-10)
 CD_RTOLS = (1e-9, 3e-10, 1e-10, 1e-11)
 #: The AD rows: label and whether `po.sensitivities` runs its error estimate.
 AD_METHODS = (("AD", True), ("AD, no estimate", False))

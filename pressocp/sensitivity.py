@@ -40,8 +40,10 @@ from .cvodes_fsa import ForwardSensitivities, FsaError, built
 from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
-from .simulate import (DIRECT, HINT, direct_driver, Integrator, SimulationError, calling, compiled_dae, first_line,
+from .simulate import (HINT, direct_driver, Integrator, SimulationError, calling, compiled_dae, first_line,
                        for_repeated_use, periodic_state, simulate)
+from .sensitivity_cycle import (PERIODIC_TOL, SAMPLES, SensitivityCycle, output_jacobian, parameter_scale, refined,
+                                sensitivity_cycle)
 from .speed import FourierSpeed
 
 if TYPE_CHECKING:
@@ -52,10 +54,8 @@ QUANTITIES = {"peak_torque": "torque", "peak_slider_normal_force": "slider_norma
               "peak_crank_pin_force": "crank_pin_force", "peak_wrist_pin_force": "wrist_pin_force"}
 #: A second sample within this relative distance of the peak, away from it, makes the peak not unique.
 UNIQUE_TOL = 1e-3
-#: Samples of the response in which the peak's time is located.
-SAMPLES = 20001
-#: Tolerance of the periodic state, in units of rtol (max-norm of x(T) - x(0), scaled states).
-PERIODIC_TOL = 1e3
+#: Within this share of the period of a peak the error estimate's run finds the same peak.
+NEAR = 0.005
 #: The error estimate compares the derivatives with those at this many times rtol.
 LOOSER = 10.0
 #: A derivative whose error estimate (relative) is at most this is ``resolved``.
@@ -69,6 +69,8 @@ SENSITIVITY_OPTIONS = {"second_order_correction": False}
 #: `Sensitivities.engine` of the compiled CVODES driver, the directions integrated with the states as one
 #: system (`pressocp.cvodes_fsa`).
 ENGINE_FSA = "cvodes fused (compiled)"
+#: `Sensitivities.unverified` without an error estimate.
+NO_ESTIMATE = "no error estimate was asked for (error_estimate=False)"
 #: `Sensitivities.engine` of CasADi's forward integrator (the augmented system).
 ENGINE_CASADI = "casadi forward"
 
@@ -132,16 +134,6 @@ class Sensitivities:
         return float(row["derivative"].iloc[0])
 
 
-def refined(t: np.ndarray, mag: np.ndarray, k: int) -> float:
-    """Time of the vertex of the parabola through sample `k` and its neighbours (t[k] at an end)."""
-    if 0 < k < mag.size - 1:
-        y0, y1, y2 = mag[k - 1], mag[k], mag[k + 1]
-        denom = y0 - 2 * y1 + y2
-        if denom < 0:
-            return float(t[k] + 0.5 * (y0 - y2) / denom * (t[k + 1] - t[k]))
-    return float(t[k])
-
-
 def peak_times(t: np.ndarray, y: np.ndarray, period: float) -> list[float]:
     """Times of max |y| and of every other local maximum within `UNIQUE_TOL` of it and more than 1 %
     of the period away from it (the maximum first; one entry: the maximum is unique), each located
@@ -191,17 +183,6 @@ def kept_fsa(msym: PressModel, n_parameters: int) -> ForwardSensitivities | None
                           "about 4 x)", RuntimeWarning, stacklevel=3)
         msym.functions["cvodes_fsa"] = fsa
     return msym.functions["cvodes_fsa"]
-
-
-def parameter_scale(values: np.ndarray) -> np.ndarray:
-    """|p| per parameter, 1 where p = 0: the unit of the sensitivity directions. A direction in SI
-    units can be far from the states' size (a metre of clearance is 1e4 clearances, a N/m of contact
-    stiffness 1e-8 of it), and CVODES's error control weighs the directions' states with the
-    states' tolerance: on the seed optimum SI seeds took 59 680 steps for the 11-direction cycle,
-    seeds of this unit 37 385, the derivatives the same
-    (docs/decisions/2026-11-29-sensitivity-seeds-and-reuse.md)."""
-    values = np.abs(np.asarray(values, dtype=float))
-    return np.where(values > 0.0, values, 1.0)
 
 
 def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tuple[float, int]], x0: np.ndarray,
@@ -300,20 +281,6 @@ def casadi_forward(msym: PressModel, grid: list[float], x0: np.ndarray, pv: np.n
     return S.reshape(nx, nd, len(grid))  # the directions' states at each grid time, direction by direction
 
 
-def output_jacobian(msym: PressModel) -> ca.Function:
-    """(t, x, speed parameters, press parameters) -> (every output of `OUTPUT_NAMES`, their Jacobians
-    with respect to the scaled states and to the press parameters `msym` carries (its ``symbols``,
-    SI)), kept with `msym`."""
-    if "output_jacobian" not in msym.functions:
-        n = len(msym.symbols)
-        t, x = ca.SX.sym("t"), ca.SX.sym("x", msym.nx)
-        ps, q = ca.SX.sym("ps", msym.p.numel() - n), ca.SX.sym("q", n)
-        y = ca.vertcat(*msym.outputs(t, x, ca.vertcat(ps, q)))
-        msym.functions["output_jacobian"] = ca.Function("output_jacobian", [t, x, ps, q],
-                                                        [y, ca.jacobian(y, x), ca.jacobian(y, q)])
-    return msym.functions["output_jacobian"]
-
-
 def states_from_samples(msym: PressModel, speed: FourierSpeed, t: np.ndarray, X: np.ndarray, times: Sequence[float],
               rtol: float) -> dict[float, np.ndarray]:
     """Scaled states at `times` (s, in [t[0], t[-1]]) of the run sampled as `X` (scaled, one column per
@@ -392,11 +359,65 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
         raise ValueError("the model has no states: differentiate the closed-form rigid response instead")
     msym = sensitivity_model(model, names)
     pv = msym.parameters(speed)
-    T = speed.period
-    # the periodic search on the integrator of the sensitivities (their compiled driver, else CasADi's
-    # CVODES compiled), on the model itself: one periodic state whichever parameters are asked
     fsa = kept_fsa(msym, len(names))
-    search = (model, DIRECT) if fsa is not None and direct_search(model) else (for_repeated_use(model), "cvodes")
+    if fsa is not None and direct_search(model):
+        peaks, y, d, errors, unverified = compiled(model, msym, fsa, speed, quantities, rtol, periodic,
+                                                   error_estimate)
+        engine = ENGINE_FSA
+    else:
+        peaks, y, d, errors, unverified, engine = searched(model, msym, speed, quantities, rtol, periodic,
+                                                           error_estimate)
+    rows, per_peak = sensitivity_rows(peaks, names, pv[pv.size - len(names):], y, d, errors)
+    import pandas as pd  # 0.5 s to import: only where a table is made
+
+    return Sensitivities(pd.DataFrame(rows), pd.DataFrame(per_peak), periodic, time.perf_counter() - t_start,
+                         unverified, engine)
+
+
+def compiled(model: PressModel, msym: PressModel, fsa: ForwardSensitivities, speed: FourierSpeed,
+             quantities: Sequence[str], rtol: float, periodic: bool,
+             error_estimate: bool) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray, str]:
+    """The peaks of each quantity, their values y, derivatives d and error estimates (and why there are
+    none, or "") through the compiled driver: the peaks located on the cycle that carries the
+    directions (`pressocp.sensitivity_cycle`), the estimate the same at `LOOSER` times rtol, each
+    peak's derivative there read at that run's own peak nearest it."""
+    T = speed.period
+    cycle = sensitivity_cycle(model, msym, fsa, speed, rtol, periodic)
+    peaks = {q: [min(max(tq, 0.0), T) for tq in peak_times(cycle.response.t, getattr(cycle.response, QUANTITIES[q]), T)]
+             for q in quantities}
+    targets = [(tq, OUTPUT_NAMES.index(QUANTITIES[q])) for q in quantities for tq in peaks[q]]
+    y, d = at_peaks(cycle, msym, speed, targets)
+    if not error_estimate:
+        return peaks, y, d, np.full(d.shape, np.inf), NO_ESTIMATE
+    try:
+        loose = sensitivity_cycle(model, msym, fsa, speed, LOOSER * rtol, periodic)
+    except SimulationError as err:  # no estimate: every derivative is unverified, and says why
+        return peaks, y, d, np.full(d.shape, np.inf), failed_estimate(err)
+    # each peak read where the looser run has it: its time moves with the tolerance by microseconds,
+    # and the derivative with it (`pressocp.sensitivity_cycle`)
+    d_loose = at_peaks(loose, msym, speed, [(loose.peak_near(i, t, NEAR * T), i) for t, i in targets])[1]
+    return peaks, y, d, relative(d, d_loose), ""
+
+
+def at_peaks(cycle: SensitivityCycle, msym: PressModel, speed: FourierSpeed,
+             targets: Sequence[tuple[float, int]]) -> tuple[np.ndarray, np.ndarray]:
+    """Values and derivatives at each (time, output index) of `targets` on `cycle`."""
+    y, d = np.empty(len(targets)), np.empty((len(targets), cycle.dx0.shape[1]))
+    for k, (t, i) in enumerate(targets):
+        y[k], d[k] = cycle.at_peak(msym, speed, t, i)
+    return y, d
+
+
+def searched(model: PressModel, msym: PressModel, speed: FourierSpeed, quantities: Sequence[str], rtol: float,
+             periodic: bool, error_estimate: bool) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray, str, str]:
+    """As `compiled`, with the engine's name, where the compiled driver of the directions or of the
+    periodic search cannot be built: the peaks located on a sampled periodic run by CasADi's CVODES,
+    the directions integrated to them (`peak_derivatives`). The peaks of that run are microseconds
+    from those of the run with directions, which costs accuracy: on the seed optimum 0.9 % at rtol
+    1e-8 against 0.2 % with the compiled driver."""
+    T = speed.period
+    fsa = kept_fsa(msym, len(msym.symbols))  # built (or not) already
+    search = (for_repeated_use(model), "cvodes")
     # periodic: the search's last cycle is the sampled response (one cycle fewer than a search and a run)
     res = simulate(search[0], speed, periodic=periodic, n_out=SAMPLES, work=False,
                    integrator=Integrator(search[1], rtol, periodic_tol=PERIODIC_TOL * rtol))
@@ -409,17 +430,21 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     # does not return them, so they come from the sampled response
     nominal = None if fsa is not None else states_from_samples(
         msym, speed, t_rel, res.states / model.x_scale[:, None], [t for t, _ in targets], rtol)
-    y, d, engine = peak_derivatives(msym, speed, targets, x0, len(names), rtol, periodic, nominal)
+    y, d, engine = peak_derivatives(msym, speed, targets, x0, len(msym.symbols), rtol, periodic, nominal)
     if not error_estimate:
-        errors = np.full(d.shape, np.inf)
-        unverified = "no error estimate was asked for (error_estimate=False)"
-    else:
-        errors, unverified = estimated_errors(search, msym, speed, targets, x0, d, rtol, periodic)
-    rows, per_peak = sensitivity_rows(peaks, names, pv[pv.size - len(names):], y, d, errors)
-    import pandas as pd  # 0.5 s to import: only where a table is made
+        return peaks, y, d, np.full(d.shape, np.inf), NO_ESTIMATE, engine
+    errors, unverified = estimated_errors(search, msym, speed, targets, x0, d, rtol, periodic)
+    return peaks, y, d, errors, unverified, engine
 
-    return Sensitivities(pd.DataFrame(rows), pd.DataFrame(per_peak), periodic, time.perf_counter() - t_start,
-                         unverified, engine)
+
+def relative(d: np.ndarray, d_other: np.ndarray) -> np.ndarray:
+    """|d - d_other| / |d| (inf-free where d = 0: divided by the smallest positive float)."""
+    return np.abs(d - d_other) / np.maximum(np.abs(d), np.finfo(float).tiny)
+
+
+def failed_estimate(err: SimulationError) -> str:
+    """`Sensitivities.unverified` when the run at `LOOSER` times rtol failed."""
+    return f"the run at {LOOSER:g} rtol failed: {str(err).splitlines()[0]}"
 
 
 def direct_search(model: PressModel) -> bool:
@@ -458,8 +483,8 @@ def estimated_errors(search: tuple[PressModel, str], msym: PressModel, speed: Fo
         x_loose = periodic_state(search[0], speed, loose, tol=PERIODIC_TOL * loose.rtol)[0] if periodic else x0
         d_loose = peak_derivatives(msym, speed, targets, x_loose, d.shape[1], LOOSER * rtol, periodic)[1]
     except SimulationError as err:  # no estimate: every derivative is unverified, and says why
-        return np.full(d.shape, np.inf), f"the run at {LOOSER:g} rtol failed: {str(err).splitlines()[0]}"
-    return np.abs(d - d_loose) / np.maximum(np.abs(d), np.finfo(float).tiny), ""
+        return np.full(d.shape, np.inf), failed_estimate(err)
+    return relative(d, d_loose), ""
 
 
 def sensitivity_rows(peaks: dict, names: tuple[str, ...], values: np.ndarray, y: np.ndarray, d: np.ndarray,

@@ -1,0 +1,214 @@
+"""One cycle of a press's states and their forward sensitivities, sampled densely by the compiled
+driver (`pressocp.cvodes_fsa`), and the derivatives of its peaks read from it.
+
+A peak J = |y(t*)| is differentiated at its time t*: dJ/dp = sign(y) dy/dp at t*. The sensitivity
+dy/dp changes quickly about a peak of the seed optimum (a journal on its wall), so t* must be the peak
+of the very run that carries the directions: the seed optimum's peak times located on a plain run of
+the same tolerance lay 1-4 µs from the sensitivity run's, and that alone made the derivatives' error
+against central differences at rtol 1e-12 0.9 % at rtol 1e-8 and 4.8 % at 3e-8; read at the
+sensitivity run's own peaks, 0.2-0.3 % at either (docs/decisions/2026-12-02-peaks-of-the-sensitivity-run.md).
+So the states and directions are sampled together (`SAMPLES` per cycle), the peaks located on those
+samples (a parabola through the top three), and the derivative at t* interpolated by the parabola
+through the three samples about it.
+
+The cycle whose directions are kept is also the periodic search's confirming cycle: the search settles
+cycle by cycle on the plain driver and runs the cycle expected to settle with its directions; when it
+ends within the tolerance of its start, that start is the periodic state (one plain cycle fewer than a
+search followed by a sensitivity run).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from .cvodes_fsa import ForwardSensitivities, FsaError
+from .model import OUTPUT_NAMES, PressModel
+from .result import SimResult
+from .simulate import (DIRECT, HINT, Integrator, SimulationError, direct_driver, expect_settled, periodic_state,
+                       sim_result)
+from .speed import FourierSpeed
+
+#: Samples of a cycle in which the peaks are located and their derivatives interpolated. At a tenth of
+#: them (2001) the seed optimum's derivatives were off by a factor of 3, at 10 001 by 2.5 %.
+SAMPLES = 20001
+#: Tolerance of the periodic state, in units of rtol (max-norm of x(T) - x(0), scaled states).
+PERIODIC_TOL = 1e3
+#: Settling cycles of the periodic search before its cycles with directions.
+MAX_SETTLE = 12
+#: Newton steps of the periodic search from the cycles with directions (their monodromy matrix) before
+#: it hands over to `pressocp.simulate.periodic_state`.
+MAX_NEWTON = 3
+
+
+def parameter_scale(values: np.ndarray) -> np.ndarray:
+    """|p| per parameter, 1 where p = 0: the unit of the sensitivity directions. A direction in SI
+    units can be far from the states' size (a metre of clearance is 1e4 clearances, a N/m of contact
+    stiffness 1e-8 of it), and CVODES's error control weighs the directions' states with the
+    states' tolerance: on the seed optimum SI seeds took 59 680 steps for the 11-direction cycle,
+    seeds of this unit 37 385, the derivatives the same
+    (docs/decisions/2026-11-29-sensitivity-seeds-and-reuse.md)."""
+    values = np.abs(np.asarray(values, dtype=float))
+    return np.where(values > 0.0, values, 1.0)
+
+
+def output_jacobian(msym: PressModel) -> ca.Function:
+    """(t, x, speed parameters, press parameters) -> (every output of `OUTPUT_NAMES`, their Jacobians
+    with respect to the scaled states and to the press parameters `msym` carries (its ``symbols``,
+    SI)), kept with `msym`."""
+    if "output_jacobian" not in msym.functions:
+        n = len(msym.symbols)
+        t, x = ca.SX.sym("t"), ca.SX.sym("x", msym.nx)
+        ps, q = ca.SX.sym("ps", msym.p.numel() - n), ca.SX.sym("q", n)
+        y = ca.vertcat(*msym.outputs(t, x, ca.vertcat(ps, q)))
+        msym.functions["output_jacobian"] = ca.Function("output_jacobian", [t, x, ps, q],
+                                                        [y, ca.jacobian(y, x), ca.jacobian(y, q)])
+    return msym.functions["output_jacobian"]
+
+
+def refined(t: np.ndarray, mag: np.ndarray, k: int) -> float:
+    """Time of the vertex of the parabola through sample `k` and its neighbours (t[k] at an end)."""
+    if 0 < k < mag.size - 1:
+        y0, y1, y2 = mag[k - 1], mag[k], mag[k + 1]
+        denom = y0 - 2 * y1 + y2
+        if denom < 0:
+            return float(t[k] + 0.5 * (y0 - y2) / denom * (t[k + 1] - t[k]))
+    return float(t[k])
+
+
+@dataclass
+class SensitivityCycle:
+    """One cycle of states and directions sampled on a uniform grid.
+
+    Attributes
+    ----------
+    response : SimResult
+        The states and outputs at the samples (``t`` from 0, s).
+    X : ndarray, shape (nx, SAMPLES)
+        Scaled states at the samples.
+    S : ndarray, shape (nx, nx + n_parameters, SAMPLES - 1)
+        The directions at the samples after t = 0: d x(t) / d x(0) and d x(t) / d p (per SI unit of
+        p); at t = 0 they are the identity and zero.
+    dx0 : ndarray, shape (nx, n_parameters)
+        d x(0) / d p: the motion of the periodic state, (I - dPhi/dx0)^-1 dPhi/dp; zero for a first
+        cycle from rest.
+    info : dict
+        The periodic search's ``cycles`` (the last with directions), ``newton`` steps and ``residual``.
+    """
+
+    response: SimResult
+    X: np.ndarray
+    S: np.ndarray
+    dx0: np.ndarray
+    info: dict
+
+    def at_peak(self, msym: PressModel, speed: FourierSpeed, t_peak: float, output: int) -> tuple[float, np.ndarray]:
+        """The output `output` (index in `OUTPUT_NAMES`) at `t_peak` (s) and sign(y) dy/dp there, each
+        interpolated by the parabola through the three samples about it."""
+        t = self.response.t
+        n, nx = t.size, self.X.shape[0]
+        k = min(max(int(round(t_peak / (t[1] - t[0]))), 1), n - 2)
+        pv = msym.parameters(speed)
+        n_speed = pv.size - self.dx0.shape[1]
+        Y = output_jacobian(msym)
+        values, derivs = [], []
+        for j in (k - 1, k, k + 1):
+            v, y_x, y_q = (np.asarray(a) for a in Y(t[j], self.X[:, j], pv[:n_speed], pv[n_speed:]))
+            St = np.eye(nx, self.S.shape[1]) if j == 0 else self.S[:, :, j - 1]
+            values.append(v[output, 0])
+            derivs.append(y_x[output] @ (St[:, :nx] @ self.dx0 + St[:, nx:]) + y_q[output])
+        u = (t_peak - t[k]) / (t[k] - t[k - 1])
+        w = np.array([0.5 * u * (u - 1.0), 1.0 - u * u, 0.5 * u * (u + 1.0)])
+        y = float(w @ np.array(values))
+        return y, np.sign(y) * (w @ np.array(derivs))
+
+    def peak_near(self, output: int, t_guess: float, window: float) -> float:
+        """Time (s) of the local maximum of |output| nearest `t_guess` within `window` s of it (the
+        sample nearest `t_guess` when there is none), located between samples by a parabola."""
+        t = self.response.t
+        mag = np.abs(getattr(self.response, OUTPUT_NAMES[output]))
+        dt = t[1] - t[0]
+        lo = max(int(np.floor((t_guess - window) / dt)), 1)
+        hi = min(int(np.ceil((t_guess + window) / dt)), t.size - 2)
+        k = np.arange(lo, hi + 1)
+        maxima = k[(mag[k] >= mag[k - 1]) & (mag[k] >= mag[k + 1])]
+        if maxima.size == 0:
+            return float(t[min(max(int(round(t_guess / dt)), 0), t.size - 1)])
+        return refined(t, mag, int(maxima[np.argmin(np.abs(t[maxima] - t_guess))]))
+
+
+def sensitivity_cycle(model: PressModel, msym: PressModel, fsa: ForwardSensitivities, speed: FourierSpeed,
+                      rtol: float, periodic: bool) -> SensitivityCycle:
+    """The cycle of `model` driven by `speed` with its directions (`fsa`, of `msym`: `model` with its
+    last parameters as symbols), sampled at `SAMPLES`: the periodic one (to 1000 `rtol` in scaled
+    states) when `periodic`, else the first from the model's rest state.
+
+    The periodic search settles from rest on `model`'s plain compiled driver; the cycle expected to
+    settle (`pressocp.simulate.expect_settled`) runs with its directions, and the first that ends
+    within the tolerance of its start is the answer. After `MAX_SETTLE` cycles the search is
+    `periodic_state`'s (settling, then Newton's method), and one cycle with directions runs from its
+    answer.
+
+    Raises
+    ------
+    SimulationError
+        A run failed, or the periodic search did not converge.
+    """
+    tol = PERIODIC_TOL * rtol
+    T = speed.period
+    if not periodic:
+        return with_directions(model, msym, fsa, speed, model.x0, rtol, periodic, {"cycles": 1, "newton": 0,
+                                                                                    "residual": np.nan})
+    driver = direct_driver(model, False)
+    p = model.parameters(speed)
+    none = (np.zeros((model.nx, 0)), np.zeros((0, 0)))
+    x, residuals = model.x0, []
+    while len(residuals) < MAX_SETTLE and not expect_settled(residuals, tol, from_rest=True):
+        try:
+            x_next = driver.run(x, p, *none, np.array([T]), rtol)[0][:, 0]
+        except FsaError as err:
+            raise SimulationError(str(err), time=err.time, method=DIRECT, hint=HINT) from None
+        residuals.append(float(np.max(np.abs(x_next - x))))
+        x = x_next
+    for newton in range(MAX_NEWTON + 1):
+        run = with_directions(model, msym, fsa, speed, x, rtol, periodic, {})
+        change = run.X[:, -1] - x
+        step = np.linalg.solve(np.eye(model.nx) - run.S[:, :model.nx, -1], change)
+        res = float(np.max(np.abs(change)))
+        if max(res, float(np.max(np.abs(step)))) <= tol:
+            run.info.update(cycles=len(residuals) + newton + 1, newton=newton, residual=res)
+            return run
+        x = x + step if np.all(np.isfinite(step)) else run.X[:, -1]
+    x, info = periodic_state(model, speed, Integrator(DIRECT, rtol), x_start=x, tol=tol)
+    return with_directions(model, msym, fsa, speed, x, rtol, periodic, {**info, "newton": MAX_NEWTON + info["newton"]})
+
+
+def with_directions(model: PressModel, msym: PressModel, fsa: ForwardSensitivities, speed: FourierSpeed,
+                    x0: np.ndarray, rtol: float, periodic: bool, info: dict) -> SensitivityCycle:
+    """One cycle from the scaled state `x0` with its nx + n_parameters directions, sampled at `SAMPLES`,
+    and its outputs."""
+    nx, n_par = model.nx, fsa.n_parameters
+    t = np.linspace(0.0, speed.period, SAMPLES)
+    pv = msym.parameters(speed)
+    # differentiated with respect to q = p / scale: the directions' states are then of the states'
+    # own size, and the error control weighs them alike
+    scale = parameter_scale(pv[pv.size - n_par:])
+    Q = np.zeros((n_par, nx + n_par))
+    Q[:, nx:] = np.diag(scale)
+    try:  # Ctrl-C stops it (KeyboardInterrupt)
+        X, S, stats = fsa.run(x0, pv, np.eye(nx, nx + n_par), Q, t[1:], rtol)
+    except FsaError as err:
+        raise SimulationError(str(err), time=err.time, method="cvodes (sensitivities)", hint=HINT) from None
+    X = np.hstack([x0[:, None], X])
+    S[:, nx:, :] /= scale[:, None]
+    end = S[:, :, -1]
+    dx0 = (np.linalg.solve(np.eye(nx) - end[:, :nx], end[:, nx:]) if periodic else np.zeros((nx, n_par)))
+    response = sim_result(model, model.parameters(speed), t, X, None,
+                          {"steps": int(stats["steps"]), "rhs_evaluations": int(stats["rhs"])}, DIRECT)
+    return SensitivityCycle(response, X, S, dx0, info)
+
+
+__all__ = ["PERIODIC_TOL", "SAMPLES", "SensitivityCycle", "output_jacobian", "parameter_scale", "refined",
+           "sensitivity_cycle"]
