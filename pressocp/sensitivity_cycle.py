@@ -140,7 +140,7 @@ class SensitivityCycle:
 
 
 def sensitivity_cycle(model: PressModel, msym: PressModel, fsa: ForwardSensitivities, speed: FourierSpeed,
-                      rtol: float, periodic: bool) -> SensitivityCycle:
+                      rtol: float, periodic: bool, extra_cycles: int = 0) -> SensitivityCycle:
     """The cycle of `model` driven by `speed` with its directions (`fsa`, of `msym`: `model` with its
     last parameters as symbols), sampled at `SAMPLES`: the periodic one (to 1000 `rtol` in scaled
     states) when `periodic`, else the first from the model's rest state.
@@ -165,7 +165,8 @@ def sensitivity_cycle(model: PressModel, msym: PressModel, fsa: ForwardSensitivi
     p = model.parameters(speed)
     none = (np.zeros((model.nx, 0)), np.zeros((0, 0)))
     x, residuals = model.x0, []
-    while len(residuals) < MAX_SETTLE and not expect_settled(residuals, tol, from_rest=True):
+    while len(residuals) < MAX_SETTLE and (not expect_settled(residuals, tol, from_rest=True)
+                                           or len(residuals) < 1 + extra_cycles):
         try:
             x_next = driver.run(x, p, *none, np.array([T]), rtol)[0][:, 0]
         except FsaError as err:

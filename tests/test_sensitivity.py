@@ -163,10 +163,10 @@ def test_without_a_looser_run_every_derivative_is_unverified(monkeypatch):
 
     found = sens.sensitivity_cycle
 
-    def stalls_when_loose(model, msym, fsa, speed, rtol, periodic):
+    def stalls_when_loose(model, msym, fsa, speed, rtol, periodic, **kwargs):
         if rtol > 1e-8:
             raise po.SimulationError("periodic steady state not found: residual 3e-05 (tol 1e-05)")
-        return found(model, msym, fsa, speed, rtol, periodic)
+        return found(model, msym, fsa, speed, rtol, periodic, **kwargs)
 
     monkeypatch.setattr(sens, "sensitivity_cycle", stalls_when_loose)
     model = po.build_model(po.PressParams(), clearance=("wrist_pin",))
@@ -187,9 +187,9 @@ def test_without_the_estimate_the_derivatives_are_the_same_and_unverified(monkey
 
     found, tolerances = sens.sensitivity_cycle, []
 
-    def recorded(model, msym, fsa, speed, rtol, periodic):
+    def recorded(model, msym, fsa, speed, rtol, periodic, **kwargs):
         tolerances.append(rtol)
-        return found(model, msym, fsa, speed, rtol, periodic)
+        return found(model, msym, fsa, speed, rtol, periodic, **kwargs)
 
     monkeypatch.setattr(sens, "sensitivity_cycle", recorded)
     bare = sensitivities(model, speed, ("slider_mass",), rtol=1e-8, error_estimate=False)
