@@ -81,6 +81,7 @@ STEP = 1e-3  # relative
 GOAL_ERROR = 0.02
 GOAL_RATIO = 3.0
 PERIODIC_TOL = 1e3  # x rtol, as `po.sensitivities` searches its periodic state
+ALTERNATED = 7  # runs of each in `alternate`
 SAMPLES = 20001  # of the nominal response in which central differences locate the peaks, as AD's
 
 
@@ -292,6 +293,7 @@ def measure(repeat: int) -> dict:
                for label, estimate in AD_METHODS}
     periods = engine_periods(model, speed)
     print(f"one period at rtol {ENGINE_RTOL:g}: {periods['median_s']}", flush=True)
+    alternated = alternate(model, cd_model, speed, peaks, best["AD, no estimate"], best[CD_DRIVER])
     return {**stamp(), "versions": versions(), "case": "press75 seed optimum, default model, peak motor torque",
             "parameters": list(PARAMETERS), "peaks_s": {n: list(peaks[n]) for n in PARAMETERS}, "step": STEP,
             "reference_rtol": REFERENCE_RTOL, "reference_s": ref_s, "reference": reference, "repeat": repeat,
@@ -301,7 +303,26 @@ def measure(repeat: int) -> dict:
                                "ratio": ratio("AD, no estimate"), "ratio_with_estimate": ratio("AD"),
                                "ratio_same_integrator": ratio("AD, no estimate", CD_DRIVER)},
             "ad_engine": engines["AD, no estimate"], "engine_periods": periods,
-            "ad_against_cd_1e-10": within}
+            "ad_against_cd_1e-10": within, "alternated": alternated}
+
+
+def alternate(model: po.PressModel, cd_model: po.PressModel, speed: po.FourierSpeed, peaks: dict[str, np.ndarray],
+              ad: dict | None, cd: dict | None) -> dict | None:
+    """AD without its estimate and central differences on AD's driver, each at the rtol picked at equal
+    accuracy, timed in turn `ALTERNATED` times: the ratio of the medians with the machine's drift
+    shared (the rows above time each method's rtols in a block of their own, minutes apart)."""
+    if ad is None or cd is None:
+        return None
+    times: dict[str, list[float]] = {"AD, no estimate": [], CD_DRIVER: []}
+    for _ in range(ALTERNATED):
+        times["AD, no estimate"].append(ad_derivatives(model, speed, ad["rtol"], False)[3])
+        t0 = time.perf_counter()
+        central_differences(cd_model, speed, peaks, cd["rtol"], True)
+        times[CD_DRIVER].append(time.perf_counter() - t0)
+    medians = {k: float(np.median(v)) for k, v in times.items()}
+    print(f"alternated: {medians}", flush=True)
+    return {"rtol": {"AD, no estimate": ad["rtol"], CD_DRIVER: cd["rtol"]}, "times_s": times, "median_s": medians,
+            "ratio_same_integrator": medians[CD_DRIVER] / medians["AD, no estimate"]}
 
 
 def plot(data: dict) -> plt.Figure:

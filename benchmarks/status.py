@@ -652,9 +652,13 @@ def same_integrator(r: dict) -> str:
     eq, label = r["equal_accuracy"], "central differences (AD's CVODES driver)"
     if eq.get("ratio_same_integrator") is None or eq.get(label) is None:
         return ""
+    alt = r.get("alternated")
+    alternated = ("" if not alt else f" (timed in turn, {len(alt['times_s'][label])} runs each: "
+                  f"{alt['median_s']['AD, no estimate']:.2f} s against {alt['median_s'][label]:.2f} s, "
+                  f"**{alt['ratio_same_integrator']:.2f} ×**)")
     return (f"; AD's engine: {r.get('ad_engine', '?')}; central differences on that same compiled CVODES driver "
             f"{eq[label]['median_s']:.2f} s (rtol {eq[label]['rtol']:g}): **{eq['ratio_same_integrator']:.2f} ×** "
-            f"on one integrator")
+            f"on one integrator{alternated}")
 
 
 CHECKS: tuple[Callable[[Results], Row | list[Row]], ...] = (
