@@ -145,11 +145,14 @@ def sensitivity_cycle(model: PressModel, msym: PressModel, fsa: ForwardSensitivi
     last parameters as symbols), sampled at `SAMPLES`: the periodic one (to 1000 `rtol` in scaled
     states) when `periodic`, else the first from the model's rest state.
 
-    The periodic search settles from rest on `model`'s plain compiled driver; the cycle expected to
-    settle (`pressocp.simulate.expect_settled`) runs with its directions, and the first that ends
-    within the tolerance of its start is the answer. After `MAX_SETTLE` cycles the search is
-    `periodic_state`'s (settling, then Newton's method), and one cycle with directions runs from its
-    answer.
+    The periodic search settles from rest on `model`'s plain compiled driver (`extra_cycles` more
+    than it needs); the cycle expected to settle (`pressocp.simulate.expect_settled`) runs with its
+    directions. It is the answer when both its residual x(T) - x(0) and the Newton step from its own
+    monodromy matrix, (I - dPhi/dx0)^-1 (x(T) - x(0)), are within the tolerance; else the next cycle
+    with directions starts from x(0) plus that step, at most `MAX_NEWTON` times while the residual
+    falls. Otherwise (through impacts the period map is not smooth enough for those steps)
+    `periodic_state` searches from the state with the lowest residual (settling, then Newton's method
+    on difference Jacobians with a line search), and one cycle with directions runs from its answer.
 
     Raises
     ------
@@ -173,6 +176,7 @@ def sensitivity_cycle(model: PressModel, msym: PressModel, fsa: ForwardSensitivi
             raise SimulationError(str(err), time=err.time, method=DIRECT, hint=HINT) from None
         residuals.append(float(np.max(np.abs(x_next - x))))
         x = x_next
+    best: tuple[float, np.ndarray] | None = None
     for newton in range(MAX_NEWTON + 1):
         run = with_directions(model, msym, fsa, speed, x, rtol, periodic, {})
         change = run.X[:, -1] - x
@@ -181,9 +185,15 @@ def sensitivity_cycle(model: PressModel, msym: PressModel, fsa: ForwardSensitivi
         if max(res, float(np.max(np.abs(step)))) <= tol:
             run.info.update(cycles=len(residuals) + newton + 1, newton=newton, residual=res)
             return run
-        x = x + step if np.all(np.isfinite(step)) else run.X[:, -1]
-    x, info = periodic_state(model, speed, Integrator(DIRECT, rtol), x_start=x, tol=tol)
-    return with_directions(model, msym, fsa, speed, x, rtol, periodic, {**info, "newton": MAX_NEWTON + info["newton"]})
+        if best is not None and res >= best[0] or not np.all(np.isfinite(step)):
+            break  # the period map is not smooth enough here for Newton's method (impacts)
+        best = (res, x) if best is None or res < best[0] else best
+        x = x + step
+    # the package's periodic search (settling, then Newton's method on difference Jacobians with a
+    # line search) from the state with the lowest residual
+    x, info = periodic_state(model, speed, Integrator(DIRECT, rtol), x_start=best[1] if best else x, tol=tol)
+    return with_directions(model, msym, fsa, speed, x, rtol, periodic,
+                           {**info, "cycles": len(residuals) + newton + 1 + info["cycles"]})
 
 
 def with_directions(model: PressModel, msym: PressModel, fsa: ForwardSensitivities, speed: FourierSpeed,
