@@ -239,12 +239,16 @@ def test_an_impacting_response_falls_back_to_the_periodic_search():
     """The 75 spm kinematic design impacts: Newton steps from the sensitivity cycle's own monodromy
     do not lower its residual there, and the package's periodic search (settling, difference Newton
     with a line search) finds the state from the best of them. The peak is that of a periodic
-    simulation found apart (`po.simulate`, CVODES) to 0.5 %."""
+    simulation found apart (`po.simulate`, CVODES, periodic to 1e-6: at 1e-7 its own search stalls at
+    2e-7 on this response, whose per-cycle peaks wander) to 0.5 %."""
     scenario = po.Scenario.load("press75")
     model = scenario.build_model()
     speed = po.design_speed(scenario.problem).speed
-    s = sensitivities(model, speed, ("slider_mass",), rtol=1e-10, error_estimate=False)
+    # the tornado's parameters (benchmarks/bench_studies.py), with which the monodromy's steps diverged
+    names = ("slider_mass", "rod_mass", "crank_inertia", "wrist_pin.clearance", "crank_pin.clearance",
+             "wrist_pin.stiffness", "crank_pin.stiffness")
+    s = sensitivities(model, speed, names, rtol=1e-10, error_estimate=False)
     r = po.simulate(model, speed, periodic=True, n_out=20001, work=False,
-                    integrator=po.Integrator("cvodes", rtol=1e-10, periodic_tol=1e-7))
+                    integrator=po.Integrator("cvodes", rtol=1e-10, periodic_tol=1e-6))
     assert np.isfinite(s.table["derivative"]).all()
     assert s.table["value"].iloc[0] == pytest.approx(np.max(np.abs(r.torque)), rel=5e-3)
