@@ -252,6 +252,8 @@ class ForwardSensitivities:
         -------
         x : ndarray, shape (nx, len(grid))
         S : ndarray, shape (nx, ns, len(grid))
+            ``x`` and ``S`` are views of the driver's output buffers, not copies (a dense grid of
+            20 001 samples of 8 states and 88 directions is 15 MB): either keeps the buffer alive.
         stats : dict
             ``steps``, ``rhs`` (right-hand sides), ``jacobians`` (of the linear solver),
             ``sensitivity_jacobians`` (of CVODES's staggered directions).

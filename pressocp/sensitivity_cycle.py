@@ -13,8 +13,13 @@ through the three samples about it.
 
 The cycle whose directions are kept is also the periodic search's confirming cycle: the search settles
 cycle by cycle on the plain driver and runs the cycle expected to settle with its directions; when it
-ends within the tolerance of its start, that start is the periodic state (one plain cycle fewer than a
-search followed by a sensitivity run).
+ends within the tolerance of its start, and so does the Newton step from its own monodromy matrix,
+that start is the periodic state (one plain cycle fewer than a search followed by a sensitivity run).
+Otherwise the next cycle with directions starts from that step: the map contracts strongly (the
+largest eigenvalue of dPhi/dx0 is 2.4e-3 at constant speed), so a settled cycle's residual is its
+start's distance from the periodic state, and the search's 1000 rtol left states 1e-6 to 1e-5 from
+it at rtol 1e-8, which moved derivatives that are cancellations (the contact stiffness's at constant
+speed, 2e-17 N m per N/m, came out -5.9e-15); one step takes the state to about 1e-10.
 """
 
 from __future__ import annotations
@@ -95,7 +100,8 @@ class SensitivityCycle:
         d x(0) / d p: the motion of the periodic state, (I - dPhi/dx0)^-1 dPhi/dp; zero for a first
         cycle from rest.
     info : dict
-        The periodic search's ``cycles`` (the last with directions), ``newton`` steps and ``residual``.
+        The periodic search's ``cycles``, ``newton`` steps, ``residual``, ``step`` and ``fallback``
+        (`sensitivity_cycle`).
     """
 
     response: SimResult
@@ -145,14 +151,14 @@ def sensitivity_cycle(model: PressModel, msym: PressModel, fsa: ForwardSensitivi
     last parameters as symbols), sampled at `SAMPLES`: the periodic one (to 1000 `rtol` in scaled
     states) when `periodic`, else the first from the model's rest state.
 
-    The periodic search settles from rest on `model`'s plain compiled driver (`extra_cycles` more
-    than it needs); the cycle expected to settle (`pressocp.simulate.expect_settled`) runs with its
-    directions. It is the answer when both its residual x(T) - x(0) and the Newton step from its own
-    monodromy matrix, (I - dPhi/dx0)^-1 (x(T) - x(0)), are within the tolerance; else the next cycle
-    with directions starts from x(0) plus that step, at most `MAX_NEWTON` times while the residual
-    falls. Otherwise (through impacts the period map is not smooth enough for those steps)
-    `periodic_state` searches from the state with the lowest residual (settling, then Newton's method
-    on difference Jacobians with a line search), and one cycle with directions runs from its answer.
+    The periodic search settles from rest on `model`'s plain compiled driver until the next cycle is
+    expected to settle (`pressocp.simulate.expect_settled`), then `extra_cycles` plain cycles more,
+    then runs cycles with directions (`newton_cycles`); when those do not reach the tolerance,
+    `periodic_state` searches from the best of them (settling, then Newton's method on difference
+    Jacobians with a line search) and one cycle with directions runs from its answer. ``info``
+    of the result: ``cycles`` (plain and with directions), ``newton`` steps, ``residual`` (of the
+    cycle returned), ``step`` (the Newton step from it, max-norm of scaled states; nan after the
+    fallback), ``fallback`` (whether `periodic_state` finished the search).
 
     Raises
     ------
@@ -160,46 +166,91 @@ def sensitivity_cycle(model: PressModel, msym: PressModel, fsa: ForwardSensitivi
         A run failed, or the periodic search did not converge.
     """
     tol = PERIODIC_TOL * rtol
-    T = speed.period
     if not periodic:
-        return with_directions(model, msym, fsa, speed, model.x0, rtol, periodic, {"cycles": 1, "newton": 0,
-                                                                                    "residual": np.nan})
+        return with_directions(model, msym, fsa, speed, model.x0, rtol, periodic,
+                               {"cycles": 1, "newton": 0, "residual": np.nan, "step": np.nan, "fallback": False})
+    x, plain = settled(model, speed, rtol, tol, extra_cycles)
+    run, best, runs = newton_cycles(model, msym, fsa, speed, x, rtol, tol)
+    if run is not None:
+        run.info.update(cycles=plain + runs, newton=runs - 1, fallback=False)
+        return run
+    x, info = periodic_state(model, speed, Integrator(DIRECT, rtol), x_start=best, tol=tol)
+    run = with_directions(model, msym, fsa, speed, x, rtol, periodic, {})
+    run.info.update(cycles=plain + runs + info["cycles"] + 1, newton=runs - 1 + info["newton"],
+                    residual=info["residual"], step=np.nan, fallback=True)
+    return run
+
+
+def settled(model: PressModel, speed: FourierSpeed, rtol: float, tol: float,
+            extra_cycles: int) -> tuple[np.ndarray, int]:
+    """The state after plain cycles from rest on `model`'s compiled driver until the next is expected
+    to settle within `tol` (at most `MAX_SETTLE`), then `extra_cycles` more; and the cycles run."""
     driver = direct_driver(model, False)
     p = model.parameters(speed)
     none = (np.zeros((model.nx, 0)), np.zeros((0, 0)))
-    x, residuals = model.x0, []
-    while len(residuals) < MAX_SETTLE and (not expect_settled(residuals, tol, from_rest=True)
-                                           or len(residuals) < 1 + extra_cycles):
+    x, residuals, extra = model.x0, [], 0
+    while len(residuals) < MAX_SETTLE:
+        if expect_settled(residuals, tol, from_rest=True):
+            if extra == extra_cycles:
+                break
+            extra += 1
         try:
-            x_next = driver.run(x, p, *none, np.array([T]), rtol)[0][:, 0]
+            x_next = driver.run(x, p, *none, np.array([speed.period]), rtol)[0][:, 0]
         except FsaError as err:
             raise SimulationError(str(err), time=err.time, method=DIRECT, hint=HINT) from None
-        residuals.append(float(np.max(np.abs(x_next - x))))
+        residuals.append(max(float(np.max(np.abs(x_next - x))), np.finfo(float).tiny))
         x = x_next
-    best: tuple[float, np.ndarray] | None = None
+    return x, len(residuals)
+
+
+def newton_cycles(model: PressModel, msym: PressModel, fsa: ForwardSensitivities, speed: FourierSpeed,
+                  x: np.ndarray, rtol: float, tol: float) -> tuple[SensitivityCycle | None, np.ndarray, int]:
+    """Cycles with directions from `x`, each from the last one's start plus its Newton step
+    (I - dPhi/dx0)^-1 (x(T) - x(0)) from its own monodromy matrix, at most `MAX_NEWTON` steps, while
+    the residual falls: (the answer or None, the start with the lowest residual, cycles run).
+
+    The answer is the first cycle whose residual and step are both within `tol`; else, once the
+    residual stops falling or a step's cycle fails (through impacts the period map is not smooth
+    enough for these steps), the cycle with the lowest residual when that residual is within `tol`
+    (its step, which a residual at the integrator's noise can inflate, is in ``info``); else None."""
+    nx = model.nx
+    best: SensitivityCycle | None = None
     for newton in range(MAX_NEWTON + 1):
-        run = with_directions(model, msym, fsa, speed, x, rtol, periodic, {})
+        try:
+            run = with_directions(model, msym, fsa, speed, x, rtol, True, {})
+        except SimulationError:
+            if best is None:
+                raise
+            break
         change = run.X[:, -1] - x
-        step = np.linalg.solve(np.eye(model.nx) - run.S[:, :model.nx, -1], change)
         res = float(np.max(np.abs(change)))
-        if max(res, float(np.max(np.abs(step)))) <= tol:
-            run.info.update(cycles=len(residuals) + newton + 1, newton=newton, residual=res)
-            return run
-        if best is not None and res >= best[0] or not np.all(np.isfinite(step)):
-            break  # the period map is not smooth enough here for Newton's method (impacts)
-        best = (res, x) if best is None or res < best[0] else best
+        try:
+            step = np.linalg.solve(np.eye(nx) - run.S[:, :nx, -1], change)
+        except np.linalg.LinAlgError:
+            step = np.full(nx, np.nan)
+        size = float(np.max(np.abs(step)))  # nan when the step is
+        run.info.update(residual=res, step=size)
+        if res <= tol and size <= tol:
+            return run, x, newton + 1
+        if best is not None and res >= best.info["residual"]:
+            break
+        best = run
+        if not np.isfinite(size):
+            break
         x = x + step
-    # the package's periodic search (settling, then Newton's method on difference Jacobians with a
-    # line search) from the state with the lowest residual
-    x, info = periodic_state(model, speed, Integrator(DIRECT, rtol), x_start=best[1] if best else x, tol=tol)
-    return with_directions(model, msym, fsa, speed, x, rtol, periodic,
-                           {**info, "cycles": len(residuals) + newton + 1 + info["cycles"]})
+    runs = newton + 1
+    if best.info["residual"] <= tol:
+        return best, best.X[:, 0], runs
+    return None, best.X[:, 0], runs
 
 
 def with_directions(model: PressModel, msym: PressModel, fsa: ForwardSensitivities, speed: FourierSpeed,
                     x0: np.ndarray, rtol: float, periodic: bool, info: dict) -> SensitivityCycle:
     """One cycle from the scaled state `x0` with its nx + n_parameters directions, sampled at `SAMPLES`,
-    and its outputs."""
+    and its outputs. The directions are kept at every sample: SAMPLES nx (nx + n_parameters)
+    doubles, 15 MB on the rigid rod with both clearances (8 states) and 3 parameters, about 300 MB on
+    the 8-element rod (40 states) with 7. The samples' spacing is the period's 20 000th: 40 µs at
+    75 spm, where 10 001 samples put the seed optimum's derivatives 2.5 % off."""
     nx, n_par = model.nx, fsa.n_parameters
     t = np.linspace(0.0, speed.period, SAMPLES)
     pv = msym.parameters(speed)
