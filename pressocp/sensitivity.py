@@ -416,8 +416,9 @@ def searched(model: PressModel, msym: PressModel, speed: FourierSpeed, quantitie
     """As `compiled`, with the engine's name, where the compiled driver of the directions or of the
     periodic search cannot be built: the peaks located on a sampled periodic run by CasADi's CVODES,
     the directions integrated to them (`peak_derivatives`). The peaks of that run are microseconds
-    from those of the run with directions, which costs accuracy: on the seed optimum 0.9 % at rtol
-    1e-8 against 0.2 % with the compiled driver."""
+    from those of the run with directions, which costs accuracy: read so, the compiled driver's
+    derivatives on the seed optimum were 0.9 % off at rtol 1e-8 and 4.8 % at 3e-8, against 0.27 % and
+    0.47 % at its own peaks (this engine: 0.24 % at 3e-9, `benchmarks/results/sensitivity_seed.json`)."""
     T = speed.period
     fsa = kept_fsa(msym, len(msym.symbols))  # built (or not) already
     search = (for_repeated_use(model), "cvodes")
