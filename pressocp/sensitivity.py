@@ -40,10 +40,11 @@ from .cvodes_fsa import ForwardSensitivities, FsaError, built
 from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
+from .result import SimResult
 from .simulate import (HINT, direct_driver, Integrator, SimulationError, calling, compiled_dae, first_line,
                        for_repeated_use, periodic_state, simulate)
-from .sensitivity_cycle import (PERIODIC_TOL, SAMPLES, SensitivityCycle, output_jacobian, parameter_scale, refined,
-                                sensitivity_cycle)
+from .sensitivity_cycle import (PERIODIC_TOL, SAMPLES, SensitivityCycle, output_jacobian, parameter_scale,
+                                parameter_seeds, refined, sensitivity_cycle, state_motion)
 from .speed import FourierSpeed
 
 if TYPE_CHECKING:
@@ -234,8 +235,7 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
     nd = nx + n_parameters
     fsa = kept_fsa(msym, n_parameters)
     if fsa is not None:
-        Q = np.zeros((n_parameters, nd))
-        Q[:, nx:] = np.diag(scale)
+        Q = parameter_seeds(nx, scale)
         try:  # Ctrl-C stops it (KeyboardInterrupt)
             X, S, _ = fsa.run(x0, pv, np.eye(nx, nd), Q, np.array(grid), rtol)
         except FsaError as err:
@@ -247,9 +247,7 @@ def peak_derivatives(msym: PressModel, speed: FourierSpeed, targets: Sequence[tu
             X = integrated(msym.functions["sensitivity_period"], x0=x0, p=pv)["xf"]
             nominal = {t: X[:, grid.index(t)] for t in times}
     S[:, nx:, :] /= scale[:, None]
-    end = S[:, :, -1]
-    dx0 = (np.linalg.solve(np.eye(nx) - end[:, :nx], end[:, nx:]) if periodic
-           else np.zeros((nx, n_parameters)))
+    dx0 = state_motion(S[:, :, -1], periodic)
     Y = output_jacobian(msym)
     y, d = np.empty(len(targets)), np.empty((len(targets), n_parameters))
     for k, (t, i) in enumerate(targets):
@@ -383,9 +381,7 @@ def compiled(model: PressModel, msym: PressModel, fsa: ForwardSensitivities, spe
     peak's derivative there read at that run's own peak nearest it."""
     T = speed.period
     cycle = sensitivity_cycle(model, msym, fsa, speed, rtol, periodic)
-    peaks = {q: [min(max(tq, 0.0), T) for tq in peak_times(cycle.response.t, getattr(cycle.response, QUANTITIES[q]), T)]
-             for q in quantities}
-    targets = [(tq, OUTPUT_NAMES.index(QUANTITIES[q])) for q in quantities for tq in peaks[q]]
+    peaks, targets = located(cycle.response, cycle.response.t, quantities, T)
     y, d = at_peaks(cycle, msym, speed, targets)
     if not error_estimate:
         return peaks, y, d, np.full(d.shape, np.inf), NO_ESTIMATE
@@ -400,6 +396,15 @@ def compiled(model: PressModel, msym: PressModel, fsa: ForwardSensitivities, spe
     # and the derivative with it (`pressocp.sensitivity_cycle`)
     d_loose = at_peaks(loose, msym, speed, [(loose.peak_near(i, t, NEAR * T), i) for t, i in targets])[1]
     return peaks, y, d, relative(d, d_loose), ""
+
+
+def located(res: SimResult, t: np.ndarray, quantities: Sequence[str],
+            period: float) -> tuple[dict[str, list[float]], list[tuple[float, int]]]:
+    """The peak times of each quantity on the sampled response `res` (times `t` within the cycle, s),
+    and the (time, output index) of every one of them."""
+    peaks = {q: [min(max(tq, 0.0), period) for tq in peak_times(t, getattr(res, QUANTITIES[q]), period)]
+             for q in quantities}
+    return peaks, [(tq, OUTPUT_NAMES.index(QUANTITIES[q])) for q in quantities for tq in peaks[q]]
 
 
 def at_peaks(cycle: SensitivityCycle, msym: PressModel, speed: FourierSpeed,
@@ -427,9 +432,7 @@ def searched(model: PressModel, msym: PressModel, speed: FourierSpeed, quantitie
                    integrator=Integrator(search[1], rtol, periodic_tol=PERIODIC_TOL * rtol))
     x0 = res.states[:, 0] / model.x_scale
     t_rel = res.t - res.t[0]
-    peaks = {q: [min(max(tq, 0.0), T) for tq in peak_times(t_rel, getattr(res, QUANTITIES[q]), T)]
-             for q in quantities}
-    targets = [(tq, OUTPUT_NAMES.index(QUANTITIES[q])) for q in quantities for tq in peaks[q]]
+    peaks, targets = located(res, t_rel, quantities, T)
     # the states at the peaks: the compiled driver integrates them; CasADi's forward integrator
     # does not return them, so they come from the sampled response
     nominal = None if fsa is not None else states_from_samples(

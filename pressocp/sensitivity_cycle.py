@@ -59,6 +59,21 @@ def parameter_scale(values: np.ndarray) -> np.ndarray:
     return np.where(values > 0.0, values, 1.0)
 
 
+def parameter_seeds(nx: int, scale: np.ndarray) -> np.ndarray:
+    """The parameter components Q (n_parameters x (nx + n_parameters)) of the directions d/dx0 (first
+    nx, none) and d/dq with q = p / `scale` (one each)."""
+    Q = np.zeros((scale.size, nx + scale.size))
+    Q[:, nx:] = np.diag(scale)
+    return Q
+
+
+def state_motion(end: np.ndarray, periodic: bool) -> np.ndarray:
+    """d x(0) / d p from the directions at the cycle's end `end` = [dPhi/dx0, dPhi/dp] (nx x (nx +
+    n_parameters)): (I - dPhi/dx0)^-1 dPhi/dp for the periodic state, zero for a start at rest."""
+    nx = end.shape[0]
+    return np.linalg.solve(np.eye(nx) - end[:, :nx], end[:, nx:]) if periodic else np.zeros((nx, end.shape[1] - nx))
+
+
 def output_jacobian(msym: PressModel) -> ca.Function:
     """(t, x, speed parameters, press parameters) -> (every output of `OUTPUT_NAMES`, their Jacobians
     with respect to the scaled states and to the press parameters `msym` carries (its ``symbols``,
@@ -257,20 +272,18 @@ def with_directions(model: PressModel, msym: PressModel, fsa: ForwardSensitiviti
     # differentiated with respect to q = p / scale: the directions' states are then of the states'
     # own size, and the error control weighs them alike
     scale = parameter_scale(pv[pv.size - n_par:])
-    Q = np.zeros((n_par, nx + n_par))
-    Q[:, nx:] = np.diag(scale)
+    Q = parameter_seeds(nx, scale)
     try:  # Ctrl-C stops it (KeyboardInterrupt)
         X, S, stats = fsa.run(x0, pv, np.eye(nx, nx + n_par), Q, t[1:], rtol)
     except FsaError as err:
         raise SimulationError(str(err), time=err.time, method="cvodes (sensitivities)", hint=HINT) from None
     X = np.hstack([x0[:, None], X])
     S[:, nx:, :] /= scale[:, None]
-    end = S[:, :, -1]
-    dx0 = (np.linalg.solve(np.eye(nx) - end[:, :nx], end[:, nx:]) if periodic else np.zeros((nx, n_par)))
+    dx0 = state_motion(S[:, :, -1], periodic)
     response = sim_result(model, model.parameters(speed), t, X, None,
                           {"steps": int(stats["steps"]), "rhs_evaluations": int(stats["rhs"])}, DIRECT)
     return SensitivityCycle(response, X, S, dx0, info)
 
 
-__all__ = ["PERIODIC_TOL", "SAMPLES", "SensitivityCycle", "output_jacobian", "parameter_scale", "refined",
-           "sensitivity_cycle"]
+__all__ = ["PERIODIC_TOL", "SAMPLES", "SensitivityCycle", "output_jacobian", "parameter_scale", "parameter_seeds",
+           "refined", "sensitivity_cycle", "state_motion"]
