@@ -66,6 +66,8 @@ def flexible_start(model, speed):
 TARGETS = (1e-2, 1e-3)
 #: A run this many times slower than a method's quickest row within every target is not repeated.
 SLOWER = 1.5
+#: Runs of each of IDAS and scipy's Radau, in turn, at their equal-accuracy rows (`in_turn`).
+IN_TURN = 5
 
 
 INTERPRETED = " (interpreted)"
@@ -135,7 +137,32 @@ def run_case(name, model, speed, methods, rtols, repeats, budget, rtol_ref=1e-10
             if ok and times and times[-1] > budget:
                 break  # tighter tolerances only get slower
     set_casadi_clock(False)
-    return {"reference_peak_torque": ref.peak("torque"), "rows": rows, "compile_s": compile_s}
+    turns = in_turn(rows, lambda method, rtol: simulate(compiled, speed, x0=x0, n_out=16001, work=False,
+                                                        integrator=Integrator(method=method, rtol=rtol)))
+    return {"reference_peak_torque": ref.peak("torque"), "rows": rows, "compile_s": compile_s, "in_turn": turns}
+
+
+def in_turn(rows, run, pair=("idas", "scipy-radau")) -> dict:
+    """For each accuracy target, the cheapest row of each method of `pair` within it (`equal_accuracy`)
+    run again `IN_TURN` times each, one after the other in turn (`run(method, rtol)`), so that the
+    machine's drift over the minutes between the rows' blocks is shared: the medians and their ratio
+    (second over first), per target."""
+    out = {}
+    for target in TARGETS:
+        best = equal_accuracy(rows, target)
+        if not all(m in best for m in pair):
+            continue
+        times = {m: [] for m in pair}
+        for _ in range(IN_TURN):
+            for m in pair:
+                t0 = time.perf_counter()
+                run(m, best[m]["rtol"])
+                times[m].append(time.perf_counter() - t0)
+        medians = {m: statistics.median(v) for m, v in times.items()}
+        out[f"{target:g}"] = {"rtol": {m: best[m]["rtol"] for m in pair}, "times_s": times, "median_s": medians,
+                              "ratio": medians[pair[1]] / medians[pair[0]]}
+        print(f"in turn at {target:g}: {medians}", flush=True)
+    return out
 
 
 def equal_accuracy(rows, target):
@@ -245,6 +272,9 @@ def main() -> None:
             if "idas" + CLOCKED in best and "scipy-radau" in best:
                 entry["radau_over_idas_casadi_clock"] = (best["scipy-radau"]["time_per_cycle_s"]
                                                          / best["idas" + CLOCKED]["time_per_cycle_s"])
+            turn = res.get("in_turn", {}).get(f"{target:g}")
+            if turn is not None:
+                entry["radau_over_idas_in_turn"] = turn["ratio"]
             summary[f"{case}@{target:g}"] = entry
     (OUT / f"{name}.json").write_text(json.dumps({"stamp": stamp(),
                                                    "results": results, "equal_accuracy": summary}, indent=2))

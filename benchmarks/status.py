@@ -268,6 +268,9 @@ def radau_row(res: Results) -> Row:
              f"(IDAS {v['idas']['time_per_cycle_s']:.2f} s at rtol {v['idas']['rtol']:g}, Radau "
              f"{v['scipy-radau']['time_per_cycle_s']:.2f} s at {v['scipy-radau']['rtol']:g})" for k, v in sorted(cells.items())]
     ok = min(v["radau_over_idas"] for v in cells.values()) >= GOAL_RADAU_RATIO
+    if all("radau_over_idas_in_turn" in v for v in cells.values()):
+        parts.append("the same pairs timed in turn (5 runs each): " + ", ".join(
+            f"{v['radau_over_idas_in_turn']:.1f} × at {float(k.split('@')[1]):.1%}" for k, v in sorted(cells.items())))
     literal = idas_1e6_against_radau(r.get("results", {}).get("clearance", {}).get("rows", []))
     if literal:
         parts.append(literal)
