@@ -160,7 +160,8 @@ class Replay(Transcription):
 
     def solve(self, problem, model, start, name="target", progress=False):
         self.calls += 1
-        return dataclasses.replace(self.stages[self.calls - 1], name=name)
+        stage = self.stages[self.calls - 1]
+        return dataclasses.replace(stage, name=name, details=dict(stage.details))  # a solve's own record
 
 
 class RelaxReplay(Replay):
@@ -581,3 +582,71 @@ def test_an_answer_over_a_limit_is_not_verified(smooth):
     rms = motor_cycle_of(SMOOTH.replace(drive=drive), speed, sim).rms_torque
     weak = SMOOTH.replace(drive=dataclasses.replace(drive, continuous_torque=rms / 1.2))
     assert limits_exceeded(weak, speed, sim) == {"drive_rms": pytest.approx(0.2, rel=1e-9)}
+
+
+def test_only_the_lowest_verified_candidate_resumes_its_polish(smooth, monkeypatch):
+    """Candidate chains that paused after their first polish round: the one whose answer is the lowest
+    verified of all chains' resumes (`Strategy.resume_polish`, once, from its own stages), every other
+    paused chain ends and says why, a chain that ended by itself is left as it is, and no chain keeps
+    the pause mark. When a chain that ended by itself is the lowest, no chain resumes. (Chains,
+    re-simulations and the resumed rounds are replaced: the selection is tested.)"""
+    from pressocp.ocp import candidates
+    from pressocp.ocp.stage import PAUSED
+
+    good = smooth.stages[0]
+    resumed = []
+
+    def resume(self, problem, model, stages, progress):
+        resumed.append([s.name for s in stages])
+        return [dataclasses.replace(good, name="polish_2", details={"margin": stages[-1].details["margin"]})]
+
+    monkeypatch.setattr(Strategy, "resume_polish", resume)
+    monkeypatch.setattr(Strategy, "verify_stage", lambda self, model, stage: None)
+    model = build_model(SMOOTH.press, n_harmonics=4)
+
+    def chains():
+        return [[dataclasses.replace(good, name="target@0.05", details={"margin": 0.05}),
+                 dataclasses.replace(good, name="polish_1@0.05", details={"margin": 0.05, PAUSED: Replay()})],
+                [dataclasses.replace(good, name="polish_1@0.02", details={"margin": 0.02, PAUSED: Replay()})],
+                [dataclasses.replace(good, name="polish_1@0.1", details={"margin": 0.1})]]
+
+    for values, winner in (({0.05: 150.0, 0.02: 145.0, 0.1: 147.0}, 1), ({0.05: 150.0, 0.02: 145.0, 0.1: 140.0}, None)):
+        monkeypatch.setattr(candidates, "verified_value", lambda stage, problem: values[stage.details["margin"]])
+        resumed.clear()
+        out = candidates.polished_best(Strategy(), SMOOTH, model.spec, chains(), ["0.05", "0.02", "0.1"], False)
+        assert not any(PAUSED in s.details for c in out for s in c)
+        if winner is None:
+            assert resumed == [] and [len(c) for c in out] == [2, 1, 1]
+            assert "140" in out[0][-1].details["polish_ended"] and "0.1" in out[1][-1].details["polish_ended"]
+            continue
+        assert resumed == [["polish_1@0.02"]] and [s.name for s in out[1]] == ["polish_1@0.02", "polish_2@0.02"]
+        assert "150" in out[0][-1].details["polish_ended"] and "145" in out[0][-1].details["polish_ended"]
+        assert "polish_ended" not in out[1][-1].details and "polish_ended" not in out[2][-1].details
+    with pytest.raises(ValueError, match="polish_candidates"):
+        Strategy(polish_candidates="all")
+
+
+@pytest.mark.slow  # 20 s
+def test_a_paused_polish_resumed_runs_the_rounds_it_would_have_run(smooth):
+    """A candidate's polish paused after its first round (`pause`) and resumed (`resume_polish`) runs
+    the same rounds, kept or not, with the same verified values, as the polish that did not pause:
+    from a detuned copy of the optimum, round 1 returns the optimum (kept) and round 2 the detuned
+    copy (not kept)."""
+    from pressocp.ocp.stage import PAUSED
+
+    model = build_model(SMOOTH.press, n_harmonics=4)
+    best = smooth.stages[0]
+    b = best.speed.b.copy()
+    b[0] += 0.05
+    detuned = dataclasses.replace(best, speed=FourierSpeed(best.speed.period, best.speed.a, b), simulation=None)
+    strat = Strategy(polish_rounds=3, polish_gain=0.0, verify_rtol=1e-8)
+    whole = strat.polish(SMOOTH, model, detuned, Replay(best, detuned), False)
+    assert PAUSED not in whole[0].details  # without the pause the rounds do not stop after the first
+    replay = Replay(best, detuned)
+    paused = strat.polish(SMOOTH, model, dataclasses.replace(detuned, simulation=None), replay, False, pause=True)
+    assert replay.calls == 1 and [s.name for s in paused] == ["polish_1"] and PAUSED in paused[0].details
+    rest = strat.resume_polish(SMOOTH, model, [detuned, *paused], False)
+    assert replay.calls == 2 and [s.name for s in paused + rest] == [s.name for s in whole] == ["polish_1", "polish_2"]
+    for a, b in zip(paused + rest, whole):
+        assert a.status == b.status and a.speed is b.speed
+        assert a.details["verified_value"] == pytest.approx(b.details["verified_value"], rel=1e-9)

@@ -24,7 +24,7 @@ import numpy as np
 from ..model import ModelSpec
 from ..problem import SpeedProblem
 from ..workers import parallel_workers, process_pool
-from .stage import StageResult, Transcription
+from .stage import PAUSED, StageResult, Transcription
 from ..verify import unverified_reason
 
 if TYPE_CHECKING:
@@ -49,7 +49,7 @@ def flexible_candidate(strategy: "Strategy", problem: SpeedProblem, spec: ModelS
     `spec` from the rigid optimum `start`, its answer verified, its stages named with `suffix`. Runs in
     a worker process too (the model is built there)."""
     model = spec.build(problem.press, problem.n_harmonics)
-    stages = strategy.flexible_chain(problem, model, start, transcription, progress)
+    stages = strategy.flexible_chain(problem, model, start, transcription, progress, candidate=True)
     return verified_and_named(strategy, model, stages, suffix)
 
 
@@ -66,7 +66,8 @@ def run_flexible_candidates(strategy: "Strategy", problem: SpeedProblem, spec: M
     chains = _in_workers(flexible_candidate, args, strategy.workers, progress,
                          f"candidates (flexible stage from the rigid optima at backoffs {', '.join(f'{b:g}' for b in backoffs)})",
                          pool)
-    return keep_best(chains, [f"{b:g}" for b in backoffs], problem)
+    labels = [f"{b:g}" for b in backoffs]
+    return keep_best(polished_best(strategy, problem, spec, chains, labels, progress), labels, problem)
 
 
 def verified_and_named(strategy: "Strategy", model, stages: list[StageResult], suffix: str) -> list[StageResult]:
@@ -111,7 +112,40 @@ def run_candidates(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec,
         note = "candidate ended: its no-reversal stage did not converge, as every candidate's did"
         return [*(replace(c[0], superseded=note) for c in chains),
                 *strategy.clearance_chain(problem, model, rigid, transcription, None, progress, None)]
-    return keep_best(chains, [f"{m:g}" for m in margins], problem)
+    labels = [f"{m:g}" for m in margins]
+    return keep_best(polished_best(strategy, problem, base, chains, labels, progress), labels, problem)
+
+
+def polished_best(strategy: "Strategy", problem: SpeedProblem, spec: ModelSpec, chains: list[list[StageResult]],
+                  labels: list[str], progress: bool) -> list[list[StageResult]]:
+    """`chains` with the polish resumed here on the best one: a chain that paused after its first
+    polish round (`Strategy.rounds`, its last stage marked `PAUSED`) polishes further
+    (`Strategy.resume_polish`, on its model rebuilt from `spec`) only when its answer is the lowest
+    verified of all chains' (`verified_value`); every other paused chain ends there, saying so in its
+    last stage's ``details["polish_ended"]``. The decision waits for every chain, so the answer does
+    not depend on which worker finished first."""
+    values = [verified_value(c[-1], problem) for c in chains]
+    best = int(np.argmin(values)) if np.isfinite(values).any() else None
+    out = []
+    for k, chain in enumerate(chains):
+        last = chain[-1]
+        if PAUSED not in last.details:
+            out.append(chain)
+            continue
+        if k == best:
+            model = spec.build(problem.press, problem.n_harmonics)
+            suffix = "@" + labels[k]
+            more = strategy.resume_polish(problem, model, chain, progress)
+            last.details.pop(PAUSED)
+            out.append(chain + (verified_and_named(strategy, model, more, suffix) if more else []))
+            continue
+        last.details.pop(PAUSED)
+        last.details["polish_ended"] = (
+            f"after its first polish round its answer re-simulates at {values[k]:.6g}, above candidate "
+            f"{labels[best]}'s {values[best]:.6g}: only the lowest verified candidate polishes further "
+            "(Strategy.polish_candidates)")
+        out.append(chain)
+    return out
 
 
 def keep_best(chains: list[list[StageResult]], labels: list[str], problem: SpeedProblem) -> list[StageResult]:

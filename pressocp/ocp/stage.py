@@ -317,6 +317,11 @@ class Transcription:
         return {"type": type(self).__name__, **{f.name: getattr(self, f.name) for f in fields(self)}}
 
 
+#: ``StageResult.details`` key of a candidate chain's polish round after which the chain paused
+#: (`Strategy.rounds`); its value holds the transcription the rounds resume with and the round's
+#: re-simulation (`Strategy.resume_polish`). `pressocp.ocp.candidates` removes it from every chain.
+PAUSED = "polish_paused"
+
 #: Transcription classes by name (every subclass of `Transcription`).
 TRANSCRIPTIONS: dict[str, type[Transcription]] = {}
 

@@ -63,11 +63,14 @@ from .candidates import run_candidates, run_flexible_candidates
 from .rigid_stage import Rigid
 from ..ipopt_options import IPOPT_RIGID_ACCEPTABLE
 from .shooting import MultipleShooting
-from .stage import Check, Resimulated, StageResult, Transcription, WarmStart, settings_repr, standing_stage
+from .stage import PAUSED, Check, Resimulated, StageResult, Transcription, WarmStart, settings_repr, standing_stage
 from ..verify import (IMPACT_RATIO, describe_excess, is_periodic, limits_exceeded, ram_speed_violation,
                       rigid_reference, screen, unverified_reason, verify_speed)
 
 MODES = ("auto", "all", "continue")
+#: `Strategy.polish_candidates`: after every candidate chain's first polish round only the lowest
+#: verified one polishes further, or each its own rounds.
+POLISH_CANDIDATES = ("best", "each")
 #: Checks of a stage's answer run at this tolerance (the final verification at `Strategy.verify_rtol`).
 CHECK_RTOL = 1e-7
 #: Two checks' objective ratios closer than this (relative) are a tie, below what a check at
@@ -179,6 +182,13 @@ class Strategy:
         in [0, 1). Each round restarts IPOPT's barrier from the last answer, which can escape a
         local optimum: on the slender-rod scene the rounds gained 4 % and 2 % (to 71.78 and 70.33
         N m) and a third nothing; on the 75 spm seed a second round gained nothing.
+    polish_candidates : str
+        With several candidate chains: "best" runs every chain to its first polish round, then
+        polishes further only the lowest verified of them (`pressocp.ocp.candidates`); "each" lets
+        every chain run all its rounds. On the 75 spm seed the losing chain's second round was the
+        call's longest path (7-9 s of 50) and never won: in every recorded call it ended within 3e-6
+        of the winner, once that much below it (145.14376 against 145.14411 N m, 2026-11-28; docs/
+        decisions/2026-12-02-polish-the-best-candidate.md).
     refine_rounds : int
         Trust-region rounds of multiple shooting after the other stages, 0..100 (minutes each).
     refine_step : float
@@ -208,6 +218,7 @@ class Strategy:
     soft_factor: float | None = 100.0
     polish_rounds: int = 3
     polish_gain: float = 0.025
+    polish_candidates: str = "best"
     refine_rounds: int = 0
     refine_step: float = 0.2
     verify_rtol: float = 1e-9
@@ -232,6 +243,7 @@ class Strategy:
             chk.in_open_interval("soft_factor", self.soft_factor, 1.0, 1e8)
         chk.integer("polish_rounds", self.polish_rounds, 0, 10)
         chk.in_half_open_interval("polish_gain", self.polish_gain, 0.0, 1.0)
+        chk.choice("polish_candidates", self.polish_candidates, POLISH_CANDIDATES)
         chk.integer("refine_rounds", self.refine_rounds, 0, 100)
         chk.positive("refine_step", self.refine_step, "rad/s")
         chk.positive("verify_rtol", self.verify_rtol)
@@ -465,7 +477,7 @@ class Strategy:
         if not stages[-1].success:
             return stages
         return stages + self.rounds(problem, chain[-1][1], base, [rigid, *stages], transcription, progress,
-                                    floor=rigid.objective)
+                                    floor=rigid.objective, candidate=candidate)
 
     def raised_ahead(self, problem: SpeedProblem, base: PressModel, rigid: StageResult, start: StageResult,
                      transcription: Transcription, margin: float | None, stages: list[StageResult],
@@ -596,26 +608,49 @@ class Strategy:
         return starts
 
     def flexible_chain(self, problem: SpeedProblem, model: PressModel, start: StageResult,
-                       transcription: Transcription, progress: bool) -> list[StageResult]:
-        """The flexible stage on `model` from `start`'s speed, then the polish rounds."""
+                       transcription: Transcription, progress: bool, candidate: bool = False) -> list[StageResult]:
+        """The flexible stage on `model` from `start`'s speed, then the polish rounds (a `candidate`
+        chain's paused as `rounds` says)."""
         solved, transcription = self.solve_refined(problem, model, transcription, WarmStart(start.speed), "flexible",
                                                    progress)
         if not solved[-1].success:
             return solved
-        return [*solved, *self.rounds(problem, model, model, solved, transcription, progress)]
+        return [*solved, *self.rounds(problem, model, model, solved, transcription, progress, candidate=candidate)]
 
     def rounds(self, problem: SpeedProblem, polish_model: PressModel | None, refine_model: PressModel,
                stages: list[StageResult], transcription: Transcription, progress: bool,
-               floor: float = -np.inf) -> list[StageResult]:
+               floor: float = -np.inf, candidate: bool = False) -> list[StageResult]:
         """After the chain: the polish rounds on `polish_model` (None when no stage on a model with states
         ran), then the refinement rounds on `refine_model`, from ``stages[-1]``. `floor`: the rigid
-        press's optimum of the same problem (`polish`)."""
+        press's optimum of the same problem (`polish`). A `candidate` chain with `polish_candidates`
+        "best" pauses after its first polish round when another would run (`polish`): the stages
+        so far, the last one marked `PAUSED`; `pressocp.ocp.candidates` resumes the best one
+        (`resume_polish`)."""
         out: list[StageResult] = []
         if polish_model is not None and self.polish_rounds:
-            out += self.polish(problem, polish_model, stages[-1], transcription, progress, floor)
+            out += self.polish(problem, polish_model, stages[-1], transcription, progress, floor,
+                               pause=candidate and self.polish_candidates == "best")
+            if PAUSED in out[-1].details:
+                return out
             out += self.relax(problem, polish_model, standing_stage([*stages, *out]), transcription, progress)[0]
         if self.refine_rounds:
             out += self.refine(problem, refine_model, (stages + out)[-1], transcription, progress)
+        return out
+
+    def resume_polish(self, problem: SpeedProblem, model: PressModel, stages: list[StageResult],
+                      progress: bool) -> list[StageResult]:
+        """The rest of a candidate chain paused after its first polish round (`rounds`; its last stage
+        in `stages` marked `PAUSED`, which `pressocp.ocp.candidates` removes): the polish rounds from the second on, from
+        that round's answer and its re-simulation, then the relaxed re-solve and the refinement rounds,
+        as `rounds` runs them. `model`: the chain's model, rebuilt from its spec."""
+        last = stages[-1]
+        paused = last.details[PAUSED]
+        transcription, value = paused["transcription"], last.details["verified_value"]
+        out = self.polish_from(problem, model, last, transcription, progress, paused["simulation"], value, value,
+                               start=1)
+        out += self.relax(problem, model, standing_stage([*stages, *out]), transcription, progress)[0]
+        if self.refine_rounds:
+            out += self.refine(problem, model, (stages + out)[-1], transcription, progress)
         return out
 
     @property
@@ -782,7 +817,7 @@ class Strategy:
                      min_eccentricity=min(sim.min_eccentricities(model.clearance).values(), default=None))
 
     def polish(self, problem: SpeedProblem, model: PressModel, last: StageResult, transcription: Transcription,
-               progress: bool, floor: float = -np.inf) -> list[StageResult]:
+               progress: bool, floor: float = -np.inf, pause: bool = False) -> list[StageResult]:
         """Up to `polish_rounds` re-solves of `last`'s NLP (`transcription` on `model`) from its answer,
         each followed by its own tightened or refined re-solves (`solve_refined`). A round that does
         not lower the periodic re-simulation's objective (at `verify_rtol`), or fails, or leaves the
@@ -794,7 +829,10 @@ class Strategy:
         optimum): a barrier restart escapes a local optimum above the floor, and the clearances move
         an answer below it by little (large_press, 2026-11-28: both candidates' rounds, 17-27 s each,
         re-simulated 487.609 against 487.608 and 487.582 against 487.581 N m, floor 487.631, and were
-        not kept). Its follow-ups run instead, and a record ``polish_1`` says why."""
+        not kept). Its follow-ups run instead, and a record ``polish_1`` says why.
+
+        With `pause`, a kept first round after which another would run ends the rounds here, its stage
+        marked `PAUSED` (`polish_from`), from where `resume_polish` goes on."""
         value = problem.objective_value
         # both re-simulated alike, at the final verification's tolerance: an optimum holds the ram
         # speed to within a few 1e-5 m/s of its tolerance, about the error of a check at rtol 1e-7
@@ -810,8 +848,19 @@ class Strategy:
             skipped = StageResult.skipped("polish_1", reason, model.spec.describe(), last)
             skipped.simulation = first
             return [skipped, *follow[1:]]  # the last stage's answer is the chain's
+        return self.polish_from(problem, model, last, transcription, progress, first, best, reference,
+                                stop=1 if pause else None)
+
+    def polish_from(self, problem: SpeedProblem, model: PressModel, last: StageResult, transcription: Transcription,
+                    progress: bool, first: SimResult, best: float, reference: float, start: int = 0,
+                    stop: int | None = None) -> list[StageResult]:
+        """The polish rounds ``polish_{start + 1}`` to ``polish_{polish_rounds}`` (`polish`) from the
+        standing answer `last`, its re-simulation `first` and verified objective `best` (inf: none),
+        `reference` the periodic objective a round's gain is measured from. With `stop`, a kept round
+        ``polish_{stop}`` after which another would run ends the rounds, marked `PAUSED` (its
+        ``details[PAUSED]``: the transcription to resume with and the round's re-simulation)."""
         rounds = []
-        for k in range(self.polish_rounds):
+        for k in range(start, self.polish_rounds):
             name = f"polish_{k + 1}"
             # `last`'s periodic response on `model`: its state starts the warm start's search
             x0 = first.states[:, 0] / model.x_scale if is_periodic(first) is True else None
@@ -825,6 +874,9 @@ class Strategy:
                 gain = (reference - new) / abs(reference) if np.isfinite(reference) else np.inf
                 last, best, reference, first = st, new, new, cand
                 if gain <= self.polish_gain:
+                    break
+                if k + 1 == stop and k + 1 < self.polish_rounds:
+                    st.details[PAUSED] = {"transcription": transcription, "simulation": cand}
                     break
                 continue
             rounds += [replace(s, superseded=f"the polish round ending in {st.name} was not kept") for s in solved[:-1]]
