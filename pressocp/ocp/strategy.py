@@ -186,9 +186,9 @@ class Strategy:
         With several candidate chains: "best" runs every chain to its first polish round, then
         polishes further only the lowest verified of them (`pressocp.ocp.candidates`); "each" lets
         every chain run all its rounds. On the 75 spm seed the losing chain's second round was the
-        call's longest path (7-9 s of 50) and never won: in every recorded call it ended within 3e-6
-        of the winner, once that much below it (145.14376 against 145.14411 N m, 2026-11-28; docs/
-        decisions/2026-12-02-polish-the-best-candidate.md).
+        call's longest path (7-9 s of 50); in 223 recorded calls a chain behind after its first round
+        ended ahead in 3, by 2.4e-6 (145.14376 against 145.14411 N m;
+        docs/decisions/2026-12-02-polish-the-best-candidate.md).
     refine_rounds : int
         Trust-region rounds of multiple shooting after the other stages, 0..100 (minutes each).
     refine_step : float
