@@ -358,7 +358,7 @@ def test_flexible_candidates_start_from_the_rigid_optimum_at_each_backoff(smooth
     rigid = dataclasses.replace(smooth.stages[0], check=None)
     values = {0.9: 150.0, 0.5: 145.0}
 
-    def chain(self, problem, model, start, transcription, progress):
+    def chain(self, problem, model, start, transcription, progress, candidate=False):
         return [dataclasses.replace(start, name="flexible", details={"backoff": start.details["backoff"]})]
 
     monkeypatch.setattr(Strategy, "flexible_chain", chain)
