@@ -197,7 +197,7 @@ def periodic_panel(px, per: dict) -> None:
     px.axhline(GOAL_PEAK, color="k", ls=":", lw=1)
     px.set_xscale("log")
     px.set_yscale("log")
-    px.set_xlabel(f"one periodic cycle ({per['period']:g} s), wall s (median of {per['repeat']}; IDAS at the rtol "
+    px.set_xlabel(f"one periodic cycle ({per['period']:.3g} s), wall s\n(median of {per['repeat']}; IDAS at the rtol "
                   "marked, compiled)")
     px.set_ylabel(f"peak torque error against the {per['reference'].split(',')[0]}\n(periodic, rtol "
                   f"{per['reference_rtol']:g})")
@@ -212,8 +212,14 @@ def figure(row: dict, path: Path) -> None:
     import matplotlib.pyplot as plt
 
     scenes = row.get("periodic") or []
-    fig, axes = plt.subplots(1, 2 + len(scenes), figsize=(6 * (2 + len(scenes)), 4.8))
-    ax, bx = axes[-2:]
+    panels = 2 + len(scenes)
+    cols = min(panels, 3)  # rows of at most three panels, so that a page shows the text at its size
+    rows = -(-panels // cols)
+    fig, grid = plt.subplots(rows, cols, figsize=(6 * cols, 4.8 * rows), squeeze=False)
+    axes = grid.ravel()
+    for spare in axes[panels:]:
+        spare.set_visible(False)
+    ax, bx = axes[panels - 2 : panels]
     for px, per in zip(axes, scenes):
         periodic_panel(px, per)
     for k, c in enumerate(row["cycles"]):
@@ -225,7 +231,7 @@ def figure(row: dict, path: Path) -> None:
     ax.set_xscale("log")
     ax.set_yscale("log")
     how = ("compiled" if row.get("jit") else "interpreted") if "jit" in row else "interpreted"
-    ax.set_xlabel(f"{row['t_end']:g} s from rest (the cycle is 0.8 s), wall s (median of {row['repeat']}; "
+    ax.set_xlabel(f"{row['t_end']:g} s from rest (the cycle is 0.8 s), wall s\n(median of {row['repeat']}; "
                   f"{row.get('method', 'cvodes').upper()} rtol {row['rtol']:g}, {how})")
     ax.set_ylabel("largest peak error (torque, pin forces)\nagainst the full element rod (the same rtol)")
     ax.set_title("75 spm kinematic design, both clearances, a transient from rest: cost against error", fontsize=9)
