@@ -622,6 +622,28 @@ def test_only_the_lowest_verified_candidate_resumes_its_polish(smooth, monkeypat
         assert resumed == [["polish_1@0.02"]] and [s.name for s in out[1]] == ["polish_1@0.02", "polish_2@0.02"]
         assert "150" in out[0][-1].details["polish_ended"] and "145" in out[0][-1].details["polish_ended"]
         assert "polish_ended" not in out[1][-1].details and "polish_ended" not in out[2][-1].details
+    # a chain resumed early, as it returned (`EarlyResume`), is not resumed again when it is the best ...
+    values = {0.05: 150.0, 0.02: 145.0, 0.1: 147.0}
+    monkeypatch.setattr(candidates, "verified_value", lambda stage, problem: values[stage.details["margin"]])
+    early = candidates.EarlyResume(Strategy(), SMOOTH, model.spec, False)
+    ran = chains()
+    early(0, ran[0])  # the first to return: paused, the lowest so far
+    early(2, ran[2])  # not paused
+    early(1, ran[1])  # paused and the lowest, but one chain resumed already
+    assert early.resumed[0] == 0 and resumed == [["target@0.05", "polish_1@0.05"]]
+    resumed.clear()
+    out = candidates.polished_best(Strategy(), SMOOTH, model.spec, ran, ["0.05", "0.02", "0.1"], False, early.resumed)
+    # ... and when another is the best once all have returned, that one resumes and the early one is
+    # not kept, its cost said
+    assert resumed == [["polish_1@0.02"]] and [len(c) for c in out] == [2, 2, 1]
+    assert "not kept" in out[0][-1].details["polish_ended"] and "polish_ended" not in out[1][-1].details
+    ran = chains()
+    values[0.05] = 140.0
+    resumed.clear()
+    early = candidates.EarlyResume(Strategy(), SMOOTH, model.spec, False)
+    early(0, ran[0])
+    out = candidates.polished_best(Strategy(), SMOOTH, model.spec, ran, ["0.05", "0.02", "0.1"], False, early.resumed)
+    assert resumed == [["target@0.05", "polish_1@0.05"]] and [s.name for s in out[0]][-1] == "polish_2@0.05"
     with pytest.raises(ValueError, match="polish_candidates"):
         Strategy(polish_candidates="all")
 

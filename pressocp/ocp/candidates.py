@@ -14,10 +14,10 @@ is not safe in threads.
 from __future__ import annotations
 
 import warnings
-from concurrent.futures import Executor
+from concurrent.futures import Executor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
@@ -63,11 +63,12 @@ def run_flexible_candidates(strategy: "Strategy", problem: SpeedProblem, spec: M
     suffixes = [f"@{b:g}" for b in backoffs]
     args = [(strategy, problem, spec, replace(st, point=None, nlp=None), transcription, sfx)
             for st, sfx in zip(starts, suffixes)]
+    labels = [f"{b:g}" for b in backoffs]
+    early = EarlyResume(strategy, problem, spec, progress)
     chains = _in_workers(flexible_candidate, args, strategy.workers, progress,
                          f"candidates (flexible stage from the rigid optima at backoffs {', '.join(f'{b:g}' for b in backoffs)})",
-                         pool)
-    labels = [f"{b:g}" for b in backoffs]
-    return keep_best(polished_best(strategy, problem, spec, chains, labels, progress), labels, problem)
+                         pool, early)
+    return keep_best(polished_best(strategy, problem, spec, chains, labels, progress, early.resumed), labels, problem)
 
 
 def verified_and_named(strategy: "Strategy", model, stages: list[StageResult], suffix: str) -> list[StageResult]:
@@ -105,45 +106,80 @@ def run_candidates(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec,
     suffixes = [f"@{m:g}" for m in margins]
     rigid = replace(rigid, point=None)  # no solver objects into the workers
     args = [(strategy, problem, base, rigid, transcription, m, sfx) for m, sfx in zip(margins, suffixes)]
+    early = EarlyResume(strategy, problem, base, progress)
     chains = _in_workers(candidate_chain, args, strategy.workers, progress,
-                         f"candidates (tension margins {', '.join(f'{m:g}' for m in margins)})", pool)
+                         f"candidates (tension margins {', '.join(f'{m:g}' for m in margins)})", pool, early)
     if all(len(c) == 1 and not c[0].success for c in chains):  # no candidate got past its no-reversal stage
         model = base.build(problem.press, problem.n_harmonics)
         note = "candidate ended: its no-reversal stage did not converge, as every candidate's did"
         return [*(replace(c[0], superseded=note) for c in chains),
                 *strategy.clearance_chain(problem, model, rigid, transcription, None, progress, None)]
     labels = [f"{m:g}" for m in margins]
-    return keep_best(polished_best(strategy, problem, base, chains, labels, progress), labels, problem)
+    return keep_best(polished_best(strategy, problem, base, chains, labels, progress, early.resumed), labels, problem)
+
+
+class EarlyResume:
+    """`_run`'s ``returned`` for candidate chains in worker processes: a chain that returns paused
+    (`PAUSED`) with an answer no higher than every chain returned so far resumes its polish here at
+    once (`Strategy.resume_polish`), while the others still run: by the time they have all returned,
+    it is most often the best, and its rounds have overlapped theirs. At most one chain resumes
+    early; `polished_best` keeps its rounds only if it is the best once every chain has returned, so
+    the answer is that of waiting for all of them. ``resumed``: (index, the resumed stages) or None."""
+
+    def __init__(self, strategy: "Strategy", problem: SpeedProblem, spec: ModelSpec, progress: bool):
+        self.strategy, self.problem, self.spec, self.progress = strategy, problem, spec, progress
+        self.values: dict[int, float] = {}
+        self.resumed: tuple[int, list[StageResult]] | None = None
+
+    def __call__(self, k: int, chain: list[StageResult]) -> None:
+        self.values[k] = verified_value(chain[-1], self.problem)
+        if self.resumed is None and PAUSED in chain[-1].details and self.values[k] <= min(self.values.values()):
+            self.resumed = (k, resumed_rounds(self.strategy, self.problem, self.spec, chain, self.progress))
+
+
+def resumed_rounds(strategy: "Strategy", problem: SpeedProblem, spec: ModelSpec, chain: list[StageResult],
+                   progress: bool) -> list[StageResult]:
+    """The rest of the paused `chain`'s rounds (`Strategy.resume_polish` on its model rebuilt from
+    `spec`), verified and named with the chain's suffix (`verified_and_named`)."""
+    model = spec.build(problem.press, problem.n_harmonics)
+    suffix = chain[-1].name[chain[-1].name.rindex("@"):]
+    more = strategy.resume_polish(problem, model, chain, progress)
+    return verified_and_named(strategy, model, more, suffix) if more else []
 
 
 def polished_best(strategy: "Strategy", problem: SpeedProblem, spec: ModelSpec, chains: list[list[StageResult]],
-                  labels: list[str], progress: bool) -> list[list[StageResult]]:
-    """`chains` with the polish resumed here on the best one: a chain that paused after its first
-    polish round (`Strategy.rounds`, its last stage marked `PAUSED`) polishes further
-    (`Strategy.resume_polish`, on its model rebuilt from `spec`) only when its answer is the lowest
-    verified of all chains' (`verified_value`); every other paused chain ends there, saying so in its
-    last stage's ``details["polish_ended"]``. The decision waits for every chain, so the answer does
-    not depend on which worker finished first."""
+                  labels: list[str], progress: bool,
+                  resumed: tuple[int, list[StageResult]] | None = None) -> list[list[StageResult]]:
+    """`chains` with the polish resumed on the best one: a chain that paused after its first polish
+    round (`Strategy.rounds`, its last stage marked `PAUSED`) polishes further (`resumed_rounds`)
+    only when its answer is the lowest verified of all chains' (`verified_value`); every other paused
+    chain ends there, saying so in its last stage's ``details["polish_ended"]``. `resumed`: a chain
+    already resumed before every chain had returned (`EarlyResume`), its index and stages: kept when
+    it is that best one, else recorded as not kept. So the answer does not depend on which worker
+    finished first."""
     values = [verified_value(c[-1], problem) for c in chains]
     best = int(np.argmin(values)) if np.isfinite(values).any() else None
     out = []
     for k, chain in enumerate(chains):
         last = chain[-1]
+        early = resumed[1] if resumed is not None and resumed[0] == k else None
         if PAUSED not in last.details:
             out.append(chain)
             continue
         if k == best:
-            model = spec.build(problem.press, problem.n_harmonics)
-            suffix = "@" + labels[k]
-            more = strategy.resume_polish(problem, model, chain, progress)
+            more = early if early is not None else resumed_rounds(strategy, problem, spec, chain, progress)
             last.details.pop(PAUSED)
-            out.append(chain + (verified_and_named(strategy, model, more, suffix) if more else []))
+            out.append(chain + more)
             continue
         last.details.pop(PAUSED)
         last.details["polish_ended"] = (
             f"after its first polish round its answer re-simulates at {values[k]:.6g}, above candidate "
             f"{labels[best]}'s {values[best]:.6g}: only the lowest verified candidate polishes further "
             "(Strategy.polish_candidates)")
+        if early is not None:  # resumed while the best one still ran: not kept, its cost recorded
+            last.details["polish_ended"] += (
+                f"; it had resumed before every candidate returned ({len(early)} stages, "
+                f"{sum(st.wall_time for st in early):.1f} s, not kept)")
         out.append(chain)
     return out
 
@@ -167,15 +203,17 @@ def keep_best(chains: list[list[StageResult]], labels: list[str], problem: Speed
 
 
 def _in_workers(fn, args: list[tuple], workers: int, progress: bool, desc: str,
-                pool: Executor | None) -> list[list[StageResult]]:
-    """`_run` of `fn` over `args` on min(`workers`, candidates) processes, with a tqdm bar of `desc`."""
+                pool: Executor | None, returned: Callable[[int, list[StageResult]], None] | None = None
+                ) -> list[list[StageResult]]:
+    """`_run` of `fn` over `args` on min(`workers`, candidates) processes, with a tqdm bar of `desc`
+    (`returned`: as `_run`'s)."""
     bar = None
     if progress:
         from tqdm.auto import tqdm
 
         bar = tqdm(total=len(args), desc=desc, unit="chain", leave=True)
     try:
-        return _run(fn, args, min(parallel_workers(workers), len(args)), bar, pool)
+        return _run(fn, args, min(parallel_workers(workers), len(args)), bar, pool, returned)
     finally:
         if bar is not None:
             bar.close()
@@ -186,21 +224,32 @@ def _least_failed(chains: list[list[StageResult]]) -> int:
     return int(np.argmax([len(c) for c in chains]))
 
 
-def _run(fn, args: list[tuple], workers: int, bar, pool: Executor | None) -> list[list[StageResult]]:
+def _run(fn, args: list[tuple], workers: int, bar, pool: Executor | None,
+         returned: Callable[[int, list[StageResult]], None] | None = None) -> list[list[StageResult]]:
     """`fn` (a candidate chain) over `args`, in order; in `pool`, or a new process pool when
-    ``workers > 1`` (shut down afterwards; a given pool is the caller's)."""
+    ``workers > 1`` (shut down afterwards; a given pool is the caller's). In a pool, `returned` is
+    called with each chain's index and stages as it returns, while the others still run."""
     def done(chain):
         if bar is not None:
             bar.update(1)
         return chain
 
+    def collected(futures) -> list[list[StageResult]]:
+        chains: list = [None] * len(futures)
+        index = {f: k for k, f in enumerate(futures)}
+        for f in as_completed(futures):
+            k = index[f]
+            chains[k] = done(f.result())
+            if returned is not None:
+                returned(k, chains[k])
+        return chains
+
     if pool is not None:
-        return [done(f.result()) for f in [pool.submit(fn, *a) for a in args]]
+        return collected([pool.submit(fn, *a) for a in args])
     if workers > 1:
         pool = process_pool(workers)
         try:
-            futures = [pool.submit(fn, *a) for a in args]
-            return [done(f.result()) for f in futures]
+            return collected([pool.submit(fn, *a) for a in args])
         except BrokenProcessPool as err:  # e.g. a script that starts solving on import, with no main guard
             warnings.warn(f"the candidate chains' worker processes stopped ({err}); running them here one after "
                           "the other. A script that optimises should do so under `if __name__ == '__main__':`",
