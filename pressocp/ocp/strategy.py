@@ -632,7 +632,16 @@ class Strategy:
                                pause=candidate and self.polish_candidates == "best")
             if PAUSED in out[-1].details:
                 return out
-            out += self.relax(problem, polish_model, standing_stage([*stages, *out]), transcription, progress)[0]
+        return out + self.after_polish(problem, polish_model, refine_model, [*stages, *out], transcription, progress)
+
+    def after_polish(self, problem: SpeedProblem, polish_model: PressModel | None, refine_model: PressModel,
+                     stages: list[StageResult], transcription: Transcription, progress: bool) -> list[StageResult]:
+        """What follows the polish rounds of `stages` (`rounds`, `resume_polish`): the relaxed re-solve of
+        the standing answer on `polish_model` (when there is one and the polish is on), then the
+        refinement rounds on `refine_model`."""
+        out: list[StageResult] = []
+        if polish_model is not None and self.polish_rounds:
+            out += self.relax(problem, polish_model, standing_stage(stages), transcription, progress)[0]
         if self.refine_rounds:
             out += self.refine(problem, refine_model, (stages + out)[-1], transcription, progress)
         return out
@@ -640,18 +649,15 @@ class Strategy:
     def resume_polish(self, problem: SpeedProblem, model: PressModel, stages: list[StageResult],
                       progress: bool) -> list[StageResult]:
         """The rest of a candidate chain paused after its first polish round (`rounds`; its last stage
-        in `stages` marked `PAUSED`, which `pressocp.ocp.candidates` removes): the polish rounds from the second on, from
-        that round's answer and its re-simulation, then the relaxed re-solve and the refinement rounds,
-        as `rounds` runs them. `model`: the chain's model, rebuilt from its spec."""
+        in `stages` marked `PAUSED`, which `pressocp.ocp.candidates` removes): the polish rounds from the
+        second on, from that round's answer and its re-simulation, then `after_polish`. `model`: the
+        chain's model, rebuilt from its spec (a candidate chain polishes and refines on the same model)."""
         last = stages[-1]
         paused = last.details[PAUSED]
         transcription, value = paused["transcription"], last.details["verified_value"]
         out = self.polish_from(problem, model, last, transcription, progress, paused["simulation"], value, value,
                                start=1)
-        out += self.relax(problem, model, standing_stage([*stages, *out]), transcription, progress)[0]
-        if self.refine_rounds:
-            out += self.refine(problem, model, (stages + out)[-1], transcription, progress)
-        return out
+        return out + self.after_polish(problem, model, model, [*stages, *out], transcription, progress)
 
     @property
     def verified_reason(self) -> str:
