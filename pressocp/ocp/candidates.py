@@ -66,7 +66,7 @@ def run_flexible_candidates(strategy: "Strategy", problem: SpeedProblem, spec: M
     labels = [f"{b:g}" for b in backoffs]
     early = EarlyResume(strategy, problem, spec, progress)
     chains = _in_workers(flexible_candidate, args, strategy.workers, progress,
-                         f"candidates (flexible stage from the rigid optima at backoffs {', '.join(f'{b:g}' for b in backoffs)})",
+                         f"candidates (flexible stage from the rigid optima at backoffs {', '.join(labels)})",
                          pool, early)
     return keep_best(polished_best(strategy, problem, spec, chains, labels, progress, early.resumed), labels, problem)
 
@@ -106,15 +106,15 @@ def run_candidates(strategy: "Strategy", problem: SpeedProblem, base: ModelSpec,
     suffixes = [f"@{m:g}" for m in margins]
     rigid = replace(rigid, point=None)  # no solver objects into the workers
     args = [(strategy, problem, base, rigid, transcription, m, sfx) for m, sfx in zip(margins, suffixes)]
+    labels = [f"{m:g}" for m in margins]
     early = EarlyResume(strategy, problem, base, progress)
     chains = _in_workers(candidate_chain, args, strategy.workers, progress,
-                         f"candidates (tension margins {', '.join(f'{m:g}' for m in margins)})", pool, early)
+                         f"candidates (tension margins {', '.join(labels)})", pool, early)
     if all(len(c) == 1 and not c[0].success for c in chains):  # no candidate got past its no-reversal stage
         model = base.build(problem.press, problem.n_harmonics)
         note = "candidate ended: its no-reversal stage did not converge, as every candidate's did"
         return [*(replace(c[0], superseded=note) for c in chains),
                 *strategy.clearance_chain(problem, model, rigid, transcription, None, progress, None)]
-    labels = [f"{m:g}" for m in margins]
     return keep_best(polished_best(strategy, problem, base, chains, labels, progress, early.resumed), labels, problem)
 
 
