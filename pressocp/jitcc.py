@@ -19,7 +19,9 @@ script (`pressocp.interrupt.compiling`).
 An entry is one file: a header line with the SHA-256 of the object code, then the object code. An
 entry whose object code does not match its header (truncated, corrupt) is deleted and rebuilt,
 never used. Entries are written to a temporary file in CACHE_DIR and renamed into place, so two
-processes compiling the same source at once each write a whole entry and either one is kept.
+processes compiling the same source at once each write a whole entry and either one is kept; a
+process that misses an entry another one is compiling waits for that compile and takes its entry
+(`entry_lock`).
 """
 
 from __future__ import annotations
@@ -143,22 +145,73 @@ def compile_cached(cache: str, compiler: str, args: list[str]) -> int:
     if key is None:
         return run([compiler, *args])
     entry = os.path.join(cache, key[:2], key + suffix)
-    payload = read_entry(entry)
-    if payload is not None:
-        with open(out, "wb") as f:
-            f.write(payload)
-        if suffix == ".so":
-            os.chmod(out, 0o755)
+    if copied(entry, out, suffix):
         return 0
-    code = run([compiler, *args])
-    if code == 0:
-        try:
-            os.makedirs(os.path.dirname(entry), exist_ok=True)
-            with open(out, "rb") as f:
-                write_entry(entry, f.read())
-        except OSError:  # an unwritable cache only costs the next compile
-            pass
+    lock = entry_lock(entry)
+    try:
+        if lock is not None and copied(entry, out, suffix):  # compiled by the process that held the lock
+            return 0
+        code = run([compiler, *args])
+        if code == 0:
+            try:
+                os.makedirs(os.path.dirname(entry), exist_ok=True)
+                with open(out, "rb") as f:
+                    write_entry(entry, f.read())
+            except OSError:  # an unwritable cache only costs the next compile
+                pass
+    finally:
+        if lock is not None:
+            release(lock, entry)
     return code
+
+
+def copied(entry: str, out: str, suffix: str) -> bool:
+    """Whether the cache entry `entry` was found whole and written to `out` (a library made executable)."""
+    payload = read_entry(entry)
+    if payload is None:
+        return False
+    with open(out, "wb") as f:
+        f.write(payload)
+    if suffix == ".so":
+        os.chmod(out, 0o755)
+    return True
+
+
+def entry_lock(entry: str) -> int | None:
+    """An exclusive lock on `entry`'s lock file (``ENTRY.lock``, POSIX ``flock``), taken when the entry
+    is missing, before compiling it: a second process that misses the same entry meanwhile waits here,
+    then finds the entry instead of compiling the same source again (the compile ahead of the 75 spm
+    seed and a candidate chain reaching the same point function). The descriptor, or None where there
+    is no ``flock`` or the lock file cannot be made: the lock only saves work, since entries are
+    written whole and renamed into place (`write_entry`). ``fcntl`` is the standard library's: this
+    script runs with ``-S``, without site-packages. A process that dies holding the lock releases it."""
+    try:
+        import fcntl
+    except ImportError:  # not POSIX
+        return None
+    try:
+        os.makedirs(os.path.dirname(entry), exist_ok=True)
+        fd = os.open(entry + ".lock", os.O_RDWR | os.O_CREAT, 0o666)
+    except OSError:
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+    except OSError:
+        os.close(fd)
+        return None
+    return fd
+
+
+def release(fd: int, entry: str) -> None:
+    """Remove `entry`'s lock file, then release the lock (`entry_lock`). A process that opened the
+    file before its removal then holds a lock on the removed file, and one arriving later a lock of its
+    own on a new file: both find the entry written, or, after a failed compile, both compile, which is
+    harmless (`write_entry`)."""
+    try:
+        os.remove(entry + ".lock")
+    except OSError:
+        pass
+    os.close(fd)
 
 
 def record_interrupts() -> None:

@@ -94,6 +94,25 @@ def test_a_failing_compile_is_not_cached_and_a_link_is_cached_under_its_object_c
     assert links() == 4 and len(list(cache.glob("*/*.so"))) == 2  # several objects: run as it is, uncached
 
 
+
+@needs_cc
+@pytest.mark.skipif(os.name != "posix", reason="the entry lock is POSIX flock")
+def test_two_processes_missing_the_same_entry_at_once_compile_it_once(tmp_path, setup):
+    """The second process waits for the first one's compile (its entry lock) and takes its entry: the
+    compiler, slowed to 1 s so that the two overlap, runs once, both get the same object file, and no
+    lock file is left behind."""
+    cc, cache, src = setup
+    slow = tmp_path / "slowcc"
+    slow.write_text(f'#!/bin/sh\nsleep 1\nexec "{cc}" "$@"\n')
+    slow.chmod(slow.stat().st_mode | stat.S_IEXEC)
+    script = os.path.join(os.path.dirname(compile_cache.__file__), "jitcc.py")
+    runs = [subprocess.Popen([sys.executable, "-I", "-S", script, str(cache), str(slow), "-O1", "-fPIC", "-c",
+                              str(src), "-o", str(tmp_path / f"{k}.o")]) for k in range(2)]
+    assert [r.wait(timeout=60) for r in runs] == [0, 0]
+    assert len(compiles(tmp_path)) == 1
+    assert (tmp_path / "0.o").read_bytes() == (tmp_path / "1.o").read_bytes()
+    assert len(list(cache.glob("*/*.o"))) == 1 and not list(cache.glob("*/*.lock"))
+
 SNIPPET = textwrap.dedent("""
     import casadi as ca
     from pressocp.compile_cache import jit_options
