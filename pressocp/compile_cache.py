@@ -52,6 +52,15 @@ COMPILE_STATUS_ENV = "PRESSOCP_COMPILE_STATUS"
 NO_CACHE = "-"
 #: Optimisation flags of the compiled functions (-O3 was no faster and compiled 3 x longer).
 FLAGS = ("-O1",)
+#: Optimisation flags of the functions an NLP evaluates, and their derivatives (`function_options`'s
+#: ``flags``: the rigid stage's loads, the ram's kinematics, the collocation point function). GCC
+#: spends most of an -O1 compile of these long straight-line functions in register allocation; -Og
+#: skips part of it: the collocation point function's Hessian (548 kB of C) compiled in 9.5 against
+#: 13.2 s and evaluates as fast (23.1 against 23.6 us a point), and the 75 spm seed's cold call
+#: compiled for 17.7 against 25.4 s, with the same answer to the last digit. The integrators keep
+#: `FLAGS`: the flexible rod's right-hand side ran about 15 % slower at -Og
+#: (docs/decisions/2026-12-02-og-for-nlp-functions.md).
+NLP_FLAGS = ("-Og",)
 #: Directions per derivative sweep of an NLP whose functions are compiled (the oracle's
 #: ``max_num_dir``; CasADi's default 64 put all 9 Hessian colours of the collocation point function
 #: into one large function that took ~35 s to compile; 3 compile in ~5 s and evaluate as fast).
@@ -101,13 +110,15 @@ def use_jit(setting: bool | str, what: str) -> bool:
 QUICK_FLAGS = ("-O0",)
 
 
-def function_options(jit: bool, derivatives: str = "same") -> dict:
-    """Options of a CasADi Function compiled with its derivatives (`jit_options`), or none.
-    ``derivatives="quick"`` compiles the derivatives at `QUICK_FLAGS`. Each derivative CasADi builds
-    merges its common subexpressions first (`DERIVATIVE_CSE`); the function itself does not."""
+def function_options(jit: bool, derivatives: str = "same", flags: tuple[str, ...] = FLAGS) -> dict:
+    """Options of a CasADi Function compiled with its derivatives (`jit_options`) at `flags`
+    (`NLP_FLAGS` for the functions of an NLP), or none. ``derivatives="quick"`` compiles the
+    derivatives at `QUICK_FLAGS`. Each derivative CasADi builds merges its common subexpressions first
+    (`DERIVATIVE_CSE`); the function itself does not."""
     if not jit:
         return {}
-    opts = jit_options()
+    base = jit_options()
+    opts = {**base, "jit_options": {**base["jit_options"], "flags": list(flags)}}
     der = {**opts, "cse": DERIVATIVE_CSE}
     if derivatives == "quick":
         return {**opts, "der_options": {**der, "jit_options": {**opts["jit_options"], "flags": list(QUICK_FLAGS)}}}
@@ -198,7 +209,7 @@ def _remove_log_at_exit() -> None:
 
 def prepared_record(*parts: str) -> Path | None:
     """The file that records in the cache folder that the functions `parts` describe were compiled into
-    it (named by the SHA-256 of `parts`, CasADi's version and `FLAGS`); None when the cache is off. It
+    it (named by the SHA-256 of `parts`, CasADi's version, `FLAGS` and `NLP_FLAGS`); None when the cache is off. It
     lets a caller skip compiling ahead what the cache holds; a record whose object files were removed
     since costs only the compile it was meant to save, in the solve that then compiles."""
     folder = cache_dir()
@@ -206,7 +217,7 @@ def prepared_record(*parts: str) -> Path | None:
         return None
     import casadi as ca
 
-    key = hashlib.sha256("\n".join((ca.__version__, *FLAGS, *parts)).encode()).hexdigest()
+    key = hashlib.sha256("\n".join((ca.__version__, *FLAGS, *NLP_FLAGS, *parts)).encode()).hexdigest()
     return folder / "prepared" / key
 
 

@@ -255,3 +255,30 @@ def test_derivatives_merge_common_subexpressions_and_keep_every_bit():
         args = [rng.standard_normal(sweeps[False].sparsity_in(i).shape) for i in range(sweeps[False].n_in())]
         plain, merged = (np.concatenate([np.ravel(v) for v in sweeps[c].call(args)]) for c in (False, True))
         assert plain.size > 0 and np.array_equal(plain, merged)
+
+
+NLP_AND_SIMULATION = textwrap.dedent("""
+    from pressocp import PressParams, SpeedProblem, build_model
+    from pressocp.ocp.rigid_stage import loads_function
+    from pressocp.simulate import integrator_dae
+    problem = SpeedProblem(PressParams(), period=1.0, ram_speed=-0.15, n_harmonics=4)
+    loads_function(problem, jit=True)
+    print("--- simulation", flush=True)
+    integrator_dae(build_model(problem.press, n_harmonics=4), explicit=False, work=False)
+""")
+
+
+@needs_cc
+def test_an_nlps_functions_compile_at_the_nlp_flags_and_a_simulations_at_the_default_ones(tmp_path):
+    """The rigid stage's loads compile at `NLP_FLAGS`, an integrator's right-hand side at `FLAGS` (the
+    compiler's own log of its calls, in order)."""
+    logging_compiler(tmp_path)
+    env = {**os.environ, "PATH": f"{tmp_path}{os.pathsep}{os.environ['PATH']}",
+           compile_cache.CACHE_ENV: str(tmp_path / "cache")}
+    out = subprocess.run([sys.executable, "-c", NLP_AND_SIMULATION], env=env, capture_output=True, text=True,
+                         check=True, cwd=tmp_path)
+    calls = compiles(tmp_path)
+    assert calls and compile_cache.NLP_FLAGS != compile_cache.FLAGS
+    nlp, sim = calls[0], calls[-1]
+    assert all(f in nlp.split() for f in compile_cache.NLP_FLAGS), nlp
+    assert all(f in sim.split() for f in compile_cache.FLAGS) and "press_dae" not in nlp, (sim, out.stdout)

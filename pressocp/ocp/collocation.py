@@ -26,7 +26,7 @@ import casadi as ca
 import numpy as np
 
 from .. import checks as chk
-from ..compile_cache import check_jit, compile_seconds, function_options, oracle_options, use_jit
+from ..compile_cache import NLP_FLAGS, check_jit, compile_seconds, function_options, oracle_options, use_jit
 from ..interrupt import compiling
 from ..ipopt_options import IPOPT_COLLOCATION, IPOPT_RESCALED
 from ..model import OUTPUT_NAMES, PressModel
@@ -244,7 +244,7 @@ def point_function(model: PressModel, names: tuple[str, ...], jit: bool = False)
         y = ca.vertcat(*[out[1 + OUTPUT_NAMES.index(n)] for n in names])
         with compiling():
             model.functions[key] = ca.Function("point", [x, crank, q], [out[0], y], ["x", "crank", "q"],
-                                               ["ode", "y"], function_options(jit))
+                                               ["ode", "y"], function_options(jit, flags=NLP_FLAGS))
     return model.functions[key]
 
 

@@ -13,7 +13,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from ..compile_cache import compile_seconds, function_options
+from ..compile_cache import NLP_FLAGS, compile_seconds, function_options
 from ..interrupt import compiling, interruptible
 from ..ipopt_options import IPOPT_WARM_START
 from ..objectives import Objective, trapezoid_weights
@@ -170,7 +170,7 @@ def ram_function(problem: SpeedProblem, jit: bool = False) -> ca.Function:
     th, om, al = series(t, c[:n], c[n:], T)
     kin = problem.mechanism.kinematics_function(problem.press)(theta=th, omega=om, alpha=al)
     with compiling():
-        return ca.Function("ram", [t, c], [kin["ram_height"], kin["ram_velocity"], th], function_options(jit))
+        return ca.Function("ram", [t, c], [kin["ram_height"], kin["ram_velocity"], th], function_options(jit, flags=NLP_FLAGS))
 
 
 def add_kinematic_window(cons: Constraints, problem: SpeedProblem, c, t1, duration: float, samples: int,

@@ -13,7 +13,7 @@ import casadi as ca
 import numpy as np
 
 from .. import checks as chk
-from ..compile_cache import check_jit, function_options, oracle_options, use_jit
+from ..compile_cache import NLP_FLAGS, check_jit, function_options, oracle_options, use_jit
 from ..interrupt import compiling
 from ..design import design_speed
 from ..model import ModelSpec, PressModel
@@ -40,7 +40,7 @@ def loads_function(problem: SpeedProblem, symbols: tuple[str, ...] = (), jit: bo
     dyn = problem.mechanism.inverse_dynamics(press, th, om, al)
     with compiling():
         return ca.Function("loads", [th, om, al, ca.vertcat(*q) if q else ca.SX(0, 1)],
-                           [dyn[k] for k in LOAD_OUTPUTS], function_options(jit))
+                           [dyn[k] for k in LOAD_OUTPUTS], function_options(jit, flags=NLP_FLAGS))
 
 
 #: Share of the ram-speed tolerance a relaxed rigid stage holds (`Rigid.relaxed`). On press60, whose
