@@ -232,12 +232,15 @@ def test_polish_keeps_only_a_verified_improvement(smooth):
 def test_no_polish_round_runs_from_an_answer_at_the_rigid_floor(smooth):
     """An answer whose re-simulation is at or below the rigid press's optimum (the floor) is not
     polished: no re-solve runs, a ``polish_1`` record says why and holds the answer. Just above the
-    floor a round runs. The boundary is set from an independent periodic re-simulation (IDAS)."""
+    floor a round runs. The boundary is set from an independent periodic re-simulation (IDAS at
+    rtol 1e-11), 1e-4 of the peak either side; the strategy re-simulates at rtol 1e-10, whose peak is
+    within 6e-6 of it (at 1e-8 it was 0.9-1.5e-4 above it on an AMD EPYC, compiled or not: more than
+    the margin)."""
     model = build_model(SMOOTH.press, n_harmonics=4)
     best = dataclasses.replace(smooth.stages[0], simulation=None)
-    peak = simulate(model, best.speed, periodic=True, integrator=Integrator(method="idas", rtol=1e-9),
+    peak = simulate(model, best.speed, periodic=True, integrator=Integrator(method="idas", rtol=1e-11),
                     n_out=20001).peak("torque")
-    strat = Strategy(polish_rounds=3, verify_rtol=1e-8)
+    strat = Strategy(polish_rounds=3, verify_rtol=1e-10)
     replay = Replay(best)
     [skipped] = strat.polish(SMOOTH, model, best, replay, False, floor=peak * (1 + 1e-4))
     assert replay.calls == 0 and skipped.name == "polish_1" and skipped.was_skipped
