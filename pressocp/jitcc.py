@@ -28,9 +28,13 @@ from __future__ import annotations
 
 import hashlib
 import os
-import signal
 import sys
 import time
+
+try:  # CPython's C module: `signal` wraps it in enums, whose import cost a hit 8 of its ~56 ms
+    import _signal as signal
+except ImportError:
+    import signal
 
 # subprocess, shutil and tempfile are imported where they are used: a cache hit needs none of them, and
 # importing them took 30 of the 50 ms this script ran for a hit (its interpreter starts in 20).
@@ -40,9 +44,11 @@ MAGIC = b"pressocp-jitcc 1 "
 
 def compiler_identity(compiler: str) -> str:
     """The compiler's resolved path, size and modification time: a new compiler gives new keys."""
-    import shutil
+    path = compiler
+    if not os.path.isabs(compiler):  # CasADi is given an absolute path: shutil's import took 25 ms
+        import shutil
 
-    path = compiler if os.path.isabs(compiler) else shutil.which(compiler) or compiler
+        path = shutil.which(compiler) or compiler
     try:
         st = os.stat(path)
         return f"{os.path.realpath(path)}:{st.st_size}:{st.st_mtime_ns}"
