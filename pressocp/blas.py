@@ -8,8 +8,8 @@ scenes' chains, which pass stages stopped at their iteration limits, turn that i
 optimum (press75: 145.14407 N·m on two threads, 145.14371 on one). With one thread in every process,
 a default call, a sweep's point (the package's workers) and a machine with another core count take
 the same path to the same answer. Another CPU model can still take another path: numpy's OpenBLAS
-picks its kernels by CPU (``docs/decisions/2026-12-02-answers-by-cpu.md``). MUMPS's fronts here are small (a banded collocation KKT system),
-so a second thread buys little.
+picks its kernels by CPU (``docs/decisions/2026-12-02-answers-by-cpu.md``). MUMPS's fronts here are
+small (a banded collocation KKT system), so a second thread buys little.
 
 `pressocp` sets this when it is imported; `set_casadi_blas_threads` changes it. numpy's OpenBLAS is
 a separate library, left alone here. See ``docs/decisions/2026-11-29-casadi-blas-one-thread.md``.

@@ -57,7 +57,7 @@ FLAGS = ("-O1",)
 #: spends most of an -O1 compile of these long straight-line functions in register allocation; -Og
 #: skips part of it: the collocation point function's Hessian (548 kB of C) compiled in 9.5 against
 #: 13.2 s and evaluates as fast (23.1 against 23.6 us a point), and the 75 spm seed's cold call
-#: compiled for 17.7 against 25.4 s, with the same answer to the last digit. The integrators keep
+#: compiled for 17.5 against 25.2 s, with the same answer to the last digit. The integrators keep
 #: `FLAGS`: the flexible rod's right-hand side ran about 15 % slower at -Og
 #: (docs/decisions/2026-12-02-og-for-nlp-functions.md).
 NLP_FLAGS = ("-Og",)
@@ -209,8 +209,8 @@ def _remove_log_at_exit() -> None:
 
 def prepared_record(*parts: str) -> Path | None:
     """The file that records in the cache folder that the functions `parts` describe were compiled into
-    it (named by the SHA-256 of `parts`, CasADi's version, `FLAGS` and `NLP_FLAGS`); None when the cache is off. It
-    lets a caller skip compiling ahead what the cache holds; a record whose object files were removed
+    it (named by the SHA-256 of `parts`, CasADi's version, `FLAGS` and `NLP_FLAGS`); None when the
+    cache is off. It lets a caller skip compiling ahead what the cache holds; a record whose object files were removed
     since costs only the compile it was meant to save, in the solve that then compiles."""
     folder = cache_dir()
     if folder is None:

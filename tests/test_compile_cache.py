@@ -94,7 +94,6 @@ def test_a_failing_compile_is_not_cached_and_a_link_is_cached_under_its_object_c
     assert links() == 4 and len(list(cache.glob("*/*.so"))) == 2  # several objects: run as it is, uncached
 
 
-
 @needs_cc
 @pytest.mark.skipif(os.name != "posix", reason="the entry lock is POSIX flock")
 def test_two_processes_missing_the_same_entry_at_once_compile_it_once(tmp_path, setup):
@@ -112,6 +111,7 @@ def test_two_processes_missing_the_same_entry_at_once_compile_it_once(tmp_path, 
     assert len(compiles(tmp_path)) == 1
     assert (tmp_path / "0.o").read_bytes() == (tmp_path / "1.o").read_bytes()
     assert len(list(cache.glob("*/*.o"))) == 1 and not list(cache.glob("*/*.lock"))
+
 
 SNIPPET = textwrap.dedent("""
     import casadi as ca
@@ -263,7 +263,6 @@ NLP_AND_SIMULATION = textwrap.dedent("""
     from pressocp.simulate import integrator_dae
     problem = SpeedProblem(PressParams(), period=1.0, ram_speed=-0.15, n_harmonics=4)
     loads_function(problem, jit=True)
-    print("--- simulation", flush=True)
     integrator_dae(build_model(problem.press, n_harmonics=4), explicit=False, work=False)
 """)
 
@@ -275,10 +274,10 @@ def test_an_nlps_functions_compile_at_the_nlp_flags_and_a_simulations_at_the_def
     logging_compiler(tmp_path)
     env = {**os.environ, "PATH": f"{tmp_path}{os.pathsep}{os.environ['PATH']}",
            compile_cache.CACHE_ENV: str(tmp_path / "cache")}
-    out = subprocess.run([sys.executable, "-c", NLP_AND_SIMULATION], env=env, capture_output=True, text=True,
-                         check=True, cwd=tmp_path)
+    subprocess.run([sys.executable, "-c", NLP_AND_SIMULATION], env=env, capture_output=True, text=True, check=True,
+                   cwd=tmp_path)
     calls = compiles(tmp_path)
-    assert calls and compile_cache.NLP_FLAGS != compile_cache.FLAGS
+    assert len(calls) >= 2 and compile_cache.NLP_FLAGS != compile_cache.FLAGS
     nlp, sim = calls[0], calls[-1]
     assert all(f in nlp.split() for f in compile_cache.NLP_FLAGS), nlp
-    assert all(f in sim.split() for f in compile_cache.FLAGS) and "press_dae" not in nlp, (sim, out.stdout)
+    assert all(f in sim.split() for f in compile_cache.FLAGS), sim

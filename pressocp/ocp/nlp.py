@@ -170,7 +170,8 @@ def ram_function(problem: SpeedProblem, jit: bool = False) -> ca.Function:
     th, om, al = series(t, c[:n], c[n:], T)
     kin = problem.mechanism.kinematics_function(problem.press)(theta=th, omega=om, alpha=al)
     with compiling():
-        return ca.Function("ram", [t, c], [kin["ram_height"], kin["ram_velocity"], th], function_options(jit, flags=NLP_FLAGS))
+        return ca.Function("ram", [t, c], [kin["ram_height"], kin["ram_velocity"], th],
+                           function_options(jit, flags=NLP_FLAGS))
 
 
 def add_kinematic_window(cons: Constraints, problem: SpeedProblem, c, t1, duration: float, samples: int,

@@ -158,8 +158,9 @@ def run_chain(problem: SpeedProblem, model: PressModel, tr: Transcription, strat
     stages' compiled functions are compiled ahead into the compile cache, in the worker that then
     simulates the initial speed, while the rigid stage runs: the candidates find them there (75 spm
     seed, empty cache: both chains compiled the same 7.5 s side by side after their no-reversal
-    stage), or wait for a compile still running (`pressocp.jitcc`'s entry lock). A record in the cache (`prepared_record`) skips that when it was done before; with the
-    cache off there is nowhere to compile ahead into."""
+    stage), or wait for a compile still running (`pressocp.jitcc`'s entry lock). A record in the
+    cache (`prepared_record`) skips that when it was done before; with the cache off there is
+    nowhere to compile ahead into."""
     workers = min(parallel_workers(strat.workers), len(strat.margins))
     parallel = workers > 1 and bool(model.clearance)
     spec = strat.clearance_spec(model.spec)
