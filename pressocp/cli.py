@@ -240,27 +240,6 @@ def _parser() -> argparse.ArgumentParser:
     return ap
 
 
-def flag_reason(summary: dict) -> str:
-    """Why a job's results are flagged, from its summary: not converged (IPOPT's status), or not
-    verified (the re-simulation not periodic, the ram speed out of tolerance, a limit exceeded), else
-    its status."""
-    if summary.get("converged") is False:
-        return f"not converged ({summary.get('status')})"
-    periodic = summary.get("periodic")
-    if summary.get("verified") is False or periodic not in (True, None):
-        why = []
-        if periodic not in (True, None):
-            why.append(f"the re-simulation is not periodic ({periodic})")
-        if summary.get("max_ram_speed_violation_m_s", 0.0) > 0.0:
-            why.append(f"the ram speed leaves its tolerance by {summary['max_ram_speed_violation_m_s']:.3g} m/s")
-        if summary.get("limits_exceeded"):
-            from .verify import describe_excess
-
-            why.append(describe_excess(summary["limits_exceeded"]))
-        return "not verified" + (f": {'; '.join(why)}" if why else "")
-    return str(summary.get("status", periodic))
-
-
 def interrupted(out: Path, staging: Path | None) -> str:
     """What an interrupted job left in `out`: its run when the commit had finished (the manifest
     names this run's staging folder), else the previous run, untouched."""
@@ -352,6 +331,8 @@ def _prepare(args: argparse.Namespace):
             print(report.text)
             print(f"  wrote {', '.join(p.name for p in report.files)} to {out}/")
         if not report.ok:
+            from .summaries import flag_reason
+
             print(f"pressocp {report.job}: results written but flagged: {flag_reason(report.summary)}",
                   file=sys.stderr)
         return report.exit_code

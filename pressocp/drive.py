@@ -18,8 +18,12 @@ import numpy as np
 
 from . import checks as chk
 
-#: A motor above this speed, rad/s (about 30 000 rpm), is suspected of a speed given in rpm.
+#: A motor above this speed, rad/s (about 30 000 rpm), is refused as a speed given in rpm.
 MAX_MOTOR_SPEED = 3200.0
+#: Above this speed, rad/s (about 10 500 rpm; press servo motors run up to about 6 000 rpm), a motor is
+#: suspected of a speed given in rpm (`pressocp.checks.PlausibilityWarning`; ``--strict`` refuses it):
+#: the usual rated speeds, 1 500 to 6 000 rpm, typed as rad/s land between the two limits.
+SUSPECT_MOTOR_SPEED = 1100.0
 
 
 @dataclass(frozen=True)
@@ -79,6 +83,10 @@ class Drive:
         if speed > MAX_MOTOR_SPEED:
             slip = f": a value in rpm? {speed:g} rpm is {speed * 2 * np.pi / 60:.4g} rad/s"
             raise ValueError(f"max_speed must be in (0, {MAX_MOTOR_SPEED:g}] rad/s, got {speed!r}{slip}")
+        if speed > SUSPECT_MOTOR_SPEED:
+            chk.suspect(f"max_speed = {speed:g} rad/s is {speed * 60 / (2 * np.pi):.0f} rpm, faster than press servo "
+                        f"motors run (up to about 6000 rpm): a value in rpm? {speed:g} rpm is "
+                        f"{speed * 2 * np.pi / 60:.4g} rad/s")
         if self.power_limit is not None:
             chk.positive("power_limit", self.power_limit, "W")
         eta = chk.positive("gear_efficiency", self.gear_efficiency, "-")

@@ -1,5 +1,21 @@
 """Every IPOPT option set of the package, in one place (the stages' transcriptions add their own
-``ipopt`` overrides on top, and `pressocp.compile_cache.oracle_options` the derivative settings)."""
+``ipopt`` overrides on top, and `pressocp.compile_cache.oracle_options` the derivative settings), and
+the check of a user's overrides before any solve (`check_nlpsol_options`)."""
+
+from __future__ import annotations
+
+import ctypes
+import difflib
+import io
+import os
+import re
+import sys
+import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager, redirect_stdout
+from typing import Any
+
+import casadi as ca
 
 #: No output from IPOPT or CasADi.
 QUIET = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": False}
@@ -76,3 +92,119 @@ IPOPT_TRACKING = {**IPOPT_BASE, **IPOPT_WARM_START, "ipopt.mu_init": 1e-9, "ipop
 
 #: The kinematic speed design (`pressocp.design.design_speed`): a small, smooth NLP solved tightly.
 IPOPT_DESIGN = {**QUIET, "ipopt.max_iter": 500, "ipopt.tol": 1e-10}
+
+
+#: Option sets `check_nlpsol_options` has accepted in this process (by their repr).
+ACCEPTED: set[str] = set()
+
+
+def check_nlpsol_options(name: str, options: Any) -> None:
+    """Refuse, before any solve, extra nlpsol options (a transcription's ``ipopt``) that IPOPT or
+    CasADi would refuse only when a stage builds its solver, minutes into a call.
+
+    ``"ipopt.X"`` keys are set on a one-variable problem and solved, one key at a time: a name IPOPT
+    does not know, a value of the wrong type, out of IPOPT's range or not among its settings (IPOPT's
+    own explanation, which it prints, is quoted), or an unavailable linear solver raises. Other keys
+    must be options of CasADi's nlpsol (set without a solve: ``jit`` would compile). `name` names the
+    field in the message (e.g. ``"Collocation.ipopt"``). A set accepted once is not tried again.
+
+    Raises
+    ------
+    ValueError
+        Naming `name`, the key and its value, and why.
+    """
+    if not isinstance(options, dict) or not all(isinstance(k, str) for k in options):
+        raise ValueError(f"{name} must be a dict of nlpsol options with string keys, e.g. "
+                         f"{{'ipopt.max_iter': 50}}, got {options!r}")
+    key = repr(sorted(options.items(), key=lambda kv: kv[0]))
+    if not options or key in ACCEPTED:
+        return
+    x = ca.SX.sym("x")
+    nlp = {"x": x, "f": (x - 1.0) ** 2}
+    for k, v in options.items():
+        if not k.startswith("ipopt."):
+            continue
+        with captured_stdout() as said:
+            try:
+                solver = ca.nlpsol("option_check", "ipopt", nlp, {k: v, **QUIET})
+                solver(x0=0.0)
+                status = str(solver.stats()["return_status"])
+            except RuntimeError as err:
+                status = casadi_reason(err)
+        if status in ("Solve_Succeeded", "Solved_To_Acceptable_Level", "Maximum_Iterations_Exceeded",
+                      "Maximum_CpuTime_Exceeded", "Maximum_WallTime_Exceeded", "Search_Direction_Becomes_Too_Small"):
+            continue
+        raise ValueError(f"{name}: IPOPT refuses {k} = {v!r}: {status}{ipopt_explanation(said[0], k)}")
+    rest = {k: v for k, v in options.items() if not k.startswith("ipopt.")}
+    if rest:
+        try:
+            ca.nlpsol("option_check", "ipopt", nlp, {**rest, **QUIET})
+        except RuntimeError as err:
+            reason, hint = casadi_reason(err), ""
+            unknown = re.search(r"Unknown option: (\S+)", reason)
+            if unknown:
+                bad = unknown.group(1)
+                close = difflib.get_close_matches(bad, re.findall(r'> "([^"]+)"', str(err)), n=1)
+                if "." not in bad and ipopt_takes(bad, rest[bad]):
+                    hint = f"; IPOPT's own options take the prefix 'ipopt.': did you mean 'ipopt.{bad}'?"
+                elif close:
+                    hint = f"; did you mean {close[0]!r}?"
+            raise ValueError(f"{name}: CasADi's nlpsol refuses {sorted(rest)}: {reason}{hint}") from None
+    ACCEPTED.add(key)
+
+
+def casadi_reason(err: RuntimeError) -> str:
+    """The reason in a CasADi error: the text after its last source location (``file.cpp:123:``), on
+    one line, without CasADi's list of similar option names."""
+    text = str(err).split("Did you mean")[0]
+    parts = re.split(r"\S+\.(?:cpp|hpp):\d+:", text)
+    return " ".join(parts[-1].split()) or " ".join(text.split())
+
+
+def ipopt_explanation(printed: str, key: str) -> str:
+    """What IPOPT printed about a refused option (the refused setting, the allowed range or the valid
+    settings), as a parenthesis for a message; for a linear solver, the ones this build has."""
+    lines = printed.splitlines()
+    why = [line.strip() for line in lines if line.startswith("Setting:") or " <= " in line]
+    if "Valid Settings:" in lines:
+        names = [line.split()[0] for line in lines[lines.index("Valid Settings:") + 1 :]
+                 if line.startswith("\t") and line.split()]
+        why.append("valid settings: " + ", ".join(names))
+    if key == "ipopt.linear_solver":
+        why.append("CasADi's IPOPT has 'mumps' and 'spral'; HSL's solvers need a separately installed library")
+    return f" ({'; '.join(why)})" if why else ""
+
+
+def ipopt_takes(option: str, value: Any) -> bool:
+    """Whether IPOPT has an option named `option` that takes `value` (set on a one-variable problem)."""
+    x = ca.SX.sym("x")
+    with captured_stdout():
+        try:
+            ca.nlpsol("option_check", "ipopt", {"x": x, "f": x**2}, {f"ipopt.{option}": value, **QUIET})
+        except RuntimeError:
+            return False
+    return True
+
+
+@contextmanager
+def captured_stdout() -> Iterator[list[str]]:
+    """Within the block, what is printed goes nowhere; the list the block gets holds the text after it.
+    Both paths are caught: CasADi passes IPOPT's messages to Python's ``sys.stdout`` (a notebook's or
+    pytest's stream, not always file descriptor 1), and C code writes to the descriptor itself."""
+    text: list[str] = [""]
+    sys.stdout.flush()
+    saved = os.dup(1)
+    python = io.StringIO()
+    with tempfile.TemporaryFile() as f, redirect_stdout(python):
+        os.dup2(f.fileno(), 1)
+        try:
+            yield text
+        finally:
+            try:
+                ctypes.CDLL(None).fflush(None)  # C's buffered stdout, before the descriptor goes back
+            except (OSError, AttributeError, TypeError):  # no C library by that name (Windows)
+                pass
+            os.dup2(saved, 1)
+            os.close(saved)
+            f.seek(0)
+            text[0] = python.getvalue() + f.read().decode(errors="replace")

@@ -414,7 +414,7 @@ class PressParams:
     crank_radius : float
         Crank radius r, m (stroke H = 2 r).
     rod_length : float
-        Connecting rod length l, centre to centre, m; must exceed ``crank_radius``.
+        Connecting rod length l, centre to centre, m; at least `MIN_ROD_RATIO` (1.5) x ``crank_radius``.
     crank_inertia : float
         Moment of inertia about the crank axis, kg m^2 (crank, gear, reflected motor).
     crank_mass : float

@@ -49,7 +49,7 @@ from .compile_cache import check_jit
 from .drive import Drive
 from .mechanism import MECHANISMS, SLIDER_CRANK, Mechanism, mechanism_to_dict
 from .model import ModelSpec, PressModel
-from .ocp import Collocation, MultipleShooting, OcpResult, Strategy, optimize_speed
+from .ocp import VERIFY_RTOL_RANGE, Collocation, MultipleShooting, OcpResult, Strategy, optimize_speed
 from .params import NESTED, PressParams
 from .problem import SpeedProblem
 from .speed import FourierSpeed
@@ -103,8 +103,9 @@ class SolverChoice:
             chk.integer("elements", self.elements, 10, 100_000)
         check_jit(self.jit)
         r = chk.finite("verify_rtol", self.verify_rtol)
-        if not 1e-14 <= r <= 1e-5:
-            raise ValueError(f"verify_rtol must be in [1e-14, 1e-05], got {self.verify_rtol!r} (the final "
+        lo, hi = VERIFY_RTOL_RANGE
+        if not lo <= r <= hi:
+            raise ValueError(f"verify_rtol must be in [{lo:g}, {hi:g}], got {self.verify_rtol!r} (the final "
                              "re-simulation's relative tolerance; 1e-9 by default)")
         object.__setattr__(self, "verify_rtol", r)
         chk.integer("polish_rounds", self.polish_rounds, 0, 10)
@@ -206,6 +207,9 @@ class Scenario:
         """Build and check a scenario from nested dicts (the TOML tables)."""
         where = f"{source}: " if source else ""
         _known(data, ("name", "press", "mechanism", "drive", "problem", "model", "solver"), "", where)
+        name = data.get("name", Path(source).stem if source else "scenario")
+        if not isinstance(name, str):
+            raise ScenarioError(f"{where}name must be a string, got {type(name).__name__}")
         try:
             mechanism = _mechanism(data.get("mechanism", {"name": "slider_crank"}), where)
             press = _press(_drive_lengths(data.get("press", {}), mechanism), where)
@@ -223,9 +227,6 @@ class Scenario:
             raise
         except ValueError as err:  # a range check of the dataclasses: name the table
             raise ScenarioError(f"{where}{err}") from None
-        name = data.get("name", Path(source).stem if source else "scenario")
-        if not isinstance(name, str):
-            raise ScenarioError(f"{where}name must be a string, got {type(name).__name__}")
         return cls(name, problem, model, solver)
 
     # Writing -----------------------------------------------------------------------------------
@@ -260,6 +261,10 @@ class Scenario:
             parts = key.split(".")
             table = parts[0] in OPTIONAL_TABLES or isinstance(data.get(parts[0]), dict)
             if not (table or (parts[0] in data and len(parts) == 1)):  # a press field without "press."
+                owner = _owning_table(parts[0]) if len(parts) == 1 else None
+                if owner is not None:
+                    raise ScenarioError(f"{self.name} with {key}: unknown key press.{key}: {key} is not a press "
+                                        f"field (did you mean '{owner}.{key}'?)")
                 parts = ["press", *parts]
             node = data
             for p in parts[:-1]:
@@ -271,6 +276,16 @@ class Scenario:
                 node.pop("stroke_rate_spm", None)
             node[parts[-1]] = value
         return Scenario.from_dict(data, source=f"{self.name} with {', '.join(overrides)}")
+
+
+def _owning_table(key: str) -> str | None:
+    """The table other than ``press`` whose field `key` is (a key set without its table's name), or None
+    when it is a press field or no table's."""
+    if key in {f.name for f in fields(PressParams)}:
+        return None
+    tables = {"problem": ("stroke_rate_spm", "period_s", *PROBLEM_KEYS), "solver": SOLVER_KEYS,
+              "model": tuple(f.name for f in fields(ModelSpec)), "drive": tuple(f.name for f in fields(Drive))}
+    return next((t for t, keys in tables.items() if key in keys), None)
 
 
 def bundled() -> list[str]:
@@ -389,6 +404,9 @@ def _problem(table: Any, press: PressParams, mechanism: Mechanism, drive: Drive 
     table = dict(table)
     if "stroke_rate_spm" in table and "period_s" in table:
         raise ScenarioError(f"{where}problem: give stroke_rate_spm or period_s, not both")
+    if "stroke_rate_spm" not in table and "period_s" not in table:
+        raise ScenarioError(f"{where}problem.stroke_rate_spm (strokes per minute) or problem.period_s (s per "
+                            "stroke) is missing: a scenario has no default cycle")
     hints = typing.get_type_hints(SpeedProblem)
     for key, value in table.items():
         if key in ("stroke_rate_spm", "period_s"):

@@ -10,7 +10,7 @@ from .drive import MotorCycle
 from .journals import contact_losses
 from .objectives import get as get_objective
 from .ocp.ocp_result import OcpResult
-from .verify import is_periodic, ram_speed_error, rigid_reference, verify_speed
+from .verify import describe_excess, is_periodic, ram_speed_error, rigid_reference, verify_speed
 from .params import PressParams
 from .problem import SpeedProblem
 from .report import format_table, peak_summary
@@ -60,6 +60,25 @@ def optimum_summary(scenario: Scenario, result: OcpResult, ideal: SimResult | No
                     "objective": s.objective, "timing_s": s.timing} for s in result.stages],
         "time_table_s": result.time_table(),
     }
+
+
+def flag_reason(summary: dict) -> str:
+    """Why a job's results are flagged, from its summary: not converged (IPOPT's status), or not
+    verified (the re-simulation not periodic, the ram speed out of tolerance, a limit exceeded), else
+    its status."""
+    if summary.get("converged") is False:
+        return f"not converged ({summary.get('status')})"
+    periodic = summary.get("periodic")
+    if summary.get("verified") is False or periodic not in (True, None):
+        why = []
+        if periodic not in (True, None):
+            why.append(f"the re-simulation is not periodic ({periodic})")
+        if summary.get("max_ram_speed_violation_m_s", 0.0) > 0.0:
+            why.append(f"the ram speed leaves its tolerance by {summary['max_ram_speed_violation_m_s']:.3g} m/s")
+        if summary.get("limits_exceeded"):
+            why.append(describe_excess(summary["limits_exceeded"]))
+        return "not verified" + (f": {'; '.join(why)}" if why else "")
+    return str(summary.get("status", periodic))
 
 
 #: Columns of the time table in the report: `OcpResult.time_table` key -> heading.

@@ -37,7 +37,7 @@ from .model import ModelSpec
 from .problem import SpeedProblem
 from .scenario import Scenario
 from .speed import FourierSpeed
-from .summaries import optimum_summary, simulate_speed, simulation_summary
+from .summaries import flag_reason, optimum_summary, simulate_speed, simulation_summary
 from .workers import process_pool
 
 if TYPE_CHECKING:
@@ -135,6 +135,8 @@ def run_point(task: str, scenario: Scenario, speed: FourierSpeed | None = None,
                                        replace(scenario.solver.make_strategy(), mode="continue"))
             summary = optimum_summary(scenario, result)
             row.update(ok=bool(result.success and result.verified), speed=json.dumps(result.speed.to_dict()))
+            if not row["ok"]:
+                row["error"] = flag_reason(summary)
             if initial is not None:  # a path: did the chain from the neighbour give the answer?
                 row["start"] = "cold after the neighbour's chain failed" if any(s.superseded for s in result.stages) \
                     else "neighbour"
@@ -145,6 +147,8 @@ def run_point(task: str, scenario: Scenario, speed: FourierSpeed | None = None,
             sim, ideal = simulate_speed(scenario, speed)
             summary = simulation_summary(scenario, sim, ideal, "sweep")
             row.update(ok=summary["periodic"] is True, speed=json.dumps(speed.to_dict()))
+            if not row["ok"]:
+                row["error"] = f"not periodic: {summary['periodic']}"
         else:
             st = impacts.impact_study(scenario.problem, scenario.model, rtol=scenario.solver.verify_rtol)
             summary = {f"{label}_{load}_ratio": r for label, ratios in st.ratios().items()

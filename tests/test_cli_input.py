@@ -177,7 +177,7 @@ def test_scenario_show_applies_overrides(capsys):
 
 def test_a_flagged_result_says_why():
     """The exit-1 message names what failed, not IPOPT's success status."""
-    from pressocp.cli import flag_reason
+    from pressocp.summaries import flag_reason
 
     base = {"converged": True, "verified": False, "periodic": True, "status": "Solve_Succeeded",
             "max_ram_speed_violation_m_s": 2e-5}

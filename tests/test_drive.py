@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import math
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -399,3 +401,16 @@ def test_each_drive_objective_beats_the_peak_optimum_at_its_own_figure():
         assert getattr(own, field) == pytest.approx(r.verified_objective, rel=5e-3), name
         assert getattr(own, field) < 0.97 * getattr(at_peak, field), name
         assert r.peak_torque > peak.peak_torque, name
+
+
+@pytest.mark.parametrize("rpm", [1500.0, 2000.0, 3000.0])
+def test_a_motor_speed_in_rpm_is_suspected(rpm):
+    """Rated speeds in rpm typed as rad/s: below the hard limit (3200 rad/s), but warned about (``--strict``
+    refuses them); a motor at its rated speed in rad/s is not."""
+    from pressocp.checks import PlausibilityWarning
+
+    with pytest.warns(PlausibilityWarning, match=rf"a value in rpm\? {rpm:g} rpm is {rpm * 2 * np.pi / 60:.4g} rad/s"):
+        Drive(max_speed=rpm)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        Drive(max_speed=rpm * 2 * np.pi / 60)

@@ -244,7 +244,8 @@ def test_simulate_bad_input(kwargs, match):
 
 @pytest.mark.parametrize("kwargs, match", [
     (dict(method="euler"), r"method must be one of 'idas', 'cvodes'.*got 'euler'"),
-    (dict(rtol=0.0), r"rtol must be in \(0, inf\), got 0.0"),
+    (dict(rtol=0.0), r"rtol must be in \(0, 0.01\), got 0.0"),
+    (dict(rtol=5.0), r"rtol must be in \(0, 0.01\), got 5.0"),
     (dict(rtol=-1e-6), "rtol"),
     (dict(atol=-1.0), "atol"),
     (dict(max_steps=0), "max_steps"),

@@ -550,7 +550,7 @@ def test_an_answer_over_a_limit_is_not_verified(smooth):
     candidate's verified value is +inf, and the grid check asks for a finer grid. A cap above the peak
     is no limit exceeded."""
     from pressocp import Drive
-    from pressocp.cli import flag_reason
+    from pressocp.summaries import flag_reason
     from pressocp.ocp.candidates import verified_value
     from pressocp.verify import limits_exceeded, motor_cycle_of, unverified_reason
 
@@ -581,7 +581,7 @@ def test_an_answer_over_a_limit_is_not_verified(smooth):
     assert Strategy().grid_error(stage, SMOOTH) == ("", 0.0)
 
     # a drive whose continuous rating is 1/1.2 of the answer's RMS motor torque
-    drive = Drive(gear_ratio=10.0, peak_torque=1e3, continuous_torque=1.0, max_speed=3000.0)
+    drive = Drive(gear_ratio=10.0, peak_torque=1e3, continuous_torque=1.0, max_speed=1000.0)
     rms = motor_cycle_of(SMOOTH.replace(drive=drive), speed, sim).rms_torque
     weak = SMOOTH.replace(drive=dataclasses.replace(drive, continuous_torque=rms / 1.2))
     assert limits_exceeded(weak, speed, sim) == {"drive_rms": pytest.approx(0.2, rel=1e-9)}

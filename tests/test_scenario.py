@@ -49,6 +49,8 @@ BAD = [
     (edit('rod = "rigid"', 'rod = "elastic"'), r"model: rod must be one of 'rigid', 'flexible'"),
     (edit("period_s = 0.8", "stroke_rate_spm = 75\nperiod_s = 0.8"), r"stroke_rate_spm or period_s, not both"),
     (edit("period_s = 0.8", "stroke_rate_spm = -75"), r"stroke_rate_spm must be in \(0, 2000\)"),
+    (edit("period_s = 0.8", ""), r"problem\.stroke_rate_spm \(strokes per minute\) or problem\.period_s \(s per "
+                                 r"stroke\) is missing: a scenario has no default cycle"),
     (edit("[press.crank_pin]", "[press.crank_pin]\nradius = 0.04"), r"press\.crank_pin\.radius .*journal_radius"),
     (edit("clearance = 0.0001", "clearance = -0.0001"), r"press: crank_pin.clearance must be in \(0, inf\) m"),
     (edit("clearance = 0.0001", "clearance = 0.1"), r"press: crank_pin.clearance must be in \[1e-06, 0.004\] m .*0.1 mm is 0.0001 m"),
@@ -120,3 +122,12 @@ def test_the_flexible_starts_are_a_solver_key(tmp_path):
     assert Scenario.load(path).solver.make_strategy().flexible_backoffs == (0.9, 0.8)
     assert Scenario.load("slender_rod").with_overrides({"solver.flexible_backoffs": []}).solver.make_strategy() \
         .flexible_backoffs == ()
+
+
+@pytest.mark.parametrize("key, table", [("stroke_rate_spm", "problem"), ("ram_speed", "problem"),
+                                        ("verify_rtol", "solver"), ("gear_ratio", "drive"), ("n_elements", "model")])
+def test_a_key_set_without_its_table_names_the_table(key, table):
+    """An override without a table's name is a press field; one of another table's fields is refused
+    naming that table (not with the press's keys)."""
+    with pytest.raises(ScenarioError, match=rf"{key} is not a press field \(did you mean '{table}\.{key}'\?\)"):
+        Scenario.load("press60").with_overrides({key: 1.0})

@@ -80,6 +80,24 @@ def test_a_failed_point_is_a_row(monkeypatch, serial):
     assert np.isnan(table["peak_torque_N_m"].iloc[1]) and table["peak_torque_N_m"].iloc[0] > 0
 
 
+def test_a_point_that_is_not_periodic_says_why_in_its_error(monkeypatch, serial):
+    from pressocp import sweeps
+
+    original = sweeps.simulate_speed
+
+    def not_periodic_for_heavy_rams(scenario, speed):
+        sim, ideal = original(scenario, speed)
+        if scenario.press.slider_mass > 180:
+            sim.stats["periodic"] = {"found": False, "reason": "periodic steady state not found: residual 0.002"}
+        return sim, ideal
+
+    monkeypatch.setattr(sweeps, "simulate_speed", not_periodic_for_heavy_rams)
+    table = po.sweep(RIGID, {"slider_mass": [150.0, 200.0]}, task="simulate", speed=SPEED, executor=serial,
+                     progress=False)
+    assert table["ok"].tolist() == [True, False]
+    assert table["error"].tolist() == ["", "not periodic: periodic steady state not found: residual 0.002"]
+
+
 def test_resume_from_csv_skips_points_done(tmp_path, monkeypatch, serial):
     csv = tmp_path / "sweep.csv"
     first = po.sweep(RIGID, {"slider_mass": [100.0, 150.0]}, task="simulate", speed=SPEED, executor=serial,

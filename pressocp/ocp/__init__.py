@@ -10,9 +10,9 @@ from .rigid_stage import Rigid
 from .optimum_sensitivity import OptimumSensitivities, SensitivityError, optimum_sensitivities
 from .shooting import MultipleShooting, ShootingError, ShootingGrid
 from .stage import Check, StageResult, Transcription, WarmStart, transcription_from
-from .strategy import Strategy
+from .strategy import VERIFY_RTOL_RANGE, Strategy
 
 __all__ = ["Check", "Collocation", "CollocationGrid", "MultipleShooting", "OcpResult", "OptimumSensitivities", "Rigid",
            "SensitivityError", "ShootingError", "ShootingGrid", "StageResult", "Strategy", "Transcription",
-           "TranscriptionRecommendation", "WarmStart", "optimize_speed", "optimum_sensitivities",
+           "TranscriptionRecommendation", "VERIFY_RTOL_RANGE", "WarmStart", "optimize_speed", "optimum_sensitivities",
            "recommend_transcription", "transcription_from"]

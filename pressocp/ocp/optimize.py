@@ -13,6 +13,7 @@ import numpy as np
 from .. import checks as chk
 from ..compile_cache import compile_seconds, prepared_record, write_prepared_record
 from ..design import design_speed
+from ..ipopt_options import check_nlpsol_options
 from ..model import ModelSpec, PressModel, build_model
 from ..problem import ReversalWarning, SpeedProblem
 from ..simulate import for_repeated_use
@@ -69,7 +70,8 @@ def optimize_speed(problem: SpeedProblem, model: PressModel | None = None, trans
     Raises
     ------
     ValueError
-        Invalid request (checked before any solve).
+        Invalid request (checked before any solve), among them an extra IPOPT or nlpsol option of the
+        transcription or ``strategy.rigid`` that IPOPT or CasADi refuses (`check_nlpsol_options`).
     KeyboardInterrupt
         Ctrl-C; ``err.best`` holds the interrupted stage's least-infeasible iterate when there is one.
     """
@@ -119,6 +121,8 @@ def checked_request(problem: SpeedProblem, model: PressModel | None, transcripti
     if not isinstance(tr, Transcription):
         raise ValueError(f"transcription must be Rigid, MultipleShooting or Collocation (a Transcription), "
                          f"got {type(tr).__name__}")
+    check_nlpsol_options(f"{type(tr).__name__}.ipopt", getattr(tr, "ipopt", {}))
+    check_nlpsol_options("Strategy.rigid.ipopt", strat.rigid.ipopt)
     if model is None:
         model = build_model(problem.press, n_harmonics=problem.n_harmonics, mechanism=problem.mechanism)
     chk.instance("model", model, PressModel)
