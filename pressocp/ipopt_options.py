@@ -131,9 +131,9 @@ def check_nlpsol_options(name: str, options: Any) -> None:
                 status = str(solver.stats()["return_status"])
             except RuntimeError as err:
                 status = casadi_reason(err)
-        if status in ("Solve_Succeeded", "Solved_To_Acceptable_Level", "Maximum_Iterations_Exceeded",
-                      "Maximum_CpuTime_Exceeded", "Maximum_WallTime_Exceeded", "Search_Direction_Becomes_Too_Small"):
-            continue
+            else:  # IPOPT ran: only its verdict on the options counts (an iteration limit of 0 is an option)
+                if status != "Invalid_Option":
+                    continue
         raise ValueError(f"{name}: IPOPT refuses {k} = {v!r}: {status}{ipopt_explanation(said[0], k)}")
     rest = {k: v for k, v in options.items() if not k.startswith("ipopt.")}
     if rest:
