@@ -62,6 +62,25 @@ def test_auto_accepts_a_verified_rigid_optimum(smooth):
     assert r.t1 == pytest.approx(check.t[in_window(SMOOTH, check.theta, check.ram_height)][0], abs=1e-3)
 
 
+def test_the_floor_is_the_lowest_rigid_press_answer(smooth):
+    """The floor (`OcpResult.rigid_peak_torque`) is the rigid-press peak of the rigid stage's answer or of
+    its relaxed re-solve, which holds more of the ram-speed tolerance and can end lower (press60: the
+    answer fell below a floor taken from the rigid stage alone); a relaxed stage not kept, or on
+    another model, is not a rigid-press answer."""
+    from pressocp.ocp.optimize import rigid_floor
+    from pressocp.verify import rigid_reference
+
+    rigid, relaxed = smooth.stages[:2]
+    peaks = [rigid_reference(SMOOTH, s.speed).peak("torque") for s in (rigid, relaxed)]
+    assert peaks[0] != peaks[1] and smooth.rigid_peak_torque == min(peaks)
+    swapped = [dataclasses.replace(rigid, speed=relaxed.speed), dataclasses.replace(relaxed, speed=rigid.speed)]
+    assert rigid_floor(swapped, SMOOTH) == min(peaks)
+    for other in (dataclasses.replace(relaxed, superseded="not kept"),
+                  dataclasses.replace(relaxed, model="rigid rod, clearance in crank_pin and wrist_pin")):
+        assert rigid_floor([rigid, other], SMOOTH) == peaks[0]
+        assert rigid_floor([swapped[0], dataclasses.replace(other, speed=rigid.speed)], SMOOTH) == peaks[1]
+
+
 def test_the_chains_checks_run_compiled_on_a_model_left_at_auto(smooth):
     """A screen and a stage's re-simulation (`Strategy.screened`, `Strategy.verify_stage`) integrate
     the rigid rod through compiled code (`for_repeated_use`) when its ``jit`` is "auto", building into

@@ -53,7 +53,8 @@ class OcpResult:
         Peak |torque| (N m) and peak slider normal, crank-pin and wrist-pin forces (N) of the answer and
         of the initial speed on the target model (periodic re-simulation).
     rigid_peak_torque : float
-        Peak torque of the rigid-press optimum on the rigid press, N m: the floor.
+        Peak torque of the rigid-press optimum on the rigid press, N m: the floor (the rigid stage's
+        answer, or its relaxed re-solve where that holds more of the ram-speed tolerance and was kept).
     t1, t2 : float
         When the re-simulated ram enters and leaves the height window, s.
     success : bool
