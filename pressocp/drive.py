@@ -22,7 +22,8 @@ from . import checks as chk
 MAX_MOTOR_SPEED = 3200.0
 #: Above this speed, rad/s (about 10 500 rpm; press servo motors run up to about 6 000 rpm), a motor is
 #: suspected of a speed given in rpm (`pressocp.checks.PlausibilityWarning`; ``--strict`` refuses it):
-#: the usual rated speeds, 1 500 to 6 000 rpm, typed as rad/s land between the two limits.
+#: the usual rated speeds typed as rad/s, 1 500 to 3 000 rpm, land between the two limits (above
+#: 3 200, the error of `MAX_MOTOR_SPEED`).
 SUSPECT_MOTOR_SPEED = 1100.0
 
 

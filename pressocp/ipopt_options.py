@@ -4,13 +4,10 @@ the check of a user's overrides before any solve (`check_nlpsol_options`)."""
 
 from __future__ import annotations
 
-import ctypes
 import difflib
 import io
-import os
 import re
-import sys
-import tempfile
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager, redirect_stdout
 from typing import Any
@@ -96,17 +93,29 @@ IPOPT_DESIGN = {**QUIET, "ipopt.max_iter": 500, "ipopt.tol": 1e-10}
 
 #: Option sets `check_nlpsol_options` has accepted in this process (by their repr).
 ACCEPTED: set[str] = set()
+#: IPOPT options the check does not try: a probe would create or truncate the user's file.
+NOT_TRIED = ("ipopt.output_file",)
+#: Serialises the checks: `captured_stdout` redirects the whole process's ``sys.stdout``.
+CAPTURE_LOCK = threading.Lock()
 
 
 def check_nlpsol_options(name: str, options: Any) -> None:
     """Refuse, before any solve, extra nlpsol options (a transcription's ``ipopt``) that IPOPT or
     CasADi would refuse only when a stage builds its solver, minutes into a call.
 
-    ``"ipopt.X"`` keys are set on a one-variable problem and solved, one key at a time: a name IPOPT
-    does not know, a value of the wrong type, out of IPOPT's range or not among its settings (IPOPT's
-    own explanation, which it prints, is quoted), or an unavailable linear solver raises. Other keys
-    must be options of CasADi's nlpsol (set without a solve: ``jit`` would compile). `name` names the
-    field in the message (e.g. ``"Collocation.ipopt"``). A set accepted once is not tried again.
+    The options are set on a one-variable problem, as the stages set them (on top of `QUIET`), and
+    IPOPT solves it: a name IPOPT or CasADi's nlpsol does not know, a value of the wrong type, out of
+    IPOPT's range or not among its settings, or a linear solver IPOPT cannot load raises. The ``ipopt.*``
+    keys are tried together (``linear_solver`` with ``hsllib``); when they fail, the key whose
+    removal makes them pass is named, with IPOPT's explanation (its range or valid settings), which
+    the check captures from what IPOPT prints. A set accepted once is not tried again.
+
+    Parameters
+    ----------
+    name : str
+        The field, for the message (e.g. ``"Collocation.ipopt"``).
+    options : dict
+        nlpsol options, string keys (``"ipopt.max_iter"``: IPOPT's; others: CasADi's nlpsol's).
 
     Raises
     ------
@@ -119,38 +128,62 @@ def check_nlpsol_options(name: str, options: Any) -> None:
     key = repr(sorted(options.items(), key=lambda kv: kv[0]))
     if not options or key in ACCEPTED:
         return
-    x = ca.SX.sym("x")
-    nlp = {"x": x, "f": (x - 1.0) ** 2}
-    for k, v in options.items():
-        if not k.startswith("ipopt."):
-            continue
-        with captured_stdout() as said:
-            try:
-                solver = ca.nlpsol("option_check", "ipopt", nlp, {k: v, **QUIET})
-                solver(x0=0.0)
-                status = str(solver.stats()["return_status"])
-            except RuntimeError as err:
-                status = casadi_reason(err)
-            else:  # IPOPT ran: only its verdict on the options counts (an iteration limit of 0 is an option)
-                if status != "Invalid_Option":
-                    continue
-        raise ValueError(f"{name}: IPOPT refuses {k} = {v!r}: {status}{ipopt_explanation(said[0], k)}")
+    tried = {k: v for k, v in options.items() if k.startswith("ipopt.") and k not in NOT_TRIED}
     rest = {k: v for k, v in options.items() if not k.startswith("ipopt.")}
-    if rest:
-        try:
-            ca.nlpsol("option_check", "ipopt", nlp, {**rest, **QUIET})
-        except RuntimeError as err:
-            reason, hint = casadi_reason(err), ""
-            unknown = re.search(r"Unknown option: (\S+)", reason)
-            if unknown:
-                bad = unknown.group(1)
-                close = difflib.get_close_matches(bad, re.findall(r'> "([^"]+)"', str(err)), n=1)
-                if "." not in bad and ipopt_takes(bad, rest[bad]):
-                    hint = f"; IPOPT's own options take the prefix 'ipopt.': did you mean 'ipopt.{bad}'?"
-                elif close:
-                    hint = f"; did you mean {close[0]!r}?"
-            raise ValueError(f"{name}: CasADi's nlpsol refuses {sorted(rest)}: {reason}{hint}") from None
+    with CAPTURE_LOCK:
+        if rest:
+            refused = ipopt_refusal({**rest, **tried})
+            if refused is not None and ipopt_refusal(tried) is None:
+                raise ValueError(nlpsol_message(name, rest, refused[0])) from None
+        if tried and (refused := ipopt_refusal(tried)) is not None:
+            culprit = next((k for k in tried if ipopt_refusal({j: w for j, w in tried.items() if j != k}) is None), None)
+            if culprit is not None:
+                reason, printed = ipopt_refusal({culprit: tried[culprit]}) or refused
+                raise ValueError(f"{name}: IPOPT refuses {culprit} = {tried[culprit]!r}: {reason}"
+                                 f"{ipopt_explanation(printed, culprit)}")
+            raise ValueError(f"{name}: IPOPT refuses the options {tried}: {refused[0]}"
+                             f"{ipopt_explanation(refused[1], '')}")
     ACCEPTED.add(key)
+
+
+def ipopt_refusal(options: dict) -> tuple[str, str] | None:
+    """Why IPOPT or CasADi refuses `options` on a one-variable problem (set on top of `QUIET`, then
+    solved), and what they printed meanwhile; None when IPOPT ran with them (whatever its return
+    status, except ``Invalid_Option``: an iteration limit of 0 is an option like another)."""
+    x = ca.SX.sym("x")
+    with captured_stdout() as printed:
+        try:
+            solver = ca.nlpsol("option_check", "ipopt", {"x": x, "f": (x - 1.0) ** 2}, {**QUIET, **options})
+            solver(x0=0.0)
+            status = str(solver.stats()["return_status"])
+        except RuntimeError as err:
+            status = casadi_reason(err)
+        else:
+            if status != "Invalid_Option":
+                return None
+    return status, printed[0]
+
+
+def nlpsol_message(name: str, rest: dict, reason: str) -> str:
+    """The message for nlpsol options (`rest`, no ``ipopt.`` prefix) CasADi refuses with `reason`: an
+    unknown one that is IPOPT's is pointed to its prefix, else to the nearest nlpsol option."""
+    hint = ""
+    unknown = re.search(r"Unknown option: (\S+)", reason)
+    if unknown:
+        bad = unknown.group(1)
+        if "." not in bad and bad in rest and ipopt_refusal({f"ipopt.{bad}": rest[bad]}) is None:
+            hint = f"; IPOPT's own options take the prefix 'ipopt.': did you mean 'ipopt.{bad}'?"
+        else:
+            close = difflib.get_close_matches(bad, NLPSOL_OPTIONS, n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+    return f"{name}: CasADi's nlpsol refuses {sorted(rest)}: {reason}{hint}"
+
+
+#: Options of CasADi's nlpsol that users set (for the suggestion of a misspelt one).
+NLPSOL_OPTIONS = ("print_time", "expand", "error_on_fail", "verbose", "verbose_init", "record_time",
+                  "calc_lam_p", "calc_lam_x", "calc_f", "calc_g", "bound_consistency", "warn_initial_bounds",
+                  "iteration_callback_step", "iteration_callback_ignore_errors", "max_io", "jit", "compiler",
+                  "jit_options", "print_in", "print_out", "regularity_check", "common_options")
 
 
 def casadi_reason(err: RuntimeError) -> str:
@@ -163,7 +196,7 @@ def casadi_reason(err: RuntimeError) -> str:
 
 def ipopt_explanation(printed: str, key: str) -> str:
     """What IPOPT printed about a refused option (the refused setting, the allowed range or the valid
-    settings), as a parenthesis for a message; for a linear solver, the ones this build has."""
+    settings), as a parenthesis for a message; for a linear solver, where the others come from."""
     lines = printed.splitlines()
     why = [line.strip() for line in lines if line.startswith("Setting:") or " <= " in line]
     if "Valid Settings:" in lines:
@@ -171,40 +204,19 @@ def ipopt_explanation(printed: str, key: str) -> str:
                  if line.startswith("\t") and line.split()]
         why.append("valid settings: " + ", ".join(names))
     if key == "ipopt.linear_solver":
-        why.append("CasADi's IPOPT has 'mumps' and 'spral'; HSL's solvers need a separately installed library")
+        why.append("'mumps' comes with CasADi; HSL's solvers need their library, named by 'ipopt.hsllib'")
     return f" ({'; '.join(why)})" if why else ""
-
-
-def ipopt_takes(option: str, value: Any) -> bool:
-    """Whether IPOPT has an option named `option` that takes `value` (set on a one-variable problem)."""
-    x = ca.SX.sym("x")
-    with captured_stdout():
-        try:
-            ca.nlpsol("option_check", "ipopt", {"x": x, "f": x**2}, {f"ipopt.{option}": value, **QUIET})
-        except RuntimeError:
-            return False
-    return True
 
 
 @contextmanager
 def captured_stdout() -> Iterator[list[str]]:
-    """Within the block, what is printed goes nowhere; the list the block gets holds the text after it.
-    Both paths are caught: CasADi passes IPOPT's messages to Python's ``sys.stdout`` (a notebook's or
-    pytest's stream, not always file descriptor 1), and C code writes to the descriptor itself."""
+    """Within the block, what is printed through Python's ``sys.stdout`` (where CasADi passes IPOPT's
+    messages) goes to a buffer; the list the block gets holds that text after it. It redirects the
+    whole process's ``sys.stdout``: callers hold `CAPTURE_LOCK`."""
     text: list[str] = [""]
-    sys.stdout.flush()
-    saved = os.dup(1)
-    python = io.StringIO()
-    with tempfile.TemporaryFile() as f, redirect_stdout(python):
-        os.dup2(f.fileno(), 1)
-        try:
+    buffer = io.StringIO()
+    try:
+        with redirect_stdout(buffer):
             yield text
-        finally:
-            try:
-                ctypes.CDLL(None).fflush(None)  # C's buffered stdout, before the descriptor goes back
-            except (OSError, AttributeError, TypeError):  # no C library by that name (Windows)
-                pass
-            os.dup2(saved, 1)
-            os.close(saved)
-            f.seek(0)
-            text[0] = python.getvalue() + f.read().decode(errors="replace")
+    finally:
+        text[0] = buffer.getvalue()

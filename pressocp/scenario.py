@@ -263,8 +263,9 @@ class Scenario:
             if not (table or (parts[0] in data and len(parts) == 1)):  # a press field without "press."
                 owner = _owning_table(parts[0]) if len(parts) == 1 else None
                 if owner is not None:
+                    meant = " or ".join(f"'{t}.{key}'" for t in owner.split(" or "))
                     raise ScenarioError(f"{self.name} with {key}: unknown key press.{key}: {key} is not a press "
-                                        f"field (did you mean '{owner}.{key}'?)")
+                                        f"field (did you mean {meant}?)")
                 parts = ["press", *parts]
             node = data
             for p in parts[:-1]:
@@ -279,10 +280,14 @@ class Scenario:
 
 
 def _owning_table(key: str) -> str | None:
-    """The table other than ``press`` whose field `key` is (a key set without its table's name), or None
-    when it is a press field or no table's."""
+    """Where `key`, set without its table's name, belongs if not to the press: a joint or other table
+    nested in the press (``"crank_pin or wrist_pin"`` for a bearing's field), else ``problem``,
+    ``solver``, ``model`` or ``drive``; None when it is a press field or no table's."""
     if key in {f.name for f in fields(PressParams)}:
         return None
+    joints = [t for t, cls in NESTED.items() if key in {f.name for f in fields(cls)}]
+    if joints:
+        return " or ".join(joints) if len(joints) > 1 else joints[0]
     tables = {"problem": ("stroke_rate_spm", "period_s", *PROBLEM_KEYS), "solver": SOLVER_KEYS,
               "model": tuple(f.name for f in fields(ModelSpec)), "drive": tuple(f.name for f in fields(Drive))}
     return next((t for t, keys in tables.items() if key in keys), None)

@@ -39,7 +39,7 @@ OUTPUTS_PER_CYCLE = 4000
 FIXED_STEP = 1e-5
 
 
-#: Loosest relative tolerance an `Integrator` takes: at 0.5 the design speed's periodic response on
+#: Bound on an `Integrator`'s relative tolerance (itself refused): at 0.5 the design speed's periodic response on
 #: press60 peaked 2 % off, at 5 (accepted before) 104 % off, with no sign of it.
 MAX_RTOL = 1e-2
 

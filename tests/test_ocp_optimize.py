@@ -68,6 +68,7 @@ def test_the_floor_is_the_lowest_rigid_press_answer(smooth):
     answer fell below a floor taken from the rigid stage alone); a relaxed stage not kept, or on
     another model, is not a rigid-press answer."""
     from pressocp.ocp.optimize import rigid_floor
+    from pressocp.ocp.stage import StageResult
     from pressocp.verify import rigid_reference
 
     rigid, relaxed = smooth.stages[:2]
@@ -76,6 +77,7 @@ def test_the_floor_is_the_lowest_rigid_press_answer(smooth):
     swapped = [dataclasses.replace(rigid, speed=relaxed.speed), dataclasses.replace(relaxed, speed=rigid.speed)]
     assert rigid_floor(swapped, SMOOTH) == min(peaks)
     for other in (dataclasses.replace(relaxed, superseded="not kept"),
+                  dataclasses.replace(StageResult.skipped("relaxed", "", relaxed.model, relaxed), status="not kept"),
                   dataclasses.replace(relaxed, model="rigid rod, clearance in crank_pin and wrist_pin")):
         assert rigid_floor([rigid, other], SMOOTH) == peaks[0]
         assert rigid_floor([swapped[0], dataclasses.replace(other, speed=rigid.speed)], SMOOTH) == peaks[1]

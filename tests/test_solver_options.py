@@ -30,7 +30,11 @@ def no_solve(monkeypatch):
     (po.Collocation(ipopt={"ipopt.mu_strategy": "adaptiv"}), None, r"valid settings: monotone, adaptive"),
     (po.Collocation(ipopt={"ipopt.max_iter": "five"}), None, r"ipopt\.max_iter = 'five'.*type mismatch"),
     (po.Collocation(ipopt={"ipopt.linear_solver": "ma27"}), None, r"ipopt\.linear_solver = 'ma27': Invalid_Option "
-                                                                  r"\(CasADi's IPOPT has 'mumps' and 'spral'"),
+                                                                  r"\('mumps' comes with CasADi; .*'ipopt\.hsllib'"),
+    # the user's value of an option the package also sets (QUIET) is the one tried
+    (po.Collocation(ipopt={"ipopt.print_level": 99}), None, r"ipopt\.print_level = 99: .*0 <= \(5\) <= 12"),
+    (None, po.Strategy(rigid=Rigid(ipopt={"print_time": "yes"})), r"Strategy\.rigid\.ipopt: CasADi's nlpsol refuses "
+                                                                  r"\['print_time'\]: .*cannot be cast to OT_BOOL"),
     (None, po.Strategy(rigid=Rigid(ipopt={"max_iter": 5})), r"Strategy\.rigid\.ipopt: CasADi's nlpsol refuses "
                                                             r"\['max_iter'\].*did you mean 'ipopt\.max_iter'\?"),
     (None, po.Strategy(rigid=Rigid(ipopt={"print_tim": False})), r"did you mean 'print_time'\?"),
@@ -59,3 +63,23 @@ def test_a_verification_tolerance_outside_its_range_is_refused(value):
 def test_an_integration_tolerance_of_a_percent_or_more_is_refused(value):
     with pytest.raises(ValueError, match=rf"rtol must be in \(0, 0\.01\), got {value!r}"):
         Integrator(rtol=value)
+
+
+def test_ipopt_options_are_tried_together_and_the_culprit_is_named():
+    """Options that only work together (a linear solver and its library) are tried as a set; when the
+    set fails, the key whose removal makes it pass is named."""
+    from pressocp import ipopt_options
+
+    calls = []
+
+    def refusal(options):  # stands in for IPOPT: 'b' works only with 'a', 'c' never
+        calls.append(dict(options))
+        ok = "ipopt.c" not in options and ("ipopt.b" not in options or "ipopt.a" in options)
+        return None if ok else ("Invalid_Option", "")
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(ipopt_options, "ipopt_refusal", refusal)
+        ipopt_options.check_nlpsol_options("X.ipopt", {"ipopt.a": 1, "ipopt.b": 2})
+        assert calls == [{"ipopt.a": 1, "ipopt.b": 2}]
+        with pytest.raises(ValueError, match=r"X\.ipopt: IPOPT refuses ipopt\.c = 3: Invalid_Option"):
+            ipopt_options.check_nlpsol_options("X.ipopt", {"ipopt.a": 1, "ipopt.b": 2, "ipopt.c": 3})

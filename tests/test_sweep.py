@@ -279,3 +279,21 @@ def test_a_default_call_and_a_sweep_point_reach_the_same_answer_to_the_bit():
     swept = po.FourierSpeed.from_dict(json.loads(row["speed"]))
     assert swept.a.tolist() == direct.speed.a.tolist() and swept.b.tolist() == direct.speed.b.tolist()
     assert row["peak_torque_N_m"] == direct.peak_torque
+
+
+@pytest.mark.parametrize("converged, verified, error", [
+    (True, False, "not verified: the ram speed leaves its tolerance by 2e-05 m/s"),
+    (False, False, "not converged (Maximum_Iterations_Exceeded)"),
+])
+def test_an_optimum_not_converged_or_not_verified_says_why_in_its_error(monkeypatch, converged, verified, error):
+    """The optimize task's row names why it is not ok, as the command line's flag does (the solve and its
+    summary stand in)."""
+    from types import SimpleNamespace
+
+    fake = SimpleNamespace(success=converged, verified=verified, speed=SPEED)
+    summary = {"converged": converged, "verified": verified, "periodic": True, "max_ram_speed_violation_m_s": 2e-5,
+               "limits_exceeded": {}, "status": "Maximum_Iterations_Exceeded"}
+    monkeypatch.setattr(po.Scenario, "optimize", lambda self, *args, **kwargs: fake)
+    monkeypatch.setattr(sweep_module, "optimum_summary", lambda scenario, result: summary)
+    row = sweep_module.run_point("optimize", RIGID)
+    assert row["ok"] is False and row["error"] == error

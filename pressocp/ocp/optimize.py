@@ -226,7 +226,8 @@ def rigid_floor(chain: list[StageResult], problem: SpeedProblem) -> float:
     more of the ram-speed tolerance where that was kept (press60: 76.125 against 76.153 N m, the
     answer then below the rigid stage's peak)."""
     rigid = chain[0]
-    relaxed = [s for s in chain if s.name == "relaxed" and s.model == rigid.model and s.success and not s.superseded]
+    relaxed = [s for s in chain if s.name == "relaxed" and s.model == rigid.model and s.success and not s.superseded
+               and not s.was_skipped]
     return min(rigid_reference(problem, s.speed).peak("torque") for s in [rigid, *relaxed])
 
 
