@@ -37,12 +37,13 @@ import numpy as np
 
 from .compile_cache import use_jit
 from .cvodes_fsa import ForwardSensitivities, FsaError, built
+from . import checks as chk
 from .interrupt import compiling, interruptible
 from .model import OUTPUT_NAMES, PressModel, build_model
 from .params import check_parameter
 from .result import SimResult
-from .simulate import (HINT, direct_driver, Integrator, SimulationError, calling, compiled_dae, first_line,
-                       for_repeated_use, periodic_state, simulate)
+from .simulate import (HINT, MAX_RTOL, direct_driver, Integrator, SimulationError, calling, compiled_dae,
+                       first_line, for_repeated_use, periodic_state, simulate)
 from .sensitivity_cycle import (PERIODIC_TOL, SAMPLES, SensitivityCycle, output_jacobian, parameter_scale,
                                 parameter_seeds, refined, sensitivity_cycle, state_motion)
 from .speed import FourierSpeed
@@ -326,7 +327,8 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     periodic : bool
         Differentiate the periodic steady state (True) or the first cycle from the model's rest state.
     rtol : float
-        Integrator tolerance (CVODES), also of the periodic search.
+        Integrator tolerance (CVODES), also of the periodic search, in (0, `MAX_RTOL` / `LOOSER`) = (0, 1e-3):
+        the error estimate runs at `LOOSER` times it.
     error_estimate : bool
         Compute the periodic state and the derivatives once more at ten times `rtol` and compare
         (``error_estimate`` and ``resolved`` in the table). That run costs about as much as the
@@ -342,11 +344,13 @@ def sensitivities(model: PressModel, speed: FourierSpeed, parameters: Sequence[s
     Raises
     ------
     ValueError
-        An unknown parameter or quantity, a model without states (checked before integrating).
+        An unknown parameter or quantity, a tolerance out of its range, a model without states (checked
+        before integrating).
     SimulationError
         The periodic search or the integration failed.
     """
     t_start = time.perf_counter()
+    chk.in_open_interval("rtol", rtol, 0.0, MAX_RTOL / LOOSER)
     names = tuple(check_parameter(n) for n in parameters)
     if not names:
         raise ValueError("parameters must name at least one press parameter")

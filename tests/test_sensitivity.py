@@ -38,6 +38,9 @@ def test_bad_requests_fail_before_integrating():
         sensitivities(model, speed, ("slider_mass",), ("peak_power",))
     with pytest.raises(ValueError, match="no states"):
         sensitivities(po.build_model(po.PressParams(), clearance=()), speed, ("slider_mass",))
+    for rtol in (0.0, 1e-3, 1.0):  # the error estimate runs at ten times it: a looser one means nothing
+        with pytest.raises(ValueError, match=rf"rtol must be in \(0, 0\.001\), got {rtol!r}"):
+            sensitivities(model, speed, ("slider_mass",), rtol=rtol)
 
 
 def test_peak_times_find_rivals_and_the_vertex():
