@@ -211,7 +211,8 @@ def optimize_job(scenario: Scenario, out: Path, progress: bool = True) -> JobRep
         f"{scenario.name}: minimum {problem.objective} on the {where}",
         f"  {describe_problem(problem)}",
         "",
-        format_table(load_table([("design, ideal joints", ideal), ("design, model", init), ("optimum, model", sim)])),
+        format_table(load_table([("design, ideal joints", ideal), ("design, model", init), ("optimum, model", sim)],
+                                problem.drive is not None)),
         "",
         f"  {verdict}; ram speed within {100 * error:.2f} % over the window "
         f"(allowed {100 * problem.tol / abs(problem.ram_speed):.2g} %)",
@@ -273,7 +274,8 @@ def simulate_job(scenario: Scenario, out: Path, speed: FourierSpeed | None = Non
                       f"{scenario.name}: {source}", names)
     files += _motor_figure(out, problem, motors, summary, f"{scenario.name}: {source} on the {where}")
     text = "\n".join([f"{scenario.name}: {source} on the {where}", f"  {describe_problem(problem)}", "",
-                      format_table(load_table([("ideal joints", ideal), ("model", sim)])), "",
+                      format_table(load_table([("ideal joints", ideal), ("model", sim)], problem.drive is not None)),
+                      "",
                       f"  periodic: {periodic}; ram speed within {100 * error:.2f} % over the window",
                       *_contacts_line(sim, problem.press, scenario),
                       *(["", drive_text(problem, motors)] if motors else [])])
@@ -306,7 +308,8 @@ def design_job(scenario: Scenario, out: Path) -> JobReport:
                                  title=f"{scenario.name}: rigid speed design"), out / "design.png")]
     text = "\n".join([
         f"{scenario.name}: rigid speed design", f"  {describe_problem(problem)}", "",
-        format_table(load_table([("constant speed", const), ("designed speed", designed)])), "",
+        format_table(load_table([("constant speed", const), ("designed speed", designed)], problem.drive is not None)),
+        "",
         f"  IPOPT: {d.status} ({wall:.2f} s); window t1 = {d.t1:.4f} s, t2 = {d.t2:.4f} s",
         f"  ram speed error: max {100 * d.max_error:.3f} %, RMS {100 * d.rms_error:.3f} %; "
         f"min crank speed {d.min_omega:.3f} rad/s (mean {2 * np.pi / problem.period:.3f})",
@@ -349,6 +352,12 @@ def impacts_job(scenario: Scenario, out: Path) -> JobReport:
 __all__ = ["FIGURES", "JOURNALS", "JobReport", "design_job", "impacts_job", "optimize_job", "read_speed", "simulate_job"]
 
 
+def describe_failed(failed: dict) -> str:
+    """A rate trial's missed limits by name; an optimum not verified with the reason (it is not a
+    limit of the drive)."""
+    return ", ".join(f"not verified: {why}" if name == "verified" else name for name, why in failed.items())
+
+
 def rate_job(scenario: Scenario, out: Path, search: RateSearch, progress: bool = True) -> JobReport:
     """The highest stroke rate the scenario's drive allows (`pressocp.stroke_rate.max_stroke_rate`):
     every rate tried with its verdict, the found rate's optimum (speed.json, result.json) and the
@@ -359,7 +368,7 @@ def rate_job(scenario: Scenario, out: Path, search: RateSearch, progress: bool =
              "time, s"]]
     for t in sorted(found.trials, key=lambda t: t.rate_spm):
         m = t.margins
-        rows.append([f"{t.rate_spm:.2f}", "held" if t.feasible else "failed: " + ", ".join(t.failed),
+        rows.append([f"{t.rate_spm:.2f}", "held" if t.feasible else "failed: " + describe_failed(t.failed),
                      f"{t.peak_torque:.1f}", *(f"{100 * m[k]:+.1f} %" if k in m else "-" for k in
                                                ("peak_torque_margin", "rms_margin", "speed_margin")),
                      f"{t.wall_time:.0f}"])
@@ -379,11 +388,12 @@ def rate_job(scenario: Scenario, out: Path, search: RateSearch, progress: bool =
     verdict = ("no rate tried held every limit" if found.rate_spm is None else
                f"{found.rate_spm:.1f} strokes/min (every limit held on the verified optimum)"
                + ("" if found.above is None else f"; at {found.above.rate_spm:.1f}: "
-                  + ("held too" if found.above.feasible else "failed " + ", ".join(found.above.failed))))
+                  + ("held too" if found.above.feasible else "failed " + describe_failed(found.above.failed))))
     text = "\n".join([f"{scenario.name}: the highest stroke rate with its drive (peak {d.peak_torque:g} N·m, "
                       f"continuous {d.continuous_torque:g} N·m, {d.max_speed * 60 / (2 * math.pi):.0f} rpm, gear "
                       f"{d.gear_ratio:g})", f"  {describe_problem(problem)}", "", format_table(rows), "",
                       f"  {verdict}; {len(found.trials)} optimisations in {found.wall_time:.0f} s"])
+    summary["status"] = verdict
     details = ("each rate: the scenario's optimum at that rate (the drive's limits checked on its periodic "
                "re-simulation, not constrained); margins are shares of the rating, negative when exceeded")
     return _finish("rate", out, summary, text, details, files, found.rate_spm is not None)

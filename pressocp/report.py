@@ -85,11 +85,18 @@ def write_cycle_table(path: str | Path, responses: Mapping[str, SimResult],
     return atomic_write(path, table.to_csv(index=False, float_format="%.10g"))
 
 
-def load_table(columns: Sequence[tuple[str, SimResult]]) -> list[list[str]]:
+#: The torque row's label when the problem has a drive: its motor has a torque of its own (the motor
+#: table's), and the row is the torque at the crank.
+CRANK_TORQUE_LABEL = "peak torque at the crank"
+
+
+def load_table(columns: Sequence[tuple[str, SimResult]], geared: bool = False) -> list[list[str]]:
     """Rows "load | value per column" of the peak `LOADS` of each response; a row of forces in kN when
-    its largest is 10 kN or more (`pressocp.units.force_unit`), else in N."""
+    its largest is 10 kN or more (`pressocp.units.force_unit`), else in N. `geared`: the problem has a
+    drive, and the torque row is labelled `CRANK_TORQUE_LABEL`."""
     rows = [["", *(label for label, _ in columns)]]
     for name, (_, label, unit) in LOADS.items():
+        label = CRANK_TORQUE_LABEL if geared and name == "torque" else label
         peaks = [sim.peak(name) for _, sim in columns]
         unit, factor = force_unit(peaks) if unit == "N" else (unit, 1.0)
         digits = 2 if factor != 1.0 else 1

@@ -28,7 +28,7 @@ from .drive import MotorCycle
 from .model import PressModel
 from .ocp import OcpResult, Strategy, optimize_speed
 from .problem import SpeedProblem
-from .verify import cap_excess, motor_cycle_of
+from .verify import cap_excess, motor_cycle_of, unverified_reason
 
 
 @dataclass(frozen=True)
@@ -75,7 +75,8 @@ class RateTrial:
     feasible : bool
         Every limit held on the re-simulation.
     failed : dict
-        Limits missed, by name, with the margin (a share of the rating; negative) or the reason.
+        Limits missed, by name, with the margin (a share of the rating; negative) or the reason
+        (``verified``: why the optimum is not verified, which says nothing of the drive).
     margins : dict
         The motor's margins on the re-simulation (peak-curve, RMS, speed; shares) and the largest pin
         force (N), when the optimisation ran.
@@ -153,8 +154,9 @@ def try_rate(problem: SpeedProblem, model: PressModel | None, rate_spm: float, s
                "speed_margin": motor.speed_margin, "max_pin_force": pin}
     failed: dict = {k: v for k, v in margins.items() if k.endswith("margin") and v < 0.0}
     failed.update({name: -excess for name, excess in cap_excess(problem, result.peaks).items()})
-    if not result.verified:
-        failed["verified"] = result.status
+    if not result.verified:  # why: not converged (IPOPT's status), or what the re-simulation shows
+        failed["verified"] = (unverified_reason(at_rate, result.speed, result.simulation) if result.success
+                              else f"not converged ({result.status})") or result.status
     return RateTrial(rate_spm, not failed, failed, margins, result.peak_torque, time.perf_counter() - t0, result,
                      motor)
 

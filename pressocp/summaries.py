@@ -65,7 +65,9 @@ def optimum_summary(scenario: Scenario, result: OcpResult, ideal: SimResult | No
 def flag_reason(summary: dict) -> str:
     """Why a job's results are flagged, from its summary: not converged (IPOPT's status), or not
     verified (the re-simulation not periodic, the ram speed out of tolerance, a limit exceeded), else
-    its status."""
+    its status; for a stroke-rate search, its verdict."""
+    if summary.get("job") == "rate":
+        return str(summary.get("status", "no rate tried held every limit"))
     if summary.get("converged") is False:
         return f"not converged ({summary.get('status')})"
     periodic = summary.get("periodic")

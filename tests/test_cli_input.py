@@ -187,6 +187,8 @@ def test_a_flagged_result_says_why():
     assert flag_reason({**base, "converged": False, "status": "Maximum_Iterations_Exceeded"}) == \
         "not converged (Maximum_Iterations_Exceeded)"
     assert "Solve_Succeeded" not in flag_reason(base)
+    assert flag_reason({"job": "rate", "converged": False, "status": "no rate tried held every limit"}) == \
+        "no rate tried held every limit"
 
 
 def test_an_output_folder_holds_one_run(tmp_path, capsys):

@@ -414,3 +414,14 @@ def test_a_motor_speed_in_rpm_is_suspected(rpm):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         Drive(max_speed=rpm * 2 * np.pi / 60)
+
+
+def test_with_a_drive_the_reports_torque_row_is_the_cranks():
+    """With a drive the motor has a torque of its own (the report's motor table), so the load table's
+    torque row says it is the torque at the crank."""
+    from pressocp.mechanism.ideal import ideal_response
+    from pressocp.report import load_table
+
+    sim = ideal_response(PressParams(), SLIDER_CRANK, FourierSpeed.constant(0.8))
+    assert load_table([("design", sim)])[1][0] == "peak motor torque, N·m"
+    assert load_table([("design", sim)], geared=True)[1][0] == "peak torque at the crank, N·m"

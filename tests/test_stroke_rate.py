@@ -45,3 +45,24 @@ def test_the_search_needs_a_drive():
 def test_bad_search_settings_name_the_field(kw, match):
     with pytest.raises(ValueError, match=match):
         po.RateSearch(**kw)
+
+
+def test_an_optimum_not_verified_fails_its_rate_saying_why(monkeypatch):
+    """A rate whose optimum does not verify fails, and the trial says why from the re-simulation, not
+    IPOPT's success status (the optimum's periodic search is made to fail here)."""
+    import dataclasses
+
+    from pressocp import stroke_rate
+
+    real = stroke_rate.optimize_speed
+
+    def not_periodic(*args, **kwargs):
+        r = real(*args, **kwargs)
+        r.simulation.stats["periodic"] = {"found": False, "reason": "periodic steady state not found: test"}
+        return dataclasses.replace(r, periodic="periodic steady state not found: test")
+
+    monkeypatch.setattr(stroke_rate, "optimize_speed", not_periodic)
+    ideal = po.build_model(PRESS75.press, clearance=(), n_harmonics=8)
+    trial = try_rate(problem(30.0), ideal, 66.0, FAST)
+    assert not trial.feasible and trial.result.success
+    assert trial.failed["verified"] == "its re-simulation is not periodic (periodic steady state not found: test)"
