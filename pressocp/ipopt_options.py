@@ -131,18 +131,20 @@ def check_nlpsol_options(name: str, options: Any) -> None:
     tried = {k: v for k, v in options.items() if k.startswith("ipopt.") and k not in NOT_TRIED}
     rest = {k: v for k, v in options.items() if not k.startswith("ipopt.")}
     with CAPTURE_LOCK:
-        if rest:
-            refused = ipopt_refusal({**rest, **tried})
-            if refused is not None and ipopt_refusal(tried) is None:
-                raise ValueError(nlpsol_message(name, rest, refused[0])) from None
-        if tried and (refused := ipopt_refusal(tried)) is not None:
+        refused = ipopt_refusal({**rest, **tried})  # one probe when all is well
+        if refused is not None:
+            if rest:
+                alone = ipopt_refusal(tried) if tried else None
+                if alone is None:  # IPOPT takes its own options: CasADi's are refused
+                    raise ValueError(nlpsol_message(name, rest, refused[0]))
+                refused = alone
             culprit = next((k for k in tried if ipopt_refusal({j: w for j, w in tried.items() if j != k}) is None), None)
-            if culprit is not None:
-                reason, printed = ipopt_refusal({culprit: tried[culprit]}) or refused
-                raise ValueError(f"{name}: IPOPT refuses {culprit} = {tried[culprit]!r}: {reason}"
-                                 f"{ipopt_explanation(printed, culprit)}")
-            raise ValueError(f"{name}: IPOPT refuses the options {tried}: {refused[0]}"
-                             f"{ipopt_explanation(refused[1], '')}")
+            if culprit is None:
+                raise ValueError(f"{name}: IPOPT refuses the options {tried}: {refused[0]}"
+                                 f"{ipopt_explanation(refused[1], '')}")
+            reason, printed = ipopt_refusal({culprit: tried[culprit]}) or refused
+            raise ValueError(f"{name}: IPOPT refuses {culprit} = {tried[culprit]!r}: {reason}"
+                             f"{ipopt_explanation(printed, culprit)}")
     ACCEPTED.add(key)
 
 

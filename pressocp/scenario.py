@@ -261,9 +261,9 @@ class Scenario:
             parts = key.split(".")
             table = parts[0] in OPTIONAL_TABLES or isinstance(data.get(parts[0]), dict)
             if not (table or (parts[0] in data and len(parts) == 1)):  # a press field without "press."
-                owner = _owning_table(parts[0]) if len(parts) == 1 else None
-                if owner is not None:
-                    meant = " or ".join(f"'{t}.{key}'" for t in owner.split(" or "))
+                owners = _owning_tables(parts[0]) if len(parts) == 1 else ()
+                if owners:
+                    meant = " or ".join(f"'{t}.{key}'" for t in owners)
                     raise ScenarioError(f"{self.name} with {key}: unknown key press.{key}: {key} is not a press "
                                         f"field (did you mean {meant}?)")
                 parts = ["press", *parts]
@@ -279,18 +279,18 @@ class Scenario:
         return Scenario.from_dict(data, source=f"{self.name} with {', '.join(overrides)}")
 
 
-def _owning_table(key: str) -> str | None:
-    """Where `key`, set without its table's name, belongs if not to the press: a joint or other table
-    nested in the press (``"crank_pin or wrist_pin"`` for a bearing's field), else ``problem``,
-    ``solver``, ``model`` or ``drive``; None when it is a press field or no table's."""
+def _owning_tables(key: str) -> tuple[str, ...]:
+    """Where `key`, set without its table's name, belongs if not to the press: the tables nested in
+    the press that have it (``("crank_pin", "wrist_pin")`` for a bearing's field), else the one of
+    ``problem``, ``solver``, ``model`` or ``drive``; empty when it is a press field or no table's."""
     if key in {f.name for f in fields(PressParams)}:
-        return None
-    joints = [t for t, cls in NESTED.items() if key in {f.name for f in fields(cls)}]
-    if joints:
-        return " or ".join(joints) if len(joints) > 1 else joints[0]
+        return ()
+    nested = tuple(t for t, cls in NESTED.items() if key in {f.name for f in fields(cls)})
+    if nested:
+        return nested
     tables = {"problem": ("stroke_rate_spm", "period_s", *PROBLEM_KEYS), "solver": SOLVER_KEYS,
               "model": tuple(f.name for f in fields(ModelSpec)), "drive": tuple(f.name for f in fields(Drive))}
-    return next((t for t, keys in tables.items() if key in keys), None)
+    return tuple(t for t, keys in tables.items() if key in keys)[:1]
 
 
 def bundled() -> list[str]:
