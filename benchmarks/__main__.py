@@ -110,6 +110,9 @@ JOBS = (
         "optimised one, against its rigid floor"),
     Job("stroke_rate", "bench_stroke_rate.py", (), 60,
         "press75's highest stroke rate with a 15 N·m motor (gear 10): every rate tried verified, +2 % fails"),
+    Job("stroke_rate_press60_big_rotor", "bench_stroke_rate.py",
+        ("--case", "press60_big_rotor", "--also-unconstrained"), 45, "press60's highest stroke rate with a large rotor (J i^2 about the crank's inertia): the search with "
+        "the drive's limits held in the NLP where the unconstrained optimum misses them, and without, side by side"),
     Job("modal_rod", "bench_modal_rod.py", ("--t-end", "0.8"), 10,
         "the flexible rod reduced to 1-3 modes: one periodic cycle of the seed optimum, of the impacting 69 spm "
         "design and of the slender-rod scene's design, and a 75 spm transient (IDAS, compiled), time and error "

@@ -1,21 +1,35 @@
-"""How fast can press75 run its job with a given servo motor? `max_stroke_rate` on the clearance model.
+"""How fast can a press run its job with a given servo motor? `max_stroke_rate` on the clearance model.
 
-    python -m benchmarks.bench_stroke_rate [--peak-torque 15] [--tolerance-spm 2]
+    python -m benchmarks.bench_stroke_rate [--case press75|press60_big_rotor] [--tolerance-spm 2]
+                                           [--also-unconstrained]
 
-press75 as bundled (both clearances, rigid rod, the default chain at every rate) with a drive of gear
-ratio 10, efficiency 0.95, 8e-4 kg m^2 rotor, 3000 rpm top speed, continuous torque 10 N m and the
-given peak torque (N m at the motor). The search starts at the scenario's 75 strokes/min. Every rate
-tried is optimised, re-simulated (periodic, rtol 1e-9) and checked against the drive's peak curve,
-RMS rating and top speed and the ram speed; the found rate is tried again 2 % higher. Records each
-trial (rate, verdict, margins, verified peak torque, wall time) and the search's time. Single run;
-the machine's load is noted by hand when it was not idle. Writes ``results/stroke_rate.json`` and
-``results/stroke_rate.png`` (peak motor torque against the rate, with the motor's peak torque; and
-the found rate's cycle over the motor's envelope).
+Cases (the scenario as bundled: both clearances, rigid rod, the default chain at every rate):
+
+* ``press75``: a drive of gear ratio 10, efficiency 0.95, 8e-4 kg m^2 rotor, 3000 rpm top speed,
+  continuous torque 10 N m and peak torque 15 N m (``--peak-torque``). Writes
+  ``results/stroke_rate.json`` and ``.png``.
+* ``press60_big_rotor``: a new user's drive for press60 (gear 10, 12 N m peak, 6 N m continuous,
+  3000 rpm, 2 kW, 4e-3 kg m^2 rotor: J i^2 = 0.4 kg m^2, about the crank's own inertia), where the
+  minimum-crank-torque optimum is flat in the rate and says nothing of the motor. Writes
+  ``results/stroke_rate_press60_big_rotor.json`` and ``.png``.
+
+The search starts at the scenario's rate. Every rate tried is optimised without the drive's limits
+in the NLP, re-simulated (periodic, rtol 1e-9) and checked against the drive's peak curve, RMS
+rating and top speed and the ram speed; a rate whose optimum misses only those limits is optimised
+again with them as constraints (`RateSearch.hold_limits`) and checked the same way; the found rate
+is tried again 2 % higher. With ``--also-unconstrained`` the search is run a second time in the same
+process with ``hold_limits=False`` (one optimisation per rate: the search before 2026-12-02), to show
+both answers side by side. Records each trial (rate, verdict, whether its limits were constraints,
+margins, verified peak torque, wall time) and each search's time. Single run; the machine's load is
+noted by hand when it was not idle. The figure: peak motor torque of the deciding optimum against
+the rate, with the motor's peak torque (squares: limits held in the NLP); and the found rate's cycle
+over the motor's envelope.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 from pathlib import Path
 
@@ -35,19 +49,33 @@ def drive(peak: float) -> po.Drive:
                     motor_inertia=8e-4)
 
 
-def figure(found: RateResult, motor: po.Drive):
+BIG_ROTOR = po.Drive(gear_ratio=10.0, peak_torque=12.0, continuous_torque=6.0, max_speed=314.0, power_limit=2000.0,
+                     gear_efficiency=0.95, motor_inertia=4e-3)
+CASES = {"press75": ("press75", "stroke_rate"), "press60_big_rotor": ("press60", "stroke_rate_press60_big_rotor")}
+
+
+def figure(found: RateResult, motor: po.Drive, title: str, unconstrained: RateResult | None = None):
     import matplotlib.pyplot as plt
 
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.2))
     for t in sorted(found.trials, key=lambda t: t.rate_spm):
         if t.motor is None:
             continue
-        ax.plot(t.rate_spm, t.motor.peak_torque, "o", color="tab:green" if t.feasible else "tab:red")
+        ax.plot(t.rate_spm, t.motor.peak_torque, "s" if t.held else "o", color="tab:green" if t.feasible else "tab:red")
         ax.annotate(f"{t.rate_spm:.1f}", (t.rate_spm, t.motor.peak_torque), fontsize=7, xytext=(3, 3),
                     textcoords="offset points")
+    for t in [] if unconstrained is None else unconstrained.trials:
+        if t.motor is not None:
+            ax.plot(t.rate_spm, t.motor.peak_torque, "x", color="tab:green" if t.feasible else "tab:red", ms=7)
     ax.axhline(motor.peak_torque, color="k", lw=1, ls="--", label=f"motor peak torque {motor.peak_torque:g} N·m")
-    ax.set(xlabel="stroke rate, strokes/min", ylabel="peak motor torque of the verified optimum, N·m",
-           title="rates tried (green: every limit held)")
+    if unconstrained is not None and unconstrained.rate_spm is not None:
+        ax.axvline(unconstrained.rate_spm, color="grey", lw=1, ls=":",
+                   label=f"unconstrained only: {unconstrained.rate_spm:.1f} spm (x: its optima)")
+    if found.rate_spm is not None:
+        ax.axvline(found.rate_spm, color="tab:green", lw=1, ls=":", label=f"found: {found.rate_spm:.1f} spm")
+    ax.set(xlabel="stroke rate, strokes/min", ylabel="peak motor torque of the deciding optimum, N·m",
+           title=f"{title}: rates tried (green: every limit held; square: limits in the NLP)")
+    ax.title.set_fontsize(9)
     ax.legend(fontsize=8)
     for label, t in (("found", found.best), ("+2 %", found.above)):
         if t is not None and t.motor is not None:
@@ -63,23 +91,39 @@ def figure(found: RateResult, motor: po.Drive):
     return fig
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--peak-torque", type=float, default=15.0, help="N m at the motor")
-    ap.add_argument("--tolerance-spm", type=float, default=2.0)
-    args = ap.parse_args()
-    OUT.mkdir(exist_ok=True)
-    scenario = po.Scenario.load("press75")
-    motor = drive(args.peak_torque)
-    problem = scenario.problem.replace(drive=motor)
-    found = po.max_stroke_rate(problem, scenario.build_model(), po.RateSearch(tolerance_spm=args.tolerance_spm,
-                                                                            max_trials=8))
+def searched(problem: po.SpeedProblem, model, search: po.RateSearch) -> RateResult:
+    found = po.max_stroke_rate(problem, model, search)
     for t in found.trials:
         print(json.dumps(t.summary(), default=str), flush=True)
-    record = {"date_run": stamp(), "versions": versions(), "drive": motor.to_dict(), **found.summary(),
+    return found
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--case", choices=sorted(CASES), default="press75")
+    ap.add_argument("--peak-torque", type=float, default=15.0, help="N m at the motor (press75's case)")
+    ap.add_argument("--tolerance-spm", type=float, default=2.0)
+    ap.add_argument("--also-unconstrained", action="store_true",
+                    help="run the search a second time with hold_limits=False, in the same process")
+    args = ap.parse_args()
+    OUT.mkdir(exist_ok=True)
+    name, stem = CASES[args.case]
+    scenario = po.Scenario.load(name)
+    motor = drive(args.peak_torque) if args.case == "press75" else BIG_ROTOR
+    problem = scenario.problem.replace(drive=motor)
+    model = scenario.build_model()
+    search = po.RateSearch(tolerance_spm=args.tolerance_spm, max_trials=8)
+    found = searched(problem, model, search)
+    record = {"date_run": stamp(), "versions": versions(), "case": args.case, "scenario": name,
+              "drive": motor.to_dict(), "hold_limits": True, **found.summary(),
+              "optimisations": sum(t.optimisations for t in found.trials),
               "above_fails": found.above is not None and not found.above.feasible}
-    (OUT / "stroke_rate.json").write_text(json.dumps(record, indent=1, default=str))
-    save(figure(found, motor), OUT / "stroke_rate.png")
+    unconstrained = None
+    if args.also_unconstrained:
+        unconstrained = searched(problem, model, dataclasses.replace(search, hold_limits=False))
+        record["unconstrained_only"] = unconstrained.summary()
+    (OUT / f"{stem}.json").write_text(json.dumps(record, indent=1, default=str))
+    save(figure(found, motor, f"{name}, motor {motor.peak_torque:g} N·m", unconstrained), OUT / f"{stem}.png")
 
 
 if __name__ == "__main__":

@@ -202,7 +202,10 @@ def _parser() -> argparse.ArgumentParser:
     rate = sub.add_parser("rate", parents=[common], help="the highest stroke rate the scenario's [drive] allows, "
                           "each rate's optimum verified (tens of minutes)")
     rate.add_argument("--tolerance-spm", type=float, default=1.0, help="width of the final bracket, strokes/min")
-    rate.add_argument("--max-trials", type=int, default=12, help="most optimisations of the search")
+    rate.add_argument("--max-trials", type=int, default=12, help="most rates tried (each one or two optimisations)")
+    rate.add_argument("--unconstrained-only", action="store_true",
+                      help="judge each rate by its optimum without the drive's limits in the NLP only (one "
+                           "optimisation per rate; a rate the drive runs can then be called infeasible)")
     sw = sub.add_parser("sweep", parents=[common], help="a task over a grid or a path of values (sweep.csv)")
     sw.add_argument("--vary", action="append", default=[], metavar="KEY=VALUES", required=True,
                     help="values of a scenario key: START:STOP:N (evenly spaced) or V1,V2,... (repeatable: a grid)")
@@ -313,7 +316,8 @@ def _prepare(args: argparse.Namespace):
         from .stroke_rate import RateSearch
 
         try:
-            search = RateSearch(tolerance_spm=args.tolerance_spm, max_trials=args.max_trials)
+            search = RateSearch(tolerance_spm=args.tolerance_spm, max_trials=args.max_trials,
+                                hold_limits=not args.unconstrained_only)
         except ValueError as err:
             raise InputError(f"rate: {err}") from None
         job = lambda folder: jobs.rate_job(scenario, folder, search, progress=not args.quiet)  # noqa: E731

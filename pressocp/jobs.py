@@ -26,7 +26,7 @@ from .result import SimResult
 from .series import PEAK_SERIES
 from .scenario import Scenario
 from .speed import FourierSpeed
-from .stroke_rate import RateSearch, max_stroke_rate
+from .stroke_rate import RateSearch, RateTrial, max_stroke_rate
 from .units import format_force
 from .summaries import (drive_summary, drive_text, optimum_summary, problem_summary, simulate_speed,
                         simulation_summary, time_table_text)
@@ -358,6 +358,14 @@ def describe_failed(failed: dict) -> str:
     return ", ".join(f"not verified: {why}" if name == "verified" else name for name, why in failed.items())
 
 
+def rate_verdict(trial: RateTrial) -> str:
+    """A rate trial's verdict in a word or a list, saying when the drive's limits were constraints of
+    the deciding optimum (its unconstrained optimum missed them)."""
+    verdict = "held" if trial.feasible else "failed: " + describe_failed(trial.failed)
+    return verdict + (f" (limits in the NLP; unconstrained: {describe_failed(trial.unconstrained_failed)})"
+                      if trial.held else "")
+
+
 def rate_job(scenario: Scenario, out: Path, search: RateSearch, progress: bool = True) -> JobReport:
     """The highest stroke rate the scenario's drive allows (`pressocp.stroke_rate.max_stroke_rate`):
     every rate tried with its verdict, the found rate's optimum (speed.json, result.json) and the
@@ -368,7 +376,7 @@ def rate_job(scenario: Scenario, out: Path, search: RateSearch, progress: bool =
              "time, s"]]
     for t in sorted(found.trials, key=lambda t: t.rate_spm):
         m = t.margins
-        rows.append([f"{t.rate_spm:.2f}", "held" if t.feasible else "failed: " + describe_failed(t.failed),
+        rows.append([f"{t.rate_spm:.2f}", rate_verdict(t),
                      f"{t.peak_torque:.1f}", *(f"{100 * m[k]:+.1f} %" if k in m else "-" for k in
                                                ("peak_torque_margin", "rms_margin", "speed_margin")),
                      f"{t.wall_time:.0f}"])
@@ -392,8 +400,11 @@ def rate_job(scenario: Scenario, out: Path, search: RateSearch, progress: bool =
     text = "\n".join([f"{scenario.name}: the highest stroke rate with its drive (peak {d.peak_torque:g} N·m, "
                       f"continuous {d.continuous_torque:g} N·m, {d.max_speed * 60 / (2 * math.pi):.0f} rpm, gear "
                       f"{d.gear_ratio:g})", f"  {describe_problem(problem)}", "", format_table(rows), "",
-                      f"  {verdict}; {len(found.trials)} optimisations in {found.wall_time:.0f} s"])
+                      f"  {verdict}; {sum(t.optimisations for t in found.trials)} optimisations at "
+                      f"{len(found.trials)} rates in {found.wall_time:.0f} s"])
     summary["status"] = verdict
-    details = ("each rate: the scenario's optimum at that rate (the drive's limits checked on its periodic "
-               "re-simulation, not constrained); margins are shares of the rating, negative when exceeded")
+    details = ("each rate: the scenario's optimum at that rate without the drive's limits in the NLP, checked on "
+               "its periodic re-simulation; when it missed only the drive's limits or the pin-force cap, the "
+               "optimum with them as constraints, checked the same way ('limits in the NLP'); margins are "
+               "shares of the rating, negative when exceeded")
     return _finish("rate", out, summary, text, details, files, found.rate_spm is not None)

@@ -1,19 +1,23 @@
 """The highest stroke rate at which a press runs its job with a given servo drive.
 
 "How fast can this press run this job with this motor?" At each stroke rate tried, the speed that
-minimises the problem's objective (peak motor torque by default) is optimised on the target model
-(`optimize_speed`, the drive's limits left out of the NLP) and re-simulated; the rate is feasible
-when that verified answer meets every limit on its re-simulation: the drive's peak-torque curve
-(with its power limit) and top speed, its continuous (RMS) rating, the problem's pin-force cap,
-and the ram speed in the window. The search steps the rate up (or down) from the problem's until
-feasibility changes, then bisects to `RateSearch.tolerance_spm`, and finally tries the found rate
-plus `RateSearch.check_step` to show which limit fails there.
+minimises the problem's objective (peak crank torque by default) is optimised on the target model
+with the drive's limits and the pin-force cap left out of the NLP (`optimize_speed`), and
+re-simulated. When that answer meets every limit on its re-simulation (the drive's peak-torque curve
+with its power limit, top speed and continuous (RMS) rating, the pin-force cap, the ram speed in the
+window), the rate holds. When it misses only limits an NLP can hold, the rate is optimised once more
+with the drive's limits and the cap as constraints (`RateSearch.hold_limits`), and that answer's
+re-simulation decides. The search steps the rate up (or down) from the problem's until the verdict
+changes, then bisects to `RateSearch.tolerance_spm`, and finally tries the found rate plus
+`RateSearch.check_step` to show which limit fails there.
 
-The drive's limits are checked, not constrained: the minimum-peak-torque speed is the one most
-likely to fit under a peak-torque curve, and a drive-constrained NLP that has no feasible point
-(a rate too high) costs IPOPT's iteration limit instead of a verdict. A rate is called infeasible
-when its optimum misses a limit; a speed that meets the limits at that rate by another objective
-is not searched for.
+Why two optimisations and not one: the unconstrained optimum is the cheap verdict where the drive
+has room (one optimisation, no drive rows in the NLP), and a drive-constrained NLP at a rate the
+ideal press cannot meet ends after its rigid stage with the shortfall named. Why not the first alone:
+the minimum-crank-torque speed says nothing of the motor's own torque, which adds the rotor's inertia
+reflected through the gear; where the crank's optimum is flat (press60 lifting its ram: 76.15 N m
+at every rate) the motor's peak and RMS torque are whatever that optimum happens to be, and a rate the
+drive runs was called infeasible (docs/decisions/2026-12-02-rate-holds-the-drive.md).
 """
 
 from __future__ import annotations
@@ -45,9 +49,16 @@ class RateSearch:
         Relative step above the found rate at which the answer is tried once more, to show the limit
         that fails there, in (0, 0.5).
     max_trials : int
-        Most optimisations of the search, 2..40 (the check above the found rate is one more).
+        Most rates tried, 2..40, each one or two optimisations (the check above the found rate is one
+        more).
     strategy : str or Strategy
         `optimize_speed`'s strategy at each rate.
+    hold_limits : bool
+        When a rate's unconstrained optimum misses only limits an NLP can hold (the drive's peak
+        curve, top speed and RMS rating; the pin-force cap), optimise that rate again with them as
+        constraints and judge the rate by that answer. False: one optimisation per rate, the
+        unconstrained optimum's verdict stands (a rate can then be called infeasible that the
+        drive runs).
     """
 
     tolerance_spm: float = 1.0
@@ -55,6 +66,7 @@ class RateSearch:
     check_step: float = 0.02
     max_trials: int = 12
     strategy: str | Strategy = "auto"
+    hold_limits: bool = True
 
     def __post_init__(self) -> None:
         chk.convert_reals(self)
@@ -62,6 +74,7 @@ class RateSearch:
         chk.in_open_interval("step", self.step, 1.0, 3.0)
         chk.in_open_interval("check_step", self.check_step, 0.0, 0.5)
         chk.integer("max_trials", self.max_trials, 2, 40)
+        chk.instance("hold_limits", self.hold_limits, bool)
 
 
 @dataclass
@@ -75,19 +88,24 @@ class RateTrial:
     feasible : bool
         Every limit held on the re-simulation.
     failed : dict
-        Limits missed, by name, with the margin (a share of the rating; negative) or the reason
-        (``verified``: why the optimum is not verified, which says nothing of the drive).
+        Limits missed by the answer that decides the rate, by name, with the margin (a share of the
+        rating; negative) or the reason (``verified``: why the optimum is not verified).
     margins : dict
         The motor's margins on the re-simulation (peak-curve, RMS, speed; shares) and the largest pin
         force (N), when the optimisation ran.
     peak_torque : float
         Verified peak crank torque, N m (nan when the problem at that rate is invalid).
     wall_time : float
-        s.
+        s, both optimisations when there were two.
     result : OcpResult or None
-        The optimum (None when the problem at that rate is invalid).
+        The optimum that decides the rate (None when the problem at that rate is invalid).
     motor : MotorCycle or None
         Its motor cycle.
+    held : bool
+        The drive's limits and the pin-force cap were constraints of that optimum's NLP (the
+        unconstrained optimum missed one of them; `RateSearch.hold_limits`).
+    unconstrained_failed : dict
+        With `held`: what the unconstrained optimum missed, as `failed`.
     """
 
     rate_spm: float
@@ -98,11 +116,19 @@ class RateTrial:
     wall_time: float = 0.0
     result: OcpResult | None = field(default=None, repr=False)
     motor: MotorCycle | None = field(default=None, repr=False)
+    held: bool = False
+    unconstrained_failed: dict = field(default_factory=dict)
+
+    @property
+    def optimisations(self) -> int:
+        """Optimisations run at this rate: 0 (invalid problem), 1, or 2 (`held`)."""
+        return 0 if self.result is None else 1 + self.held
 
     def summary(self) -> dict:
         """Plain data."""
         return {"rate_spm": self.rate_spm, "feasible": self.feasible, "failed": self.failed, "margins": self.margins,
-                "peak_torque": self.peak_torque, "wall_time": self.wall_time}
+                "peak_torque": self.peak_torque, "wall_time": self.wall_time, "held": self.held,
+                "unconstrained_failed": self.unconstrained_failed}
 
 
 @dataclass
@@ -137,17 +163,13 @@ class RateResult:
                 "trials": [t.summary() for t in self.trials], "wall_time": self.wall_time}
 
 
-def try_rate(problem: SpeedProblem, model: PressModel | None, rate_spm: float, strategy: str | Strategy = "auto",
-             progress: bool = False) -> RateTrial:
-    """The verified optimum of `problem` at `rate_spm` (its drive's limits left out of the NLP)
-    checked against the drive and the pin-force cap on its re-simulation."""
-    t0 = time.perf_counter()
-    try:
-        at_rate = problem.replace(period=60.0 / rate_spm, drive=None, max_pin_force=None)
-    except ValueError as err:  # e.g. the window takes too much of a shorter period
-        return RateTrial(rate_spm, False, {"problem": str(err)}, wall_time=time.perf_counter() - t0)
-    spec_model = None if model is None else model.spec.build(at_rate.press, at_rate.n_harmonics)
-    result = optimize_speed(at_rate, spec_model, strategy=strategy, progress=progress)
+#: What a trial's `failed` names that an NLP can hold as constraints (`RateSearch.hold_limits`).
+HOLDABLE = frozenset({"peak_torque_margin", "rms_margin", "speed_margin", "max_pin_force"})
+
+
+def judge(rate_spm: float, problem: SpeedProblem, solved: SpeedProblem, result: OcpResult) -> RateTrial:
+    """`result`, the optimum of `solved` (`problem` at `rate_spm`, with or without its drive and
+    pin-force cap in the NLP), checked on its re-simulation against `problem`'s drive and cap."""
     motor = motor_cycle_of(problem, result.speed, result.simulation)
     pin = max(result.peaks["crank_pin_force"], result.peaks["wrist_pin_force"])
     margins = {"peak_torque_margin": motor.peak_torque_margin, "rms_margin": motor.rms_margin,
@@ -155,10 +177,31 @@ def try_rate(problem: SpeedProblem, model: PressModel | None, rate_spm: float, s
     failed: dict = {k: v for k, v in margins.items() if k.endswith("margin") and v < 0.0}
     failed.update({name: -excess for name, excess in cap_excess(problem, result.peaks).items()})
     if not result.verified:  # why: not converged (IPOPT's status), or what the re-simulation shows
-        failed["verified"] = (unverified_reason(at_rate, result.speed, result.simulation) if result.success
+        failed["verified"] = (unverified_reason(solved, result.speed, result.simulation) if result.success
                               else f"not converged ({result.status})") or result.status
-    return RateTrial(rate_spm, not failed, failed, margins, result.peak_torque, time.perf_counter() - t0, result,
-                     motor)
+    return RateTrial(rate_spm, not failed, failed, margins, result.peak_torque, 0.0, result, motor)
+
+
+def try_rate(problem: SpeedProblem, model: PressModel | None, rate_spm: float, strategy: str | Strategy = "auto",
+             progress: bool = False, hold_limits: bool = True) -> RateTrial:
+    """`problem` at `rate_spm`: its verified optimum without the drive's limits and the pin-force cap
+    in the NLP, checked against them on its re-simulation; when it misses only those limits and
+    `hold_limits`, the optimum with them as constraints, checked the same way (see the module)."""
+    t0 = time.perf_counter()
+    try:
+        at_rate = problem.replace(period=60.0 / rate_spm)
+        free = at_rate.replace(drive=None, max_pin_force=None)
+    except ValueError as err:  # e.g. the window takes too much of a shorter period, or the drive's top speed
+        return RateTrial(rate_spm, False, {"problem": str(err)}, wall_time=time.perf_counter() - t0)
+    spec_model = None if model is None else model.spec.build(at_rate.press, at_rate.n_harmonics)
+    trial = judge(rate_spm, at_rate, free, optimize_speed(free, spec_model, strategy=strategy, progress=progress))
+    if hold_limits and trial.failed and set(trial.failed) <= HOLDABLE:
+        first = trial.failed
+        held = optimize_speed(at_rate, spec_model, strategy=strategy, progress=progress)
+        trial = judge(rate_spm, at_rate, at_rate, held)
+        trial.held, trial.unconstrained_failed = True, first
+    trial.wall_time = time.perf_counter() - t0
+    return trial
 
 
 def max_stroke_rate(problem: SpeedProblem, model: PressModel | None = None, search: RateSearch = RateSearch(),
@@ -190,7 +233,7 @@ def max_stroke_rate(problem: SpeedProblem, model: PressModel | None = None, sear
     def trial(rate: float) -> RateTrial:
         found = next((t for t in trials if np.isclose(t.rate_spm, rate, rtol=1e-9)), None)
         if found is None:
-            found = try_rate(problem, model, rate, search.strategy, progress)
+            found = try_rate(problem, model, rate, search.strategy, progress, search.hold_limits)
             trials.append(found)
         return found
 

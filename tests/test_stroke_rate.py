@@ -66,3 +66,50 @@ def test_an_optimum_not_verified_fails_its_rate_saying_why(monkeypatch):
     trial = try_rate(problem(30.0), ideal, 66.0, FAST)
     assert not trial.feasible and trial.result.success
     assert trial.failed["verified"] == "its re-simulation is not periodic (periodic steady state not found: test)"
+
+
+# press60 on the ideal press with a large rotor (J i^2 = 0.4 kg m^2, close to the crank's own inertia):
+# its minimum-crank-torque optimum is flat in the rate (76.15 N m, lifting the ram), so the motor's
+# RMS torque at that optimum is whatever the optimum happens to be, and it misses this motor's
+# continuous rating at 52 strokes/min, where a speed that meets every rating exists.
+PRESS60 = po.Scenario.load("press60")
+BIG_ROTOR = po.Drive(gear_ratio=10.0, peak_torque=12.0, continuous_torque=6.0, max_speed=314.0, power_limit=2000.0,
+                     gear_efficiency=0.95, motor_inertia=4e-3)
+
+
+def motor_by_hand(result: po.OcpResult, drive: po.Drive) -> tuple[float, float]:
+    """(RMS motor torque, N m; the least share of the peak curve left, -) over the re-simulated cycle,
+    written from the gear's torque balance here, apart from `pressocp.drive`: the motor gives crank
+    torque / (i eta) while it drives and crank torque x eta / i while the crank drives it back, plus
+    J i alpha for its rotor."""
+    sim, speed = result.simulation, result.speed
+    keep = sim.t - sim.t[0] <= speed.period * (1 + 1e-12)
+    t, tau = sim.t[keep], sim.torque[keep]
+    _, omega, alpha = speed.evaluate(t)
+    i, eta = drive.gear_ratio, drive.gear_efficiency
+    motor = np.where(tau >= 0, tau / (i * eta), tau * eta / i) + drive.motor_inertia * i * alpha
+    rms = np.sqrt(np.trapezoid(motor**2, t) / (t[-1] - t[0]))
+    envelope = np.minimum(drive.peak_torque, drive.power_limit / np.abs(omega * i))
+    return float(rms), float(np.min(envelope - np.abs(motor)) / drive.peak_torque)
+
+
+def test_a_rate_the_drive_runs_holds_when_its_limits_are_constraints():
+    problem = PRESS60.problem.replace(n_harmonics=8, drive=BIG_ROTOR)
+    ideal = po.build_model(PRESS60.press, clearance=(), n_harmonics=8)
+    unconstrained = try_rate(problem, ideal, 52.0, FAST, hold_limits=False)
+    assert not unconstrained.feasible and set(unconstrained.failed) == {"rms_margin"}
+    assert motor_by_hand(unconstrained.result, BIG_ROTOR)[0] > 6.0  # the defect: this speed's RMS is over
+    trial = try_rate(problem, ideal, 52.0, FAST)
+    assert trial.feasible and trial.held and set(trial.unconstrained_failed) == {"rms_margin"}
+    assert trial.result.verified and trial.optimisations == 2
+    rms, peak_share = motor_by_hand(trial.result, BIG_ROTOR)
+    assert rms <= 6.0 and peak_share >= 0.0
+    assert trial.peak_torque == pytest.approx(76.15, abs=0.2)  # the crank's floor, near the flat optimum
+
+
+def test_a_rate_the_ideal_press_cannot_run_fails_on_the_constrained_try_naming_the_drive():
+    problem = PRESS60.problem.replace(n_harmonics=8, drive=BIG_ROTOR)
+    ideal = po.build_model(PRESS60.press, clearance=(), n_harmonics=8)
+    trial = try_rate(problem, ideal, 70.0, FAST)
+    assert not trial.feasible and trial.held and "peak_torque_margin" in trial.unconstrained_failed
+    assert "drive is too weak" in trial.failed["verified"]
