@@ -138,12 +138,14 @@ class RateResult:
     Attributes
     ----------
     rate_spm : float or None
-        The highest rate tried at which every limit held (None: none of those tried). Should the
-        check above it hold too (the limits are not monotone in the rate), that is the rate.
+        The highest rate tried at which every limit held (None: none of those tried). When the check
+        above the bracket's feasible end holds too (the verdicts are not monotone in the rate), the
+        check is repeated above it, within `RateSearch.max_trials` + 1 rates.
     best : RateTrial or None
         The trial at that rate.
     above : RateTrial or None
-        The trial at `rate_spm` x (1 + check_step): the limit that fails just above.
+        The trial at `rate_spm` x (1 + check_step): the limit that fails just above (it is `best`
+        itself when the checks ran out of rates while holding).
     trials : list of RateTrial
         Every rate tried, in order.
     wall_time : float
@@ -253,7 +255,12 @@ def max_stroke_rate(problem: SpeedProblem, model: PressModel | None = None, sear
             good = mid
         else:
             bad = mid
-    above = None if good is None else trial(good * (1 + search.check_step))
+    above = None
+    while good is not None:  # until the check above fails: its +check_step shows the limit that binds
+        above = trial(good * (1 + search.check_step))
+        if not above.feasible or len(trials) > search.max_trials:
+            break
+        good = above.rate_spm
     feasible = [t for t in trials if t.feasible]
     best = max(feasible, key=lambda t: t.rate_spm) if feasible else None
     return RateResult(None if best is None else best.rate_spm, best, above, trials, time.perf_counter() - t0)

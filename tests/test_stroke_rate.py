@@ -113,3 +113,19 @@ def test_a_rate_the_ideal_press_cannot_run_fails_on_the_constrained_try_naming_t
     trial = try_rate(problem, ideal, 70.0, FAST)
     assert not trial.feasible and trial.held and "peak_torque_margin" in trial.unconstrained_failed
     assert "drive is too weak" in trial.failed["verified"]
+
+
+def test_a_check_above_that_holds_moves_the_rate_up_until_one_fails(monkeypatch):
+    """The bracket's feasible end is checked check_step above; when that holds (a verdict not monotone
+    in the rate, or a bracket left at its tolerance), the check is repeated above it, so the rate
+    reported has a failing rate check_step above it. The optimisations are replaced by a verdict."""
+    from pressocp import stroke_rate
+
+    limit = 57.5
+    monkeypatch.setattr(stroke_rate, "try_rate", lambda problem, model, rate, *a: stroke_rate.RateTrial(
+        rate, rate <= limit, {} if rate <= limit else {"rms_margin": -0.01}))
+    problem = PRESS60.problem.replace(drive=BIG_ROTOR)
+    found = po.max_stroke_rate(problem, None, po.RateSearch(tolerance_spm=2.0, max_trials=8))
+    assert found.rate_spm <= limit < found.above.rate_spm
+    assert found.above.rate_spm == pytest.approx(1.02 * found.rate_spm) and not found.above.feasible
+    assert found.rate_spm > limit / 1.02 - 2.0
