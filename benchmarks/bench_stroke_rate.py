@@ -51,6 +51,8 @@ def drive(peak: float) -> po.Drive:
 
 BIG_ROTOR = po.Drive(gear_ratio=10.0, peak_torque=12.0, continuous_torque=6.0, max_speed=314.0, power_limit=2000.0,
                      gear_efficiency=0.95, motor_inertia=4e-3)
+SHORT = {"peak_torque_margin": "peak", "rms_margin": "RMS", "speed_margin": "speed", "max_pin_force": "pin force",
+         "verified": "not verified"}
 CASES = {"press75": ("press75", "stroke_rate"), "press60_big_rotor": ("press60", "stroke_rate_press60_big_rotor")}
 
 
@@ -62,8 +64,9 @@ def figure(found: RateResult, motor: po.Drive, title: str, unconstrained: RateRe
         if t.motor is None:
             continue
         ax.plot(t.rate_spm, t.motor.peak_torque, "s" if t.held else "o", color="tab:green" if t.feasible else "tab:red")
-        ax.annotate(f"{t.rate_spm:.1f}", (t.rate_spm, t.motor.peak_torque), fontsize=7, xytext=(3, 3),
-                    textcoords="offset points")
+        missed = ", ".join(SHORT.get(k, k) for k in t.failed)  # a limit missed below the peak line: RMS
+        ax.annotate(f"{t.rate_spm:.1f}" + (f" ({missed})" if missed else ""), (t.rate_spm, t.motor.peak_torque),
+                    fontsize=7, xytext=(3, 3), textcoords="offset points")
     for t in [] if unconstrained is None else unconstrained.trials:
         if t.motor is not None:
             ax.plot(t.rate_spm, t.motor.peak_torque, "x", color="tab:green" if t.feasible else "tab:red", ms=7)

@@ -605,8 +605,18 @@ def stroke_rate_row(res: Results) -> Row:
     text = (f"motor {d['drive']['peak_torque']:g} N·m (gear {d['drive']['gear_ratio']:g}): {d['max_stroke_rate_spm']:.1f} "
             f"strokes/min, verified peak {best['peak_torque']:.1f} N·m at the crank, peak-curve margin "
             f"{best['margins']['peak_torque_margin']:+.1%}; at {above['rate_spm']:.1f} spm failed "
-            f"{', '.join(above['failed']) or 'nothing'}; {len(d['trials'])} rates tried in {d['wall_time']:.0f} s")
-    return Row(32, goal, text, verdict(bool(d["above_fails"])), f"stroke_rate.json, {d['date_run']['date']}")
+            f"{', '.join(above['failed']) or 'nothing'}; {len(d['trials'])} rates tried"
+            + (f" ({d['optimisations']} optimisations: a rate whose optimum missed the drive is optimised again with "
+               "its limits held)" if "optimisations" in d else "") + f" in {d['wall_time']:.0f} s")
+    sources = f"stroke_rate.json, {d['date_run']['date']}"
+    big = res.json("stroke_rate_press60_big_rotor.json")
+    if big is not None and big.get("unconstrained_only"):
+        rate = big["max_stroke_rate_spm"]
+        text += (f"; press60 with a large rotor (J i² about the crank's inertia): "
+                 f"{'no rate' if rate is None else f'{rate:.1f} strokes/min'}, against "
+                 f"{big['unconstrained_only']['max_stroke_rate_spm']:.1f} when each rate's optimum is only checked")
+        sources += f"; stroke_rate_press60_big_rotor.json, {big['date_run']['date']}"
+    return Row(32, goal, text, verdict(bool(d["above_fails"])), sources)
 
 
 def slow_tests_row(res: Results) -> Row:
