@@ -358,10 +358,16 @@ def describe_failed(failed: dict) -> str:
     return ", ".join(f"not verified: {why}" if name == "verified" else name for name, why in failed.items())
 
 
-def rate_verdict(trial: RateTrial) -> str:
+def rate_verdict(trial: RateTrial, note: int | None = None) -> str:
     """A rate trial's verdict in a word or a list, saying when the drive's limits were constraints of
-    the deciding optimum (its unconstrained optimum missed them)."""
-    verdict = "held" if trial.feasible else "failed: " + describe_failed(trial.failed)
+    the deciding optimum (its unconstrained optimum missed them). With `note`, an optimum not
+    verified reads ``not verified [note]`` and its reason is given elsewhere (a status can run to
+    hundreds of characters)."""
+    if trial.feasible:
+        verdict = "held"
+    else:
+        verdict = "failed: " + ", ".join(("not verified" + (f" [{note}]" if note else f": {why}")) if name == "verified"
+                                         else name for name, why in trial.failed.items())
     return verdict + (f" (limits in the NLP; unconstrained: {describe_failed(trial.unconstrained_failed)})"
                       if trial.held else "")
 
@@ -374,9 +380,13 @@ def rate_job(scenario: Scenario, out: Path, search: RateSearch, progress: bool =
     found = max_stroke_rate(problem, scenario.build_model(), search, progress)
     rows = [["strokes/min", "verdict", "peak crank torque, N·m", "peak-curve margin", "RMS margin", "speed margin",
              "time, s"]]
-    for t in sorted(found.trials, key=lambda t: t.rate_spm):
+    tried = sorted(found.trials, key=lambda t: t.rate_spm)
+    unverified = [t for t in tried if "verified" in t.failed]  # their reasons under the table, numbered
+    note = {id(t): k + 1 for k, t in enumerate(unverified)}
+    notes = [f"  [{note[id(t)]}] {t.rate_spm:.2f} strokes/min: {t.failed['verified']}" for t in unverified]
+    for t in tried:
         m = t.margins
-        rows.append([f"{t.rate_spm:.2f}", rate_verdict(t),
+        rows.append([f"{t.rate_spm:.2f}", rate_verdict(t, note.get(id(t))),
                      f"{t.peak_torque:.1f}", *(f"{100 * m[k]:+.1f} %" if k in m else "-" for k in
                                                ("peak_torque_margin", "rms_margin", "speed_margin")),
                      f"{t.wall_time:.0f}"])
@@ -396,10 +406,10 @@ def rate_job(scenario: Scenario, out: Path, search: RateSearch, progress: bool =
     verdict = ("no rate tried held every limit" if found.rate_spm is None else
                f"{found.rate_spm:.1f} strokes/min (every limit held on the verified optimum)"
                + ("" if found.above is None else f"; at {found.above.rate_spm:.1f}: "
-                  + ("held too" if found.above.feasible else "failed " + describe_failed(found.above.failed))))
+                  + ("held too" if found.above.feasible else rate_verdict(found.above, note.get(id(found.above))))))
     text = "\n".join([f"{scenario.name}: the highest stroke rate with its drive (peak {d.peak_torque:g} N·m, "
                       f"continuous {d.continuous_torque:g} N·m, {d.max_speed * 60 / (2 * math.pi):.0f} rpm, gear "
-                      f"{d.gear_ratio:g})", f"  {describe_problem(problem)}", "", format_table(rows), "",
+                      f"{d.gear_ratio:g})", f"  {describe_problem(problem)}", "", format_table(rows), *notes, "",
                       f"  {verdict}; {sum(t.optimisations for t in found.trials)} optimisations at "
                       f"{len(found.trials)} rates in {found.wall_time:.0f} s"])
     summary["status"] = verdict

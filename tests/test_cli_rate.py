@@ -31,3 +31,19 @@ def test_rate_on_the_ideal_press_writes_the_search(tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["job"] == "rate" and summary["best"]["feasible"] and not summary["above"]["feasible"]
     assert {"speed.json", "result.json", "motor.png", "report.txt"} <= {p.name for p in out.iterdir()}
+
+
+def test_a_long_unverified_reason_is_a_note_not_a_table_cell():
+    """The rate table keeps its verdict cells short: an optimum not verified is 'not verified [k]' there,
+    its reason (an IPOPT status with the drive's shortfall runs to hundreds of characters) numbered
+    under the table; without a note number the reason is inline."""
+    from pressocp.jobs import rate_verdict
+    from pressocp.stroke_rate import RateTrial
+
+    reason = "not converged (stage 'rigid': Infeasible_Problem_Detected; " + "x" * 300 + ")"
+    trial = RateTrial(57.2, False, {"rms_margin": -0.01, "verified": reason}, held=True,
+                      unconstrained_failed={"rms_margin": -0.09})
+    assert rate_verdict(trial, 2) == ("failed: rms_margin, not verified [2] (limits in the NLP; unconstrained: "
+                                      "rms_margin)")
+    assert reason in rate_verdict(trial)
+    assert rate_verdict(RateTrial(50.0, True, {})) == "held"
