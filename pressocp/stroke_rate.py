@@ -16,8 +16,8 @@ has room (one optimisation, no drive rows in the NLP), and a drive-constrained N
 ideal press cannot meet ends after its rigid stage with the shortfall named. Why not the first alone:
 the minimum-crank-torque speed says nothing of the motor's own torque, which adds the rotor's inertia
 reflected through the gear; where the crank's optimum is flat (press60 lifting its ram: 76.15 N m
-at every rate) the motor's peak and RMS torque are whatever that optimum happens to be, and a rate the
-drive runs was called infeasible (docs/decisions/2026-12-02-rate-holds-the-drive.md).
+at every rate) the motor's peak and RMS torque are whatever that optimum happens to be, so that
+alone would call rates infeasible that the drive runs (docs/decisions/2026-12-02-rate-holds-the-drive.md).
 """
 
 from __future__ import annotations
