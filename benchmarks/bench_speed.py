@@ -136,6 +136,11 @@ def timeline(parts: list[tuple[str, float]]) -> list[tuple[int, str, float, floa
     return out
 
 
+def stage_kind(name: str) -> str:
+    """The stage's kind, the same colour on every lane: ``polish_1@0.05`` -> ``polish``."""
+    return name.split("@", 1)[0].rstrip("0123456789").rstrip("_")
+
+
 def plot(rows: list[dict]) -> Path:
     import matplotlib
 
@@ -173,20 +178,29 @@ def plot(rows: list[dict]) -> Path:
     a1.set_ylim(top=a1.get_ylim()[1] * 2.2)  # room for the labels above the tallest bar
     a1.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=4)
     a1.set_title("Scenario.load(name).optimize(), fresh process each run")
-    ticks = []
+    ticks, colours = [], {}
     for j, lab in enumerate(labels):
         row = last.get(("press75", lab))
         if row is None:
             continue
-        for k, (lane, name, t0, t) in enumerate(timeline(stage_times(row))):
+        lane_names = {0: lab}
+        for lane, name, t0, t in timeline(stage_times(row)):
             y = j + 0.3 * lane
-            a2.barh(y, t, left=t0, height=0.25, color=f"C{k % 10}", edgecolor="w")
-            if t > 8:  # the lane says which candidate
-                a2.text(t0 + t / 2, y, f"{name.split('@')[0]}\n{t:.0f}", ha="center", va="center", fontsize=6)
-        ticks.append((j, lab))
+            kind = stage_kind(name)
+            colour = colours.setdefault(kind, f"C{len(colours) % 10}")
+            a2.barh(y, t, left=t0, height=0.25, color=colour, edgecolor="w",
+                    label=kind if kind not in a2.get_legend_handles_labels()[1] else None)
+            if t > 3:
+                a2.text(t0 + t / 2, y, f"{t:.0f}", ha="center", va="center", fontsize=6)
+            if name == "prepare":
+                lane_names[lane] = "compiled ahead in a worker"
+            elif "@" in name:
+                lane_names[lane] = f"{lab + ': ' if lane == 0 else ''}candidate @{name.split('@', 1)[1]}"
+        ticks += [(j + 0.3 * lane, text) for lane, text in lane_names.items()]
+    a2.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=4)
     a2.axvline(GOAL_SEED_S, color="g", ls="--", lw=1)
-    a2.set_yticks([j for j, _ in ticks], [lab for _, lab in ticks])
-    a2.set_xlabel("s (the run nearest the median; candidate chains side by side, one lane each)")
+    a2.set_yticks([y for y, _ in ticks], [text for _, text in ticks], fontsize=7)
+    a2.set_xlabel("s (the run nearest the median; candidate chains side by side, one lane each)", fontsize=8)
     a2.set_title("press75: where the time went, stage by stage")
     machine = rows[-1]["run"]
     fig.suptitle(f"{machine['date'][:10]}, {machine['machine']} {vm(rows[-1])} ({machine['cpus']} CPUs)", fontsize=9)
