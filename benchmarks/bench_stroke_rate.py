@@ -60,13 +60,19 @@ def figure(found: RateResult, motor: po.Drive, title: str, unconstrained: RateRe
     import matplotlib.pyplot as plt
 
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.2))
-    for t in sorted(found.trials, key=lambda t: t.rate_spm):
-        if t.motor is None:
-            continue
+    shown = [t for t in sorted(found.trials, key=lambda t: t.rate_spm) if t.motor is not None]
+    for i, t in enumerate(shown):
         ax.plot(t.rate_spm, t.motor.peak_torque, "s" if t.held else "o", color="tab:green" if t.feasible else "tab:red")
-        missed = ", ".join(SHORT.get(k, k) for k in t.failed)  # a limit missed below the peak line: RMS
-        ax.annotate(f"{t.rate_spm:.1f}" + (f" ({missed})" if missed else ""), (t.rate_spm, t.motor.peak_torque),
-                    fontsize=7, xytext=(3, 3), textcoords="offset points")
+        # rates closer than 2 spm to the one before: their labels alternately above and below
+        near = i > 0 and t.rate_spm - shown[i - 1].rate_spm < 2.0
+        ax.annotate(f"{t.rate_spm:.1f}", (t.rate_spm, t.motor.peak_torque), fontsize=7,
+                    xytext=(3, -11 if near and i % 2 else 3), textcoords="offset points")
+    # what each failed rate missed (a limit below the peak line: RMS), under the axes: beside the points
+    # the labels ran into each other where rates lie close
+    missed = [f"{t.rate_spm:.1f} spm: {', '.join(SHORT.get(k, k) for k in t.failed)}" for t in shown if t.failed]
+    if missed:
+        rows = ["; ".join(missed[i:i + 3]) for i in range(0, len(missed), 3)]
+        ax.text(0.0, -0.16, "failed: " + "\n".join(rows), transform=ax.transAxes, va="top", fontsize=7)
     for t in [] if unconstrained is None else unconstrained.trials:
         if t.motor is not None:
             ax.plot(t.rate_spm, t.motor.peak_torque, "x", color="tab:green" if t.feasible else "tab:red", ms=7)
