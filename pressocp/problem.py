@@ -27,6 +27,9 @@ MAX_WINDOW_SHARE = 0.8
 MAX_WINDOW_SPEED_RATIO = 3.0
 #: An omega_max above this many times the mean crank speed is suspected of being in rpm.
 MAX_OMEGA_RATIO = 20.0
+#: A stroke rate below this many strokes per minute is suspected of being a crank speed in rad/s (75 spm
+#: is 7.85 rad/s), or a period given in strokes per minute.
+MIN_PLAUSIBLE_SPM = 15.0
 
 
 def check_window(window: Any) -> tuple[float, float]:
@@ -247,6 +250,11 @@ class SpeedProblem:
         check_ram_speed(self.press, T, v, (w0, w1), self.mechanism)
         if self.ram_speed_tol is not None:
             chk.in_open_interval("ram_speed_tol", self.ram_speed_tol, 0.0, abs(v), "m/s")
+        if 60.0 / T < MIN_PLAUSIBLE_SPM:
+            chk.suspect(f"period = {T:.4g} s is {60.0 / T:.3g} strokes/min (stroke_rate_spm), slow for a servo press "
+                        f"(below {MIN_PLAUSIBLE_SPM:g}): a crank speed in rad/s? {60.0 / T:.3g} rad/s is "
+                        f"{60.0 / T * 60.0 / (2 * np.pi):.3g} strokes/min (period {2 * np.pi / (60.0 / T):.3g} s); "
+                        f"or a period in strokes/min? {T:.3g} strokes/min is a period of {60.0 / T:.3g} s")
         wbar = 2 * np.pi / T
         if self.omega_min is not None:
             chk.in_open_interval("omega_min", self.omega_min, 0.0, wbar, "rad/s")

@@ -200,6 +200,9 @@ def test_the_wrong_object_is_a_type_error_that_says_what_to_pass(call, match):
      "process_force.force = 1e\\+09 N .* a value in mN\\?"),
     (lambda: Bearing(stiffness=6e8), "stiffness = 6e\\+08 N/m\\^1.5 is 0.000974 x the Hertz stiffness"),
     (lambda: SpeedProblem(PressParams(), period=0.8, omega_max=400.0), "omega_max = 400 rad/s .* in rpm\\? 400 rpm is 41.89"),
+    # 75 strokes/min typed as the crank's speed in rad/s: 2 pi x 75 / 60 = 7.854 rad/s, a period of 60 / 7.854 s
+    (lambda: SpeedProblem(PressParams(), period=60.0 / 7.854), r"period = 7.639 s is 7.85 strokes/min .* a crank "
+     r"speed in rad/s\? 7.85 rad/s is 75 strokes/min \(period 0.8 s\)"),
 ])
 def test_a_value_in_range_but_out_of_proportion_warns_of_its_unit(make, match):
     with pytest.warns(PlausibilityWarning, match=match):
@@ -214,6 +217,7 @@ def test_plausible_values_do_not_warn():
         PressParams(rod_mass=20.0, crank_mass=100.0, crank_pin=Bearing(stiffness=1e11),
                     process_force=ProcessForce(force=5e4, h_top=0.05, h_bottom=0.0))
         SpeedProblem(PressParams(), period=0.8, omega_max=15.0)
+        SpeedProblem(PressParams(), period=3.9, ram_speed=-0.05)  # 15.4 strokes/min: slow, but plausible
 
 
 def test_a_process_force_window_outside_the_stroke_warns():
