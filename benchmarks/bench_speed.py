@@ -187,9 +187,9 @@ def plot(rows: list[dict]) -> Path:
         for lane, name, t0, t in timeline(stage_times(row)):
             y = j + 0.3 * lane
             kind = stage_kind(name)
+            first = kind not in colours  # the legend names each kind once
             colour = colours.setdefault(kind, f"C{len(colours) % 10}")
-            a2.barh(y, t, left=t0, height=0.25, color=colour, edgecolor="w",
-                    label=kind if kind not in a2.get_legend_handles_labels()[1] else None)
+            a2.barh(y, t, left=t0, height=0.25, color=colour, edgecolor="w", label=kind if first else None)
             if t > 3:
                 a2.text(t0 + t / 2, y, f"{t:.0f}", ha="center", va="center", fontsize=6)
             if name == "prepare":

@@ -250,11 +250,12 @@ class SpeedProblem:
         check_ram_speed(self.press, T, v, (w0, w1), self.mechanism)
         if self.ram_speed_tol is not None:
             chk.in_open_interval("ram_speed_tol", self.ram_speed_tol, 0.0, abs(v), "m/s")
-        if 60.0 / T < MIN_PLAUSIBLE_SPM:
-            chk.suspect(f"period = {T:.4g} s is {60.0 / T:.3g} strokes/min (stroke_rate_spm), slow for a servo press "
-                        f"(below {MIN_PLAUSIBLE_SPM:g}): a crank speed in rad/s? {60.0 / T:.3g} rad/s is "
-                        f"{60.0 / T * 60.0 / (2 * np.pi):.3g} strokes/min (period {2 * np.pi / (60.0 / T):.3g} s); "
-                        f"or a period in strokes/min? {T:.3g} strokes/min is a period of {60.0 / T:.3g} s")
+        spm = self.stroke_rate_spm
+        if spm < MIN_PLAUSIBLE_SPM:
+            chk.suspect(f"period = {T:.4g} s is {spm:.3g} strokes/min (stroke_rate_spm), slow for a servo press "
+                        f"(below {MIN_PLAUSIBLE_SPM:g}): a crank speed in rad/s? {spm:.3g} rad/s is "
+                        f"{spm * 60.0 / (2 * np.pi):.3g} strokes/min (period {2 * np.pi / spm:.3g} s); "
+                        f"or a period in strokes/min? {T:.3g} strokes/min is a period of {spm:.3g} s")
         wbar = 2 * np.pi / T
         if self.omega_min is not None:
             chk.in_open_interval("omega_min", self.omega_min, 0.0, wbar, "rad/s")
