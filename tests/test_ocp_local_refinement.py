@@ -1,8 +1,9 @@
 """Collocation grids of unequal elements and their local refinement: quadrature, points and carried
 states checked against formulas written here (antiderivatives, numpy's polynomials), the residuals
-of a grid whose edges happen to be equal against the equal grid's own, and on the smooth clearance
-case: the cut elements are those with the largest defects, cutting shrinks them, and a solve on the
-cut grid from the carried coarse solution reaches the optimum of the uniformly refined grid."""
+of a grid whose edges happen to be equal against the equal grid's own; on a response whose journals
+cross their gaps, the cut elements are those with the largest defects and cutting shrinks them; and
+on the smooth clearance case a solve on the cut grid from the carried coarse solution reaches the
+optimum of the uniformly refined grid."""
 
 from dataclasses import replace
 from types import SimpleNamespace
@@ -15,7 +16,8 @@ from pressocp.ocp.collocation import CollocationGrid, collocation_residuals, ele
 from pressocp.ocp.nlp import crank_motion
 from pressocp.ocp.prolong import carried_multipliers
 from pressocp.ocp.stage import Resimulated
-from pressocp.ocp.strategy import near_peak
+from pressocp.checks import PlausibilityWarning
+from pressocp.ocp.strategy import near_peak, soft_params
 from pressocp.simulate import Integrator, periodic_state
 from pressocp.speed import FourierSpeed
 from pressocp.verify import verify_speed
@@ -135,29 +137,48 @@ def smooth_case():
     return model, coarse, Resimulated(model, coarse.speed, x0)
 
 
-def test_local_refinement_cuts_the_elements_with_the_largest_defects_as_far_as_a_uniform_cut(smooth_case):
+#: The press with its contacts 1000 x softer (hits that last milliseconds, which cut elements resolve)
+#: at a constant 150 strokes/min: its journals cross their gaps (eccentricity down to 0.21 of the
+#: clearance), so its defects on 200 elements span six decades, highest around the crossings. The
+#: smooth case has no such place: its periodic response's defects span 20-50 x, evenly; a response
+#: from its periodic search's state (to 1e-4) adds a transient that decays over the period and spans
+#: 146-256 x, by CPU, on the threshold of a local cut (1/256).
+CROSSING_T = 0.4
+
+
+@pytest.fixture(scope="module")
+def crossing():
+    with pytest.warns(PlausibilityWarning, match="stiffness"):
+        press = soft_params(PressParams(), 1e3)
+    model = build_model(press, n_harmonics=4)
+    speed = FourierSpeed(CROSSING_T, np.zeros(4), np.zeros(4))
+    x0 = periodic_state(model, speed, Integrator("cvodes", 1e-9), tol=1e-6)[0]
+    return Resimulated(model, speed, x0)
+
+
+def test_local_refinement_cuts_the_elements_with_the_largest_defects_as_far_as_a_uniform_cut(crossing):
     """On 200 elements the cut ones are exactly those with defects within 1/256 of the largest, and the
     cut grid's largest defect is the uniform 400-element grid's, with fewer elements."""
-    model, coarse, where = smooth_case
+    where, T = crossing, CROSSING_T
     tr = Collocation(elements=200, jit=False, refinement="local")
-    grid = tr.grid(SMOOTH.period)
+    grid = tr.grid(T)
     defects = element_defects(where, grid)
-    finer = tr.refined(SMOOTH.period, "rigid", where)
+    finer = tr.refined(T, "rigid", where)
     chosen = defects >= defects.max() / 256
-    assert 0 < chosen.sum() < grid.elements  # some elements, not all
+    assert 0 < chosen.sum() < grid.elements / 2  # some elements, a few
     assert finer.elements == grid.elements + chosen.sum()
-    fine = finer.grid(SMOOTH.period)
+    fine = finer.grid(T)
     assert grid.splits(fine)
     # the cut elements are exactly the chosen ones: their starts and midpoints are the fine grid's starts
     expected = np.sort(np.concatenate([grid.starts, (grid.starts + grid.lengths / 2)[chosen]]))
     np.testing.assert_allclose(fine.starts, expected, atol=1e-12)
-    uniform = Collocation(elements=400, jit=False).grid(SMOOTH.period)
+    uniform = Collocation(elements=400, jit=False).grid(T)
     assert element_defects(where, fine).max() <= 1.01 * element_defects(where, uniform).max() < defects.max() / 4
     assert fine.elements < uniform.elements
     # uniform refinement, the default, ignores where
-    assert Collocation(elements=100, jit=False).refined(1.0, "rigid", where).elements == 200
-    # elements at the finest length (0.5 ms) are never cut
-    assert Collocation(elements=2000, jit=False, refinement="local").refined(1.0, "rigid", where) is None
+    assert Collocation(elements=100, jit=False).refined(T, "rigid", where).elements == 200
+    # elements at the finest length (0.5 ms: 800 in 0.4 s) are never cut
+    assert Collocation(elements=800, jit=False, refinement="local").refined(T, "rigid", where) is None
 
 
 def test_a_solve_on_the_locally_cut_grid_from_the_carried_solution_reaches_the_finer_optimum(smooth_case):
@@ -175,20 +196,20 @@ def test_a_solve_on_the_locally_cut_grid_from_the_carried_solution_reaches_the_f
         fine.nlp.grid
 
 
-def test_the_elements_where_the_objective_peaks_are_cut_too(smooth_case):
+def test_the_elements_where_the_objective_peaks_are_cut_too(crossing):
     """Times near the re-simulated objective's peak put their elements among the cut ones, whatever
     their defect; `near_peak` finds those times on a response whose torque is known."""
-    model, coarse, where = smooth_case
+    where, T = crossing, CROSSING_T
     tr = Collocation(elements=200, jit=False, refinement="local")
-    grid = tr.grid(SMOOTH.period)
+    grid = tr.grid(T)
     defects = element_defects(where, grid)
     quiet = int(np.argmin(defects))  # far below the cut's threshold
     assert defects[quiet] < defects.max() / 256
     t_quiet = grid.starts[quiet] + 0.3 * grid.lengths[quiet]
-    cut = tr.refined(SMOOTH.period, "rigid", replace(where, near_peak=np.array([t_quiet + SMOOTH.period])))
-    plain = tr.refined(SMOOTH.period, "rigid", where)
+    cut = tr.refined(T, "rigid", replace(where, near_peak=np.array([t_quiet + T])))
+    plain = tr.refined(T, "rigid", where)
     assert cut.elements == plain.elements + 1
-    assert np.any(np.isclose(np.array(cut.edges) * SMOOTH.period, grid.starts[quiet] + grid.lengths[quiet] / 2))
+    assert np.any(np.isclose(np.array(cut.edges) * T, grid.starts[quiet] + grid.lengths[quiet] / 2))
     t = np.linspace(0.0, 1.0, 1001)
     sim = SimpleNamespace(t=t + 3.0, torque=100.0 * np.cos(2 * np.pi * t))  # peaks of 100 at 0, 0.5 and 1
     near = near_peak(SMOOTH, sim, 0.02)

@@ -289,14 +289,21 @@ def test_the_relaxed_re_solve_leaves_the_ram_room(smooth):
     strays past the share its NLP held by p (of the tolerance), the re-solve holds all of it while
     1 + p <= 1, else 1 - 2 p (the stray left once more as margin), and does not run (a record says
     why) when that gains less than 0.01 over the held share. The tolerance is set so that the ram's
-    deviation in an independent periodic simulation (IDAS, `window_error`) is 0.9 of it."""
+    deviation in an independent periodic simulation (IDAS, `window_error`) is 0.9 of it. The
+    strategy's re-simulation finds its periodic state to its search's tolerance (1e-4 of the scaled
+    state: 1e-5 m/s on a journal's velocity), not to the reference's: over the cycle its ram was up to
+    6.7e-6 m/s off it on an AMD EPYC with AVX-512, 1.9e-6 m/s (1.3e-3 of the tolerance) at the
+    window's edge, where the deviation is largest. So p is known to 1e-5 m/s, and the share held
+    (1 - 2 p) to twice that; the held shares are chosen so that the outcomes are further apart."""
     model = build_model(SMOOTH.press, n_harmonics=4)
     best = dataclasses.replace(smooth.stages[0], simulation=None)
     sim = simulate(model, best.speed, periodic=True, integrator=Integrator(method="idas", rtol=1e-9), n_out=20001)
     problem = dataclasses.replace(SMOOTH, ram_speed_tol=window_error(sim, SMOOTH) / 0.9)
+    allowance = 2 * 1e-5 / problem.tol  # 0.013
     strat = Strategy(polish_rounds=3, verify_rtol=1e-8)
-    # held share -> the share the re-solve holds (None: skipped); p = 0.9 - held
-    for held, holds in ((0.91, 1.0), (0.89, 0.98), (0.7, None)):
+    # held share -> the share the re-solve holds (None: skipped); p = 0.9 - held; 0.94 is 0.03 from
+    # 1 - p (the stray not left as margin) and 0.06 from the whole tolerance
+    for held, holds in ((0.91, 1.0), (0.87, 0.94), (0.7, None)):
         replay = FittedReplay(best)
         last = dataclasses.replace(best, details={**best.details, "backoff": held})
         [st], _ = strat.relax(problem, model, last, replay, False)
@@ -304,7 +311,7 @@ def test_the_relaxed_re_solve_leaves_the_ram_room(smooth):
         if holds is None:
             assert st.status.startswith("skipped") and "adds less than 0.01" in st.status and st.speed is best.speed
         else:
-            assert replay.backoff == pytest.approx(holds, abs=2e-3) and not st.status.startswith("skipped")
+            assert replay.backoff == pytest.approx(holds, abs=allowance) and not st.status.startswith("skipped")
     # a transcription that cannot be told to hold less is skipped where it would have to
     replay = RelaxReplay(best)
     replay.backoff = 1.0
