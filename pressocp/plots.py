@@ -76,15 +76,26 @@ def rigid_torque_level(objective: str, peak: float) -> tuple[float, str]:
 def ram_speed_error_axis(ax, curves, window: tuple[float, float], ram_speed: float, tol: float) -> None:
     """Draw the ram speed in the working window relative to the one asked for (%), with the tolerance
     dashed: `curves` are (label, SimResult, plot keywords), each against its time from its first
-    sample; `window` (s), `ram_speed` and `tol` (m/s)."""
+    sample; `window` (s), `ram_speed` and `tol` (m/s). The axis spans three tolerances; a curve that
+    leaves it (a speed that was not designed to hold the window, e.g. the constant one) is not drawn,
+    and a note in its colour gives its largest error instead (drawn, it was a vertical streak where
+    it crossed the axis)."""
+    limit = 300 * tol / abs(ram_speed)
+    off_scale = []
     for curve, res, style in curves:
         t = res.t - res.t[0]
         inside = (t >= window[0]) & (t <= window[1])
-        ax.plot(t, np.where(inside, 100 * (res.ram_velocity / ram_speed - 1), np.nan), label=curve, **style)
+        err = np.where(inside, 100 * (res.ram_velocity / ram_speed - 1), np.nan)
+        worst = float(np.nanmax(np.abs(err), initial=0.0))
+        line, = ax.plot(t, err if worst <= limit else np.full_like(t, np.nan), label=curve, **style)
+        if worst > limit:
+            off_scale.append((f"{curve}: up to {worst:.3g} % off (off the scale)", line.get_color()))
+    for k, (text, color) in enumerate(off_scale):
+        ax.text(0.01, 0.95 - 0.12 * k, text, transform=ax.transAxes, va="top", fontsize=7, color=color)
     for y in (-100 * tol / abs(ram_speed), 100 * tol / abs(ram_speed)):
         ax.axhline(y, color="k", ls="--", lw=0.8)
     ax.set_ylabel(f"ram speed error\nin the window [%]\n(asked {ram_speed:g} m/s)", fontsize=8)
-    ax.set_ylim(-300 * tol / abs(ram_speed), 300 * tol / abs(ram_speed))
+    ax.set_ylim(-limit, limit)
 
 
 def plot_responses(
