@@ -526,20 +526,23 @@ def plot(entries: list[dict], not_measured: list[dict], path: Path) -> None:
             add(ax, "RK4 bound from the model's Jacobian (numerical)", x,
                 [e["theory"]["jacobian"]["rk4_bound_s"] for e in rk], marker="x", color="0.3", s=20, zorder=4)
         if key == "stiffness_factor":
-            offset = {2: 1.25, 4: 1.6}
+            offset = {2: 1.25, 4: 1.6}  # measured at factor 1, drawn beside it so the markers do not overlap
+            if any(e["model"]["rod"] == "flexible" for e in entries):
+                ax.axvspan(1.12, 1.8, color="0.92", zorder=0)
+                ax.text(1.42, 2.5e-6, "flexible rod\n(factor 1)", fontsize=6.5, ha="center", color="0.3")
             for e in entries:
                 if e["model"]["rod"] == "flexible":
                     ne = e["model"]["n_elements"]
                     c, _ = style[e["method"]]
                     mk = {2: "^", 4: "v"}.get(ne, "d")
-                    add(ax, f"{e['method']}: flexible rod, {ne} elements", [offset[ne]], [e["max_stable_step"]],
+                    add(ax, f"{e['method']}: flexible rod, {ne} elements (at factor 1)", [offset[ne]], [e["max_stable_step"]],
                         marker=mk, color=c, zorder=3, s=45)
                     if e["method"] == "rk":
-                        add(ax, f"RK4 bound, flexible rod ({ne} el.)", [offset[ne]], [e["theoretical_bound"]],
+                        add(ax, f"RK4 bound, flexible rod ({ne} el., at factor 1)", [offset[ne]], [e["theoretical_bound"]],
                             marker=mk, facecolor="none", edgecolor="k", s=80, zorder=4)
             for nm in not_measured:
                 ne = nm["n_elements"]
-                add(ax, f"RK4 bound, flexible rod ({ne} el., rk not run)", [offset.get(ne, 2.0)], [nm["bound_s"]],
+                add(ax, f"RK4 bound, flexible rod ({ne} el., at factor 1; rk not run)", [offset.get(ne, 2.0)], [nm["bound_s"]],
                     marker="v", facecolor="none", edgecolor="k", s=80, zorder=4)
         ax.axhline(PERIOD, color="0.6", lw=0.8, ls=":")
         ax.text(ax.get_xlim()[0] * 1.1, PERIOD * 0.75, "one period", fontsize=7, color="0.4")
@@ -560,9 +563,14 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true", help="the seed scene only")
     ap.add_argument("--no-flexible", action="store_true", help="skip the flexible-rod scenes")
     ap.add_argument("--out", default=str(OUT), help="output folder")
+    ap.add_argument("--plot-only", action="store_true", help="redraw stability.png from stability.json")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    if args.plot_only:
+        data = json.loads((out / "stability.json").read_text())
+        plot(data["entries"], data["setup"]["not_measured"], out / "stability.png")
+        return
     t_start = time.perf_counter()
     entries: list[dict] = []
     not_measured: list[dict] = []
