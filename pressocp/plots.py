@@ -485,6 +485,12 @@ def plot_tornado(sensitivities, quantity: str = "peak_torque", title: str = "", 
             labelled = True
     if not resolved.all() or not t["unique"].all():
         ax.legend(fontsize=7, loc="lower right")
+    # each bar's value at its end, so that a short one (the only resolved row beside unresolved ones
+    # hundreds of times longer) is still read
+    for k, v in enumerate(t["normalised"].to_numpy(float)):
+        ax.annotate(f"{v:+.3g}", (v, k), xytext=(3 if v >= 0 else -3, 0), textcoords="offset points",
+                    va="center", ha="left" if v >= 0 else "right", fontsize=7)
+    ax.margins(x=0.2)
     ax.set_yticks(y, t["parameter"])
     ax.axvline(0, color="k", lw=0.8)
     ax.set_xlabel(f"p / J · dJ/dp of {quantity} (% per %)")
