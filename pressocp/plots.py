@@ -77,9 +77,9 @@ def ram_speed_error_axis(ax, curves, window: tuple[float, float], ram_speed: flo
     """Draw the ram speed in the working window relative to the one asked for (%), with the tolerance
     dashed: `curves` are (label, SimResult, plot keywords), each against its time from its first
     sample; `window` (s), `ram_speed` and `tol` (m/s). The axis spans three tolerances; a curve that
-    leaves it (a speed that was not designed to hold the window, e.g. the constant one) is not drawn,
-    and a note in its colour gives its largest error instead (drawn, it was a vertical streak where
-    it crossed the axis)."""
+    leaves it gets a note in its colour with its largest error, and one that is mostly off it (a
+    speed that was not designed to hold the window, e.g. the constant one) is not drawn (drawn, it
+    was a vertical streak where it crossed the axis)."""
     limit = 300 * tol / abs(ram_speed)
     off_scale = []
     for curve, res, style in curves:
@@ -87,9 +87,11 @@ def ram_speed_error_axis(ax, curves, window: tuple[float, float], ram_speed: flo
         inside = (t >= window[0]) & (t <= window[1])
         err = np.where(inside, 100 * (res.ram_velocity / ram_speed - 1), np.nan)
         worst = float(np.nanmax(np.abs(err), initial=0.0))
-        line, = ax.plot(t, err if worst <= limit else np.full_like(t, np.nan), label=curve, **style)
+        shown = np.mean(np.abs(err[inside]) <= limit) >= 0.5 if inside.any() else True
+        line, = ax.plot(t, err if shown else np.full_like(t, np.nan), label=curve, **style)
         if worst > limit:
-            off_scale.append((f"{curve}: up to {worst:.3g} % off (off the scale)", line.get_color()))
+            where = "beyond the axis" if shown else "off the scale, not drawn"
+            off_scale.append((f"{curve}: up to {worst:.3g} % off ({where})", line.get_color()))
     for k, (text, color) in enumerate(off_scale):
         ax.text(0.01, 0.95 - 0.12 * k, text, transform=ax.transAxes, va="top", fontsize=7, color=color)
     for y in (-100 * tol / abs(ram_speed), 100 * tol / abs(ram_speed)):
@@ -310,6 +312,30 @@ def plot_impact_study(study) -> "plt.Figure":
     return fig
 
 
+#: An axis of `plot_speed_design` is scaled to the answer when the initial speed's range is more than
+#: this many times the answer's (its impact spikes then flattened the answer and the goal lines).
+FOCUS_RATIO = 2.5
+
+
+def focus_on_answer(ax, initial: np.ndarray, others: Sequence[np.ndarray], unit: str) -> None:
+    """Scale `ax` to the `others` (the answer, the rigid optimum, reference levels) with 30 % room when
+    the `initial` curve spans more than `FOCUS_RATIO` times their range; its spikes then run off the
+    axis and a note in its colour gives its extremes (in `unit`, the axis's)."""
+    values = np.concatenate([np.asarray(y, float).ravel() for y in others])
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        return
+    lo, hi = float(values.min()), float(values.max())
+    first, last = float(np.nanmin(initial)), float(np.nanmax(initial))
+    if hi <= lo or last - first <= FOCUS_RATIO * (hi - lo):
+        return
+    room = 0.3 * (hi - lo)
+    ax.set_ylim(lo - room, hi + room)
+    ax.text(0.01, 0.03, f"initial speed: {first:,.4g} to {last:,.4g} {unit} (off the scale)", transform=ax.transAxes,
+            fontsize=7, color="tab:red", va="bottom", zorder=5,
+            bbox={"facecolor": "white", "alpha": 0.9, "edgecolor": "none", "pad": 1.5})
+
+
 def plot_speed_design(result, title: str = "",
                       levels: Mapping[str, Sequence[tuple[float, str]]] | None = None) -> "plt.Figure":
     """Initial vs optimal speed (an `pressocp.ocp.OcpResult`): crank speed, motor torque, slider normal
@@ -358,6 +384,10 @@ def plot_speed_design(result, title: str = "",
         for (curve, res, style), y in zip(curves, ys):
             ax.plot(res.t, y * scale, label=curve, **style)
         ax.set_ylabel(name if unit is None else f"{name[:-1]}{unit}")
+        marks = [value * scale for value, _ in drawn.get(key, [])]
+        if key != "omega":
+            focus_on_answer(ax, ys[0] * scale, [y * scale for y in ys[1:]] + [np.array(marks)],
+                            unit or name.rsplit(", ", 1)[-1])
         if drawn.get(key):  # where the curves and levels leave room (impact spikes fill either end)
             draw_levels(ax, [(value * scale, text) for value, text in drawn[key]], loc="best")
     # the window's times are the optimum's (another speed crosses h/H at other times)
