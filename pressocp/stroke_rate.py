@@ -32,7 +32,7 @@ from .drive import MotorCycle
 from .model import PressModel
 from .ocp import OcpResult, Strategy, optimize_speed
 from .problem import SpeedProblem
-from .verify import cap_excess, motor_cycle_of, unverified_reason
+from .verify import limits_exceeded, motor_cycle_of, unverified_reason
 
 
 @dataclass(frozen=True)
@@ -167,6 +167,10 @@ class RateResult:
 
 #: What a trial's `failed` names that an NLP can hold as constraints (`RateSearch.hold_limits`).
 HOLDABLE = frozenset({"peak_torque_margin", "rms_margin", "speed_margin", "max_pin_force"})
+#: `pressocp.verify.limits_exceeded`'s names of the limits -> a trial's ``failed`` keys (a drive's
+#: margins, or the pin-force cap's excess negated: < 0 when failed).
+LIMIT_KEYS = {"drive_peak_torque": "peak_torque_margin", "drive_rms": "rms_margin", "drive_speed": "speed_margin",
+              "max_pin_force": "max_pin_force"}
 
 
 def judge(rate_spm: float, problem: SpeedProblem, solved: SpeedProblem, result: OcpResult) -> RateTrial:
@@ -176,8 +180,8 @@ def judge(rate_spm: float, problem: SpeedProblem, solved: SpeedProblem, result: 
     pin = max(result.peaks["crank_pin_force"], result.peaks["wrist_pin_force"])
     margins = {"peak_torque_margin": motor.peak_torque_margin, "rms_margin": motor.rms_margin,
                "speed_margin": motor.speed_margin, "max_pin_force": pin}
-    failed: dict = {k: v for k, v in margins.items() if k.endswith("margin") and v < 0.0}
-    failed.update({name: -excess for name, excess in cap_excess(problem, result.peaks).items()})
+    exceeded = limits_exceeded(problem, result.speed, result.simulation)  # the verification's own check
+    failed: dict = {key: -exceeded[name] for name, key in LIMIT_KEYS.items() if name in exceeded}
     if not result.verified:  # why: not converged (IPOPT's status), or what the re-simulation shows
         failed["verified"] = (unverified_reason(solved, result.speed, result.simulation) if result.success
                               else f"not converged ({result.status})") or result.status
