@@ -304,7 +304,8 @@ def _prepare(args: argparse.Namespace):
         scenario.check_speed(speed, "--speed")
         warn_other_press(args.speed, scenario)
         job = lambda folder: jobs.simulate_job(scenario, folder, speed,  # noqa: E731
-                                               str(args.speed) if args.speed else "rigid design")
+                                               str(args.speed) if args.speed else "rigid design",
+                                               progress=not args.quiet)
     elif args.command == "design":
         job = lambda folder: jobs.design_job(scenario, folder)  # noqa: E731
     elif args.command == "impacts":

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 import textwrap
 import time
 from dataclasses import dataclass, field
@@ -18,7 +19,8 @@ from .journals import contact_losses, describe_contacts
 from .io import SUMMARY_NAME, RunMismatch, atomic_write, check_run_file, versions, write_json
 from .objectives import get as get_objective
 from .params import PressParams
-from .verify import is_periodic, motor_cycle_of, rigid_reference, window_times
+from .verify import (SETTLE_SCREEN_CYCLES, SETTLE_SCREEN_RTOL, is_periodic, motor_cycle_of, rigid_reference,
+                     window_times)
 from .plots import plot_impact_study, plot_journal_orbits, plot_responses, plot_torque_speed, rigid_torque_level, save
 from .problem import SpeedProblem
 from .report import describe_problem, format_table, load_table, peak_summary, stamp, write_cycle_table
@@ -254,13 +256,18 @@ def footnoted(texts: list[str], width: int = STATUS_WIDTH) -> tuple[list[str], l
 
 
 def simulate_job(scenario: Scenario, out: Path, speed: FourierSpeed | None = None,
-                 source: str = "rigid design") -> JobReport:
+                 source: str = "rigid design", progress: bool = False) -> JobReport:
     """A speed (default: the scenario's rigid design) on the scenario's model: periodic response
-    (CVODES at the solver's ``verify_rtol``), with the ideal-joint response for comparison."""
+    (CVODES at the solver's ``verify_rtol``), with the ideal-joint response for comparison. With
+    `progress`, a line on stderr says what runs (on the flexible rod it can take a minute)."""
     problem = scenario.problem
     scenario.check_speed(speed, "--speed")
     if speed is None:
         speed = design_speed(problem).speed
+    if progress:
+        print(f"pressocp simulate: {source} on the {scenario.model.describe()}: the periodic response at rtol "
+              f"{scenario.solver.verify_rtol:g}, after a screen of {SETTLE_SCREEN_CYCLES} cycles from rest at rtol "
+              f"{SETTLE_SCREEN_RTOL:g} where the model has states ...", file=sys.stderr, flush=True)
     t0 = time.perf_counter()
     sim, ideal = simulate_speed(scenario, speed)
     summary = {**simulation_summary(scenario, sim, ideal, source), "wall_time_s": time.perf_counter() - t0,
