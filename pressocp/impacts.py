@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from .design import SpeedDesign, design_speed
 from .model import ModelSpec
 from .series import PEAK_SERIES
-from .verify import is_periodic, verify_speed
+from .verify import is_periodic, rigid_reference, settled_response
 from .params import PressParams
 from .problem import SpeedProblem
 from .result import SimResult
@@ -56,7 +56,8 @@ def impact_study(problem: SpeedProblem | None = None, model: ModelSpec | None = 
     with the rigid inverse dynamics on the same time grid.
 
     The responses are periodic steady states (CVODES at `rtol`) when one is found, else the 6th cycle
-    from rest (``stats["periodic"]`` says why)."""
+    from rest (``stats["periodic"]`` says why; `settled_response`: no search where a screen shows the
+    response impacts and does not settle)."""
     problem = SpeedProblem(PressParams(), period=IMPACT_PERIOD, ram_speed=IMPACT_RAM_SPEED) \
         if problem is None else problem
     # compiled: two periodic searches of up to 12 cycles each (through impacts they do not settle);
@@ -65,7 +66,7 @@ def impact_study(problem: SpeedProblem | None = None, model: ModelSpec | None = 
                          .build(problem.press, problem.n_harmonics))
     d = design_speed(problem)
     const = FourierSpeed.constant(problem.period)
-    rc = verify_speed(m, const, rtol)
-    rd = verify_speed(m, d.speed, rtol)
+    rc, rd = (settled_response(problem, m, speed, rtol, problem.objective_value(rigid_reference(problem, speed)))
+              for speed in (const, d.speed))
     return ImpactStudy(d, rc, ideal_response(problem.press, problem.mechanism, const, rc.t), rd,
                        ideal_response(problem.press, problem.mechanism, d.speed, rd.t))
