@@ -36,9 +36,11 @@ from pressocp import Collocation, PressParams, SpeedProblem, Strategy, WarmStart
 from pressocp.model import build_model
 from pressocp.verify import ram_speed_violation, verify_speed
 from pressocp.plots import save
+from pressocp.report import stamp
 from pressocp.rigid import rigid_response
 from pressocp.simulate import Integrator, periodic_state
 from goals import GOAL_WALL_S, GOAL_VERIFY_PCT, GOAL_PEAK_NM, GOAL_FLOOR_RATIO
+from status import figure_note, job_run  # a sibling script: this folder is the script's path
 
 OUT = Path(__file__).parent / "results"
 PERIOD = 0.8
@@ -87,7 +89,7 @@ def main() -> None:
     out = {"case": "seed, T = 0.8 s, -0.1 m/s, both clearances",
            "start": "no-reversal optimum (Rigid stages of the default Strategy)",
            "start_peak_torque": start_peak, "start_wall_time_s": start_time,
-           "start_status": start.status, "rigid_floor": floor, "jit": a.jit, "rows": rows}
+           "start_status": start.status, "rigid_floor": floor, "jit": a.jit, "rows": rows, "run": stamp()}
     (OUT / "collocation.json").write_text(json.dumps(out, indent=1, default=float))
     save(figure(out), OUT / "collocation.png")
 
@@ -136,6 +138,8 @@ def figure(out: dict):
     bx.set(xlabel="elements per period", ylabel="peak motor torque, N·m", title="optimum on the clearance model\n")
     bx.legend(loc="center right", fontsize=8)
     fig.tight_layout()
+    # a file of before the rows carried their run: the runner's record of the job that wrote it
+    figure_note(fig, out.get("run") or job_run("collocation.json"))
     return fig
 
 

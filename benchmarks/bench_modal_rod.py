@@ -52,6 +52,7 @@ from pressocp.report import stamp
 from pressocp.simulate import Integrator, periodic_state, simulate
 from pressocp.speed import FourierSpeed
 from pressocp.studies import SIMEON_REFERENCE, simeon_crank
+from status import figure_note  # a sibling script: this folder is the script's path
 
 OUT = Path(__file__).parent / "results"
 PEAKS = ("torque", "crank_pin_force", "wrist_pin_force")
@@ -247,8 +248,8 @@ def figure(row: dict, path: Path) -> None:
     bx.set_ylabel("relative error at 0.1 s")
     bx.set_title("Simeon's flexible slider crank against its reference values", fontsize=9)
     bx.legend(fontsize=7)
-    fig.suptitle(f"{row['date']}, {row['machine']}", fontsize=8)
     fig.tight_layout()
+    figure_note(fig, row)
     fig.savefig(path, dpi=120)
     plt.close(fig)
 

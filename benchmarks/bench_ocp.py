@@ -54,8 +54,10 @@ from pressocp import (Integrator, Collocation, FourierSpeed, MultipleShooting, P
                       design_speed, optimize_speed, simulate)
 from pressocp.ocp.strategy import max_relative_change
 from pressocp.plots import draw_levels, plot_speed_design, rigid_torque_level, save
+from pressocp.report import stamp
 
 from goals import GOAL_CASE_WALL_S, GOAL_FLOOR_RATIO, GOAL_PEAK_NM, GOAL_WALL_S
+from status import figure_note  # a sibling script: this folder is the script's path
 
 if TYPE_CHECKING:
     import matplotlib.figure
@@ -132,6 +134,7 @@ def slender_figure(row: dict) -> "matplotlib.figure.Figure":
     ax[0].set_title("slender rod at 100 rad/s, both speeds on the flexible rod (8 elements, periodic, rtol 1e-9)",
                     fontsize=10)
     fig.tight_layout()
+    figure_note(fig, row.get("run"))  # rows of before rows carried their run: "not recorded"
     return fig
 
 
@@ -205,6 +208,7 @@ def main() -> None:
         rows = [json.loads(x) for x in (OUT / "ocp.jsonl").read_text().splitlines()]
         save(slender_figure([x for x in rows if x.get("case") == "slender"][-1]), OUT / "ocp_slender_flexible.png")
         return
+    run = stamp()  # when and where the row is measured
     if a.case == "slsqp":
         from slsqp_baseline import slsqp_baseline  # a sibling script: this folder is the script's path
 
@@ -221,7 +225,7 @@ def main() -> None:
         init = design_speed(prob).speed
         # the target is the optimum's verified peak (re-simulated at rtol 1e-9), not a sampled value
         res = slsqp_baseline(model, prob, init, ref["t1"], ref["peak_torque"], time_cap=a.cap, h_start=h_start)
-        row = {"case": "slsqp", "ref": a.ref, **res, "optimizer_wall_time_s": ref["wall_time_s"],
+        row = {"case": "slsqp", "ref": a.ref, **res, "optimizer_wall_time_s": ref["wall_time_s"], "run": run,
                "speedup": (">" if not res["reached"] else "") + f"{res['wall_time'] / ref['wall_time_s']:.1f}"}
     else:
         kwargs, call = optimisation_call(a.case, a.max_iter, a.cap_N)
@@ -233,7 +237,7 @@ def main() -> None:
             print(f"{a.case} run {i + 1}: {r.wall_time:.1f} s, {r.status}, {r.peak_torque:.4f} N m", flush=True)
         row = summary(r, a.case, call)
         row.update(wall_time_s=statistics.median(times), wall_times_s=times,
-                   answers_agree=max(peaks) - min(peaks) <= 1e-6 * max(peaks))
+                   answers_agree=max(peaks) - min(peaks) <= 1e-6 * max(peaks), run=run)
         if a.case == "slender":
             row["element_check"] = element_check(r)
             save(slender_figure(row), OUT / "ocp_slender_flexible.png")
@@ -243,7 +247,9 @@ def main() -> None:
                  f"(rigid floor {r.rigid_peak_torque:.1f}), {row['wall_time_s']:.0f} s "
                  f"(goal {GOAL_CASE_WALL_S.get(a.case, GOAL_WALL_S):.0f} s"
                  f"{'' if a.repeat == 1 else f', median of {a.repeat}'})")
-        save(plot_speed_design(r, title, levels=goal_levels(a.case, r.rigid_peak_torque)), OUT / f"ocp_{name}.png")
+        fig = plot_speed_design(r, title, levels=goal_levels(a.case, r.rigid_peak_torque))
+        figure_note(fig, run)
+        save(fig, OUT / f"ocp_{name}.png")
     with open(OUT / "ocp.jsonl", "a") as fh:
         fh.write(json.dumps(row, default=float) + "\n")
     short = {k: v for k, v in row.items() if k not in ("objective_history", "history", "coefficients", "stages")}

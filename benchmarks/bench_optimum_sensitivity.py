@@ -30,6 +30,7 @@ from pressocp.io import versions  # noqa: E402
 from pressocp.ocp.optimum_sensitivity import answer_stage  # noqa: E402
 from pressocp.plots import save  # noqa: E402
 from pressocp.report import stamp  # noqa: E402
+from status import figure_note  # noqa: E402 (a sibling script: this folder is the script's path)
 
 OUT = Path(__file__).parent / "results"
 PARAMETER = "slider_mass"
@@ -86,7 +87,9 @@ def case(name: str, step: float) -> dict:
     }
 
 
-def figure(rows: list[dict]) -> None:
+def figure(rows: list[dict], meta: dict) -> None:
+    """The derivatives and their times of `rows` (the cases), `meta` the file's stamp: a case of before the
+    cases carried their own run (``run``) is dated by the file's when it has the file's date."""
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
     x = np.arange(len(rows))
     ax = axes[0]
@@ -117,6 +120,8 @@ def figure(rows: list[dict]) -> None:
     for a in axes:
         a.grid(alpha=0.3, axis="y")
     fig.tight_layout()
+    figure_note(fig, *(r.get("run") or (meta if r.get("date") == meta.get("date") else {"date": r.get("date")})
+                       for r in rows))
     save(fig, OUT / "optimum_sensitivity.png")
 
 
@@ -127,7 +132,8 @@ def main() -> None:
     ap.add_argument("--replot", action="store_true", help="only redraw the PNG from the JSON")
     args = ap.parse_args()
     if args.replot:
-        figure(json.loads((OUT / "optimum_sensitivity.json").read_text())["cases"])
+        data = json.loads((OUT / "optimum_sensitivity.json").read_text())
+        figure(data["cases"], data)
         return
     rows = []
     for name in args.scenarios:
@@ -135,14 +141,16 @@ def main() -> None:
         print(json.dumps({k: v for k, v in rows[-1].items() if k not in ("resolves", "stage_resolves")}, indent=1, default=str), flush=True)
     OUT.mkdir(exist_ok=True)
     path = OUT / "optimum_sensitivity.json"
-    meta = {**stamp(), "versions": versions()}
+    run = stamp()
+    meta = {**run, "versions": versions()}
     if path.exists():  # keep the scenarios not run now (each case records its own date)
         kept = [c for c in json.loads(path.read_text())["cases"] if c["scenario"] not in args.scenarios]
         rows = kept + rows
     for r in rows:
-        r.setdefault("date", meta["date"])
+        if "date" not in r:  # run now (a kept case has its own date, and its run when recorded)
+            r.update(date=meta["date"], run=run)
     path.write_text(json.dumps({**meta, "cases": rows}, indent=2, default=str) + "\n")
-    figure(rows)
+    figure(rows, meta)
 
 
 if __name__ == "__main__":

@@ -61,6 +61,7 @@ from pressocp.model import OUTPUT_NAMES  # noqa: E402
 from pressocp.plots import save  # noqa: E402
 from pressocp.report import stamp  # noqa: E402
 from pressocp.simulate import Integrator, direct_driver, integrator_dae, periodic_state  # noqa: E402
+from status import figure_note  # noqa: E402 (a sibling script: this folder is the script's path)
 
 OUT = Path(__file__).parent / "results"
 SEED = Path(__file__).parent.parent / "tests" / "references" / "press75_optimum_speed.json"
@@ -350,6 +351,7 @@ def plot(data: dict) -> plt.Figure:
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=3)
     fig.tight_layout()
+    figure_note(fig, data)
     return fig
 
 

@@ -45,6 +45,7 @@ from pressocp.design import design_speed  # noqa: E402
 from pressocp.model import build_model  # noqa: E402
 from pressocp.report import stamp  # noqa: E402
 from pressocp.simulate import Integrator, SimulationError, periodic_state, simulate  # noqa: E402
+from status import figure_note  # noqa: E402 (a sibling script: this folder is the script's path)
 
 OUT = Path(__file__).parent / "results"
 #: The 75 spm seed optimum (the tests' reference speed): a smooth periodic cycle.
@@ -182,10 +183,10 @@ GOAL_SPEEDUP = 20.0  # issue #3: IDAS >= 20x faster than scipy-radau at equal pe
 GOAL_FLEXIBLE_S = 1.0  # issue #3: the flexible model (4 elements) under 1 s per cycle
 
 
-def plot_results(results: dict, methods, path: Path) -> None:
+def plot_results(results: dict, methods, path: Path, run: dict | None = None) -> None:
     """Peak-torque error against wall time per cycle, one panel per case (log-log), with the goals:
     scipy-radau's curve at 1/20 of its time (IDAS must lie left of it) and, for the flexible model,
-    1 s per cycle."""
+    1 s per cycle; `run` (`stamp`) dates the figure ("not recorded" without it)."""
     fig, axes = plt.subplots(1, len(results), figsize=(5.5 * len(results), 4.2), squeeze=False)
     for ax, (case, res) in zip(axes[0], results.items()):
         for m in methods:
@@ -212,8 +213,11 @@ def plot_results(results: dict, methods, path: Path) -> None:
         ax.set_title(f"{model}, {scene}", fontsize=9)
         ax.grid(alpha=0.3, which="both")
     one = len(results) == 1  # a narrow figure: the legend in two columns, three rows
-    fig.legend(*axes[0][0].get_legend_handles_labels(), loc="lower center", ncol=2 if one else 4, fontsize=8)
-    fig.tight_layout(rect=(0, 0.17 if one else 0.07, 1, 1))
+    note = 0.035  # the strip under the legend that the measurement's note takes
+    fig.legend(*axes[0][0].get_legend_handles_labels(), loc="lower center", bbox_to_anchor=(0.5, note),
+               ncol=2 if one else 4, fontsize=8)
+    fig.tight_layout(rect=(0, (0.17 if one else 0.07) + note, 1, 1))
+    figure_note(fig, run)
     fig.savefig(path, dpi=130)
     plt.close(fig)
 
@@ -226,12 +230,14 @@ def main() -> None:
                          "whose impacts repeat cycle after cycle (docs/decisions/2026-11-27-periodic-yardstick.md); "
                          "seed (not in all): the clearance model on the 75 spm seed optimum's periodic cycle, "
                          "smooth (the journals stay on their walls), scipy's Radau from rtol 1e-3")
-    ap.add_argument("--replot", action="store_true", help="only redraw simulation.png from simulation.json")
+    ap.add_argument("--replot", action="store_true",
+                    help="only redraw the case's PNG from its JSON (simulation.png from simulation.json for all)")
     args = ap.parse_args()
+    name = "simulation" if args.case == "all" else f"simulation_{args.case}"
     if args.replot:
-        data = json.loads((OUT / "simulation.json").read_text())
+        data = json.loads((OUT / f"{name}.json").read_text())
         plot_results(data["results"], ("idas", "cvodes", "cvodes-direct", "scipy-radau", "idas" + INTERPRETED,
-                                       "cvodes" + INTERPRETED, "idas" + CLOCKED), OUT / "simulation.png")
+                                       "cvodes" + INTERPRETED, "idas" + CLOCKED), OUT / f"{name}.png", data.get("stamp"))
         return
     OUT.mkdir(exist_ok=True)
     p = PressParams()
@@ -258,7 +264,6 @@ def main() -> None:
         results["flexible"] = run_case("flexible (4 elements)", build_model(p, rod="flexible", n_elements=4), speed,
                                        methods, [r for r in rtols if r >= 1e-7], 1, budget=300, rtol_ref=1e-9,
                                        floors={"scipy-radau": 1e-6})
-    name = "simulation" if args.case == "all" else f"simulation_{args.case}"
     summary = {}
     for case, res in results.items():
         for target in TARGETS:
@@ -276,9 +281,9 @@ def main() -> None:
             if turn is not None:
                 entry["radau_over_idas_in_turn"] = turn["ratio"]
             summary[f"{case}@{target:g}"] = entry
-    (OUT / f"{name}.json").write_text(json.dumps({"stamp": stamp(),
-                                                   "results": results, "equal_accuracy": summary}, indent=2))
-    plot_results(results, [*methods, "idas" + CLOCKED], OUT / f"{name}.png")
+    run = stamp()
+    (OUT / f"{name}.json").write_text(json.dumps({"stamp": run, "results": results, "equal_accuracy": summary}, indent=2))
+    plot_results(results, [*methods, "idas" + CLOCKED], OUT / f"{name}.png", run)
     print(json.dumps(summary, indent=2))
 
 

@@ -29,6 +29,7 @@ import matplotlib.pyplot as plt
 
 from pressocp.plots import save
 from pressocp.report import stamp
+from status import figure_note  # a sibling script: this folder is the script's path
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -81,6 +82,7 @@ def plot(data: dict, path: Path) -> Path:
     ax.set_title(f"-m \"{MARKS}\": {data['passed']} passed, {data['failed']} failed, {data['errors']} errors, "
                  f"{data['wall_time_s'] / 60:.1f} min wall on {data['workers']} workers", fontsize=9)
     fig.subplots_adjust(left=0.5, right=0.98, top=1 - 0.5 / fig.get_figheight(), bottom=0.7 / fig.get_figheight())
+    figure_note(fig, data.get("date_run"))
     return save(fig, path)
 
 

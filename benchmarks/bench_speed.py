@@ -30,7 +30,7 @@ import time
 from pathlib import Path
 
 from pressocp.report import stamp
-from status import vm  # a sibling script: this folder is the script's path
+from status import figure_note  # a sibling script: this folder is the script's path
 
 OUT = Path(__file__).parent / "results"
 ROWS = OUT / "speed.jsonl"
@@ -202,9 +202,8 @@ def plot(rows: list[dict]) -> Path:
     a2.set_yticks([y for y, _ in ticks], [text for _, text in ticks], fontsize=7)
     a2.set_xlabel("s (the run nearest the median; candidate chains side by side, one lane each)", fontsize=8)
     a2.set_title("press75: where the time went, stage by stage")
-    machine = rows[-1]["run"]
-    fig.suptitle(f"{machine['date'][:10]}, {machine['machine']} {vm(rows[-1])} ({machine['cpus']} CPUs)", fontsize=9)
     fig.tight_layout()
+    figure_note(fig, *(r["run"] for r in last.values()))
     path = OUT / "speed.png"
     fig.savefig(path, dpi=130)
     return path

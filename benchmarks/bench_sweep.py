@@ -57,6 +57,7 @@ from pressocp.io import versions  # noqa: E402
 from pressocp.plots import save  # noqa: E402
 from pressocp.report import stamp  # noqa: E402
 from pressocp.workers import process_pool  # noqa: E402
+from status import figure_note  # noqa: E402 (a sibling script: this folder is the script's path)
 
 OUT = Path(__file__).parent / "results"
 
@@ -152,11 +153,12 @@ def continuation(rates: list[float], ram_speed: float | None = None, side_by_sid
     else:
         (dt_warm, warm), (dt_cold, cold) = (run(*job) for job in jobs)
     cols = ["problem.stroke_rate_spm", "ok", "peak_torque_N_m", "rigid_peak_torque_N_m", "wall_time_s", "status"]
-    row = {"case": "continuation", **machine(), "ram_speed_m_s": scenario.problem.ram_speed,
+    run = machine()
+    row = {"case": "continuation", **run, "ram_speed_m_s": scenario.problem.ram_speed,
            "side_by_side": side_by_side, "total_s": {"path (warm)": dt_warm, "cold": dt_cold},
            "warm": warm[cols].to_dict("records"), "cold": cold[cols].to_dict("records"),
            "relative_difference": (warm["peak_torque_N_m"] / cold["peak_torque_N_m"] - 1).tolist()}
-    continuation_figure(warm, cold, name, scenario.problem.ram_speed)
+    continuation_figure(warm, cold, name, scenario.problem.ram_speed, run)
     return row
 
 
@@ -165,9 +167,9 @@ def continuation_name(ram_speed: float | None) -> str:
     return "sweep_continuation" if ram_speed is None else f"sweep_continuation_ram{abs(ram_speed):g}"
 
 
-def continuation_figure(warm: pd.DataFrame, cold: pd.DataFrame, name: str, ram_speed: float) -> None:
+def continuation_figure(warm: pd.DataFrame, cold: pd.DataFrame, name: str, ram_speed: float, *runs: dict) -> None:
     """Optimal peak torque, the path's difference to the cold starts (with the ±0.5 % goal) and time
-    per point along the path, warm against cold."""
+    per point along the path, warm against cold; `runs`: the stamps of the runs the tables come from."""
     fig, axes = plt.subplots(3, 1, figsize=(6, 7), sharex=True, gridspec_kw={"height_ratios": (1.2, 0.8, 1)})
     axes = [axes[0], axes[2], axes[1]]  # torque, time, difference (drawn between them)
     for table, label, style in ((cold, "cold start", "o-"), (warm, "continuation", "x--")):
@@ -204,6 +206,7 @@ def continuation_figure(warm: pd.DataFrame, cold: pd.DataFrame, name: str, ram_s
         if ax is not dx:  # its markers are the top panel's
             ax.legend(fontsize=8)
     fig.tight_layout()
+    figure_note(fig, *runs)
     save(fig, OUT / f"{name}.png")
 
 
@@ -342,9 +345,14 @@ def main() -> None:
             return
         ram = po.Scenario.load("press75").problem.ram_speed if args.ram_speed is None else args.ram_speed
         cold = pd.read_csv(OUT / f"{name}_cold.csv")
-        continuation_figure(pd.read_csv(OUT / f"{name}_warm.csv"), cold, name, ram)
-        if (OUT / f"{name}_warm_nofallback.csv").exists():  # the path measured before the cold fallback
-            continuation_figure(pd.read_csv(OUT / f"{name}_warm_nofallback.csv"), cold, f"{name}_nofallback", ram)
+        stamped = {n: json.loads((OUT / f"{n}.json").read_text()) if (OUT / f"{n}.json").exists() else {}
+                   for n in (name, f"{name}_nofallback")}  # the CSVs' runs: their JSON (stamp, tables)
+        continuation_figure(pd.read_csv(OUT / f"{name}_warm.csv"), cold, name, ram, stamped[name])
+        if (OUT / f"{name}_warm_nofallback.csv").exists():  # the path measured before the cold fallback,
+            then = stamped[f"{name}_nofallback"]  # against that run's own cold starts when its JSON has them
+            continuation_figure(pd.read_csv(OUT / f"{name}_warm_nofallback.csv"),
+                                pd.DataFrame(then["cold"]) if then.get("cold") else cold, f"{name}_nofallback", ram,
+                                then, *(() if then.get("cold") else (stamped[name],)))
         return
     OUT.mkdir(exist_ok=True)
     row = parallel(args.repeat) if args.case == "parallel" else optima(args.repeat, args.cold_repeat) if args.case == "optima" else \

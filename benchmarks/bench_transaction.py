@@ -40,6 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from pressocp.report import stamp
+from status import figure_note  # a sibling script: this folder is the script's path
 
 OUT = Path(__file__).parent / "results"
 OUTCOMES = ("old run", "new run", "commit pending", "mixed")
@@ -165,6 +166,7 @@ def plot(data: dict) -> Path:
     uniq = dict(zip(labels, handles))
     ax.legend(uniq.values(), uniq.keys(), fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
     fig.tight_layout()
+    figure_note(fig, data)
     path = OUT / "transaction.png"
     fig.savefig(path, dpi=130)
     return path

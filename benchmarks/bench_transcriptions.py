@@ -64,6 +64,7 @@ from pressocp.verify import is_periodic, ram_speed_violation, verify_speed  # no
 from pressocp.plots import save  # noqa: E402
 from pressocp.report import stamp  # noqa: E402
 from goals import GOAL_WALL_S  # noqa: E402
+from status import figure_note, job_run  # noqa: E402 (a sibling script: this folder is the script's path)
 
 OUT = Path(__file__).parent / "results"
 VERIFY_RTOL = 1e-9
@@ -71,6 +72,7 @@ GOAL_REL = 0.005  # issue #17: IDAS multiple shooting's verified optimum within 
 #: Goals below this fraction of the start's objective are not drawn (they would flatten the axis).
 GOAL_SHOWN = 0.8
 LEGEND_LINE_IN = 0.135  # height of a legend line at 6.5 pt, inch
+NOTE_IN = 0.15  # the strip under the legend that the measurement's note (`figure_note`) takes, inch
 #: The slender-rod default call's answer re-simulated on the 4-element rod (periodic, rtol 1e-9), N m:
 #: its flexible stage then polish_1, both collocation on 126 elements (results/ocp.jsonl, case "slender").
 SLENDER_DEFAULT_ANSWER = 71.49
@@ -238,8 +240,9 @@ def map_case(wall: float, methods: list[str]) -> None:
             for method, label in zip(methods, labels):
                 tr = map_transcription(method, wall)
                 row = run_one(f"{spm} spm, {c * 1e3:g} mm: {label}", tr, problem, model, start)
+                run = stamp()
                 row.update(stroke_rate_spm=spm, clearance_m=c, method=label, start_objective=start.objective,
-                           rigid_floor=rigid.objective, date=stamp()["date"],
+                           rigid_floor=rigid.objective, date=run["date"], run=run,
                            shooting_wall_s=None if method == "collocation" else wall)
                 row["outcome"] = outcome(row)
                 rows.append(row)
@@ -256,6 +259,16 @@ def map_provenance(d: dict, method: str) -> str:
     dates = sorted({str(r.get("date") or d["date"])[:10] for r in rows})
     caps = {r.get("shooting_wall_s", d.get("shooting_wall_s")) for r in rows if "shooting" in method} - {None}
     return f"{method.split(' ')[0]} {', '.join(dates)}" + (f", cap {caps.pop():.0f} s" if len(caps) == 1 else "")
+
+
+def map_runs(d: dict) -> list[dict]:
+    """The stamp of each row of the map: its own (``run``); for a row of before rows carried one, its date
+    (or the file's) with the machine of the runner's job run under way then (runs.json), when there was one."""
+    out = []
+    for r in d["runs"]:
+        date = str(r.get("date") or d["date"])
+        out.append(r.get("run") or {**job_run("transcriptions_map.json", date), "date": date})
+    return out
 
 
 def map_figure(d: dict) -> None:
@@ -285,6 +298,7 @@ def map_figure(d: dict) -> None:
     ax.set_title("Which transcription converges (from the no-reversal optimum)\n"
                  + "; ".join(map_provenance(d, m) for m in methods), fontsize=8)
     fig.tight_layout()
+    figure_note(fig, *map_runs(d))
     save(fig, OUT / "transcriptions_map.png")
 
 
@@ -326,11 +340,12 @@ def run_one(label: str, tr, problem, model, start, stage: str = "target") -> dic
     return row
 
 
-def figure(case: str, rows: list[dict], goals: dict, start_value: float, start_label: str = "rigid press") -> None:
+def figure(case: str, rows: list[dict], goals: dict, start_value: float, start_label: str = "rigid press",
+           run: dict | None = None) -> None:
     """Objective, primal and dual infeasibility of each run's iterates against wall time (log);
     the verified answer as a marker (o converged, x not: the least-infeasible iterate; + the last iterate of
     a run that did not converge, when recorded). Goals at or above `GOAL_SHOWN` x the start's objective are
-    drawn; the legend goes below the axes."""
+    drawn; the legend goes below the axes; `run`, the measurement's `pressocp.report.stamp`, dates it."""
     fig, axes = plt.subplots(3, 1, figsize=(7, 8.5), sharex=True)
     done = [r for r in rows if "error" not in r]
     for i, r in enumerate(done):
@@ -380,14 +395,16 @@ def figure(case: str, rows: list[dict], goals: dict, start_value: float, start_l
                       "infeasible iterate,\n+ its last iterate); "
                       "iterates off the top are infeasible", fontsize=8)
     handles, labels = axes[0].get_legend_handles_labels()  # below the axes, clear of the curves
-    fig.legend(handles, labels, fontsize=6.5, loc="lower left", bbox_to_anchor=(0.01, 0.0))
+    height = 8.5 + LEGEND_LINE_IN * len(labels) + NOTE_IN
+    fig.legend(handles, labels, fontsize=6.5, loc="lower left", bbox_to_anchor=(0.01, NOTE_IN / height))
     for ax in axes:
         ax.set_xscale("log")
         ax.grid(alpha=0.3, which="both")
     for ax in axes[1:]:
         ax.set_yscale("log")
-    fig.set_figheight(8.5 + LEGEND_LINE_IN * len(labels))
-    fig.tight_layout(rect=(0.0, (LEGEND_LINE_IN * len(labels) + 0.1) / fig.get_figheight(), 1.0, 1.0))
+    fig.set_figheight(height)
+    fig.tight_layout(rect=(0.0, (LEGEND_LINE_IN * len(labels) + 0.1 + NOTE_IN) / height, 1.0, 1.0))
+    figure_note(fig, run)
     save(fig, OUT / f"transcriptions_{case}.png")
 
 
@@ -405,7 +422,7 @@ def main() -> None:
         if args.case == "map":
             map_figure(d)
         else:
-            figure(args.case, d["runs"], d.get("goals", {}), d["start_objective"], d.get("start_label", "rigid press"))
+            figure(args.case, d["runs"], d.get("goals", {}), d["start_objective"], d.get("start_label", "rigid press"), d)
         return
     if args.case == "map":
         OUT.mkdir(exist_ok=True)
@@ -423,7 +440,7 @@ def main() -> None:
     for label, tr in case.runs:
         rows.append(run_one(label, tr, case.problem, case.model(), start, case.stage))
         path.write_text(json.dumps({**meta, "runs": rows}, indent=1, default=str) + "\n")  # every finished run
-    figure(args.case, rows, case.goals, start.objective, case.extra.get("start_label", "rigid press"))
+    figure(args.case, rows, case.goals, start.objective, case.extra.get("start_label", "rigid press"), meta)
 
 
 CASES: dict[str, Callable[[float], Case]] = {"smooth": smooth_case, "seed": seed_case, "flexible": flexible_case,

@@ -28,6 +28,7 @@ import tempfile
 from pathlib import Path
 
 from pressocp.report import stamp
+from status import figure_note  # a sibling script: this folder is the script's path
 
 OUT = Path(__file__).parent / "results"
 SPEED = OUT / "seed_optimum_speed.json"
@@ -113,8 +114,8 @@ def figure(row: dict, path: Path) -> None:
         title += f"\n{row['ratio']:.1f} x faster; peaks agree to {row['max_peak_difference']:.1e} (goal {GOAL_RATIO:g} x, {GOAL_PEAKS:g})"
     ax.set_title(title, fontsize=9)
     ax.set_ylim(0, 1.3 * max(row["runs"][k]["median_s"] for k in labels))
-    fig.suptitle(f"{row['date']}, {row['machine']}", fontsize=8)
     fig.tight_layout()
+    figure_note(fig, row)
     fig.savefig(path, dpi=120)
     plt.close(fig)
 

@@ -24,6 +24,7 @@ import statistics
 import sys
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
+from datetime import datetime, timedelta
 from pathlib import Path
 
 RESULTS = Path(__file__).resolve().parent / "results"
@@ -86,8 +87,51 @@ def latest(rows: Iterable[dict], **match) -> dict | None:
 def vm(row: dict) -> str:
     """The virtual machine a row ran on, as its platform's kernel names it (``…-v669``): the VMs of
     this workplace differ 2-4 x in speed (docs/measurements.md), so a ratio is only taken on one."""
-    found = re.search(r"-(v\d+)-", row["run"].get("platform", ""))
-    return f"…-{found.group(1)}" if found else row["run"].get("platform", "an unnamed machine")
+    return vm_of(row["run"])
+
+
+def vm_of(run: dict) -> str:
+    """The virtual machine of a run's stamp (`pressocp.report.stamp`: date, machine, cpus, platform,
+    python; a dict with those keys among others will do): ``…-v669`` from its platform's kernel; without
+    one that names it, the platform, else the hostname (``host vm``: the same on every VM, a stamp of
+    before the platform was recorded), else "an unrecorded machine"."""
+    platform, host = str(run.get("platform") or ""), run.get("machine")
+    found = re.search(r"-(v\d+)-", platform)
+    return f"…-{found.group(1)}" if found else platform or (f"host {host}" if host else "an unrecorded machine")
+
+
+def job_run(file: str, date: str | None = None, folder: Path = RESULTS) -> dict:
+    """The runner's record (runs.json) of the last job run that wrote `file` of `folder` (its date,
+    machine, cpus, platform): for result files written before they carried their own stamp. With
+    `date` (ISO), only a run that was under way at that date; {} when there is none."""
+    def under_way(r: dict) -> bool:  # the stamps are to the second: the end is given one more
+        end = datetime.fromisoformat(r["date"]) + timedelta(seconds=(r.get("wall_time_s") or 0.0) + 1.0)
+        return r["date"] <= date[:19] <= end.isoformat(timespec="seconds")
+
+    found = [r for r in (Results(folder).json("runs.json") or {}).values()
+             if file in r.get("files", ()) and r.get("date") and (date is None or under_way(r))]
+    return max(found, key=lambda r: r["date"], default={})
+
+
+def figure_note(fig, *runs: dict) -> None:
+    """Write when and where a figure's timings were measured at its bottom right, small and grey:
+    "measured 2026-12-02 23:52 on …-v1098 (2 CPUs)". Each of `runs` is a stamp (`vm_of`); a figure
+    drawn from several runs gets their date range and every machine. A missing field says so; never raises."""
+    runs = tuple(r if isinstance(r, dict) else {} for r in runs) or ({},)
+    dates = sorted({str(r["date"])[:16].replace("T", " ") for r in runs if r.get("date")})
+    names = sorted(dict.fromkeys(vm_of(r) for r in runs), key=lambda n: n == "an unrecorded machine")
+    cpus = sorted({str(r["cpus"]) for r in runs if r.get("cpus")}, key=lambda c: (len(c), c))
+    where = f"on {', '.join(names)}" + (f" ({', '.join(cpus)} CPUs)" if cpus else "")
+    if dates:
+        text = f"measured {dates[0] if len(dates) == 1 else f'{dates[0]} to {dates[-1]}'} {where}"
+    elif cpus or names != ["an unrecorded machine"]:
+        text = f"measured {where}, date not recorded"
+    else:
+        text = "measured: date and machine not recorded"
+    from matplotlib.transforms import offset_copy  # here: the runner imports this module without matplotlib
+
+    corner = offset_copy(fig.transFigure, fig=fig, x=-3.0, y=2.0, units="points")  # 3 pt in, 2 pt up
+    fig.text(1.0, 0.0, text, transform=corner, ha="right", va="bottom", fontsize=6.5, color="0.45")
 
 
 def same_machine(rows: list[dict], scenario: str) -> tuple[dict | None, dict | None]:

@@ -287,3 +287,48 @@ def test_a_jobs_flights_name_the_deepest_and_the_fastest():
     text = status.flights({"crank_pin": {"losses": 2, "depth": 1.4e-6, "depth_ratio": 0.0056, "return_speed": 2e-3},
                            "wrist_pin": {"losses": 1, "depth": 1e-7, "depth_ratio": 0.001, "return_speed": 5e-3}})
     assert text == " (deepest 1.4 µm, 0.56% of the clearance; back at the wall at up to 5 mm/s)"
+
+
+def test_a_figure_names_when_and_where_it_was_measured():
+    """`figure_note` writes the run's date and VM (``…-v1098``, as `vm` names it) at the figure's bottom
+    right; a stamp without a platform falls back to the hostname, one without anything says so, and a
+    figure of several runs gets their date range and every machine."""
+    import matplotlib.pyplot as plt
+
+    platform = "Linux-6.18.44-fc-v1098-x86_64-with-glibc2.36"
+    run = {"date": "2026-12-02T23:52:25", "machine": "vm", "cpus": 2, "platform": platform, "python": "3.11.7"}
+    assert status.vm_of(run) == "…-v1098" and status.vm({"run": run}) == "…-v1098"
+    assert status.vm_of({"date": "d", "machine": "vm", "cpus": 2}) == "host vm"
+    assert status.vm_of({}) == "an unrecorded machine"
+
+    def note(*runs):
+        fig = plt.figure()
+        try:
+            status.figure_note(fig, *runs)
+            (text,) = fig.texts
+            assert text.get_position() == (1.0, 0.0) and text.get_ha() == "right"  # the bottom right corner
+            return text.get_text()
+        finally:
+            plt.close(fig)
+
+    assert note(run) == "measured 2026-12-02 23:52 on …-v1098 (2 CPUs)"
+    assert note({k: v for k, v in run.items() if k != "platform"}) == "measured 2026-12-02 23:52 on host vm (2 CPUs)"
+    assert note({}) == note(None) == note() == "measured: date and machine not recorded"
+    older = {"date": "2026-11-24T13:20:42", "machine": "vm", "cpus": 2,
+             "platform": platform.replace("v1098", "v669")}
+    assert note(run, older, {"date": "2026-11-30T10:00:00"}) == \
+        "measured 2026-11-24 13:20 to 2026-12-02 23:52 on …-v1098, …-v669, an unrecorded machine (2 CPUs)"
+
+
+def test_a_file_without_a_stamp_is_dated_by_the_job_that_wrote_it(tmp_path):
+    """`job_run`: the runner's record of the newest job run that lists the file, or with a date the run
+    under way at that date; {} when none."""
+    (tmp_path / "runs.json").write_text(json.dumps({
+        "a": {"date": "2026-12-02T23:57:24", "wall_time_s": 87.2, "platform": "p1", "files": ["x.json"]},
+        "b": {"date": "2026-12-01T10:00:00", "wall_time_s": 10.0, "platform": "p0", "files": ["x.json"]},
+        "suite": {"date": "2026-12-02T20:00:00", "wall_time_s": 9000.0}}))
+    assert status.job_run("x.json", folder=tmp_path)["platform"] == "p1"
+    assert status.job_run("x.json", "2026-12-02T23:58:51", folder=tmp_path)["platform"] == "p1"
+    assert status.job_run("x.json", "2026-12-01T10:00:05", folder=tmp_path)["platform"] == "p0"
+    assert status.job_run("x.json", "2026-11-24T13:20:42", folder=tmp_path) == {}
+    assert status.job_run("y.json", folder=tmp_path) == {} and status.job_run("x.json", folder=tmp_path / "no") == {}
