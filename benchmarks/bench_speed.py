@@ -136,6 +136,12 @@ def timeline(parts: list[tuple[str, float]]) -> list[tuple[int, str, float, floa
     return out
 
 
+#: What each label of the speed rows means, for the figure's legend.
+LABEL_TEXT = {"before": "before: the code before #28",
+              "after": "after: fresh process, compile cache emptied before the first run only",
+              "cold": "cold: compile cache emptied before every run"}
+
+
 def stage_kind(name: str) -> str:
     """The stage's kind, the same colour on every lane: ``polish_1@0.05`` -> ``polish``."""
     return name.split("@", 1)[0].rstrip("0123456789").rstrip("_")
@@ -153,19 +159,22 @@ def plot(rows: list[dict]) -> Path:
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(13, 5), gridspec_kw={"width_ratios": [1.2, 1]})
     width = 0.8 / max(len(labels), 1)
     compiles: dict[str, str] = {}
+    # a linear axis from 0, so that a bar's length is its time; labels above the highest run, neighbours
+    # at alternating heights so that they do not overlap
+    top = max([GOAL_SEED_S, *(max(r["wall_s"], default=r["median_wall_s"]) for r in last.values())])
     for j, lab in enumerate(labels):
         for i, s in enumerate(scen):
             row = last.get((s, lab))
             if row is None:
                 continue
             x = i + (j - (len(labels) - 1) / 2) * width
-            a1.bar(x, row["median_wall_s"], width, color=f"C{j}", label=lab if i == 0 else None)
+            a1.bar(x, row["median_wall_s"], width, color=f"C{j}", label=LABEL_TEXT.get(lab, lab) if i == 0 else None)
             a1.plot([x] * len(row["wall_s"]), row["wall_s"], "k.", ms=4)
             pk = [p for p in row["peaks"] if p is not None]
-            # above the highest run; neighbouring bars' labels at alternating heights, so they do not overlap
             a1.annotate(f"{row['median_wall_s']:.0f} s\n{min(pk):.1f} N·m" if pk else "failed",
-                        (x, max(row["wall_s"], default=row["median_wall_s"]) * (1.45 if j % 2 else 1.05)),
-                        ha="center", va="bottom", fontsize=7)
+                        (x, max(row["wall_s"], default=row["median_wall_s"]) + top * (0.14 if j % 2 else 0.02)),
+                        ha="center", va="bottom", fontsize=7, bbox={"facecolor": "white", "alpha": 0.8,
+                                                                     "edgecolor": "none", "pad": 0.5})
             comp = [c for c in row.get("compile_s", []) if c is not None]
             if comp:  # the compiler's time in each run (the first with an empty cache), under the axis
                 compiles[s] = " / ".join(f"{c:.1f}" for c in comp)
@@ -174,9 +183,8 @@ def plot(rows: list[dict]) -> Path:
     a1.set_xticks(range(len(scen)), [f"{sc}\ncompile {compiles[sc]} s" if sc in compiles else sc for sc in scen],
                   fontsize=8)
     a1.set_ylabel("wall time of the default call, s (median; dots: every run)")
-    a1.set_yscale("log")
-    a1.set_ylim(top=a1.get_ylim()[1] * 2.2)  # room for the labels above the tallest bar
-    a1.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=4)
+    a1.set_ylim(0, top * 1.4)  # room for the labels above the tallest bar
+    a1.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2)
     a1.set_title("Scenario.load(name).optimize(), fresh process each run")
     ticks, colours = [], {}
     for j, lab in enumerate(labels):
@@ -199,6 +207,8 @@ def plot(rows: list[dict]) -> Path:
         ticks += [(j + 0.3 * lane, text) for lane, text in lane_names.items()]
     a2.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=4)
     a2.axvline(GOAL_SEED_S, color="g", ls="--", lw=1)
+    a2.text(GOAL_SEED_S, 1.0, f"goal {GOAL_SEED_S:.0f} s ", transform=a2.get_xaxis_transform(), color="g",
+            fontsize=7, ha="right", va="top")
     a2.set_yticks([y for y, _ in ticks], [text for _, text in ticks], fontsize=7)
     a2.set_xlabel("s (the run nearest the median; candidate chains side by side, one lane each)", fontsize=8)
     a2.set_title("press75: where the time went, stage by stage")
