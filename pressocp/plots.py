@@ -331,7 +331,10 @@ def focus_on_answer(ax, initial: np.ndarray, others: Sequence[np.ndarray], unit:
         return
     room = 0.3 * (hi - lo)
     ax.set_ylim(lo - room, hi + room)
-    ax.text(0.01, 0.03, f"initial speed: {first:,.4g} to {last:,.4g} {unit} (off the scale)", transform=ax.transAxes,
+    # four significant digits of the larger extreme, the same decimals for both (a 0 was 5.5e-37)
+    decimals = max(0, 3 - int(np.floor(np.log10(max(abs(first), abs(last), 1e-300)))))
+    ax.text(0.01, 0.03, f"initial speed: {first:,.{decimals}f} to {last:,.{decimals}f} {unit} (off the scale)",
+            transform=ax.transAxes,
             fontsize=7, color="tab:red", va="bottom", zorder=5,
             bbox={"facecolor": "white", "alpha": 0.9, "edgecolor": "none", "pad": 1.5})
 
