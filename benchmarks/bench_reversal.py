@@ -66,7 +66,8 @@ def figure(rows: list[dict], floor: float):
         a.axvline(0.0, color="0.6", lw=0.8)
         a.set_xscale("symlog", linthresh=10.0)
         a.set_yscale("log")
-        a.set_xlabel("rod tension bound min_tension, N  (< 0: reversal allowed)")
+        a.set_xlabel("least rod tension the rigid stage keeps, N (< 0: reversal allowed)\n"
+                     "symmetric log axis: linear within ±10 N")
         a.set_ylabel(label)
     ax.axhline(1.10 * floor, color="k", ls="--", lw=0.8, label="1.10 × floor")
     ax.legend(fontsize=7)

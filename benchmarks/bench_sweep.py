@@ -197,6 +197,8 @@ def continuation_figure(warm: pd.DataFrame, cold: pd.DataFrame, name: str, ram_s
     ticks = [v for v in (-100, -10, -1, -0.5, 0, 0.5, 1, 10, 100) if lo <= v <= hi]
     dx.set_yticks(ticks, [f"{v:g}" for v in ticks])
     dx.set_ylabel("path / cold − 1 [%]")
+    dx.text(0.99, 0.03, "symmetric log axis: linear within ±1 %", transform=dx.transAxes, ha="right", va="bottom",
+            fontsize=7, color="0.4")
     axes[0].set_ylabel("optimal peak torque [N·m]")
     axes[1].set_ylabel("time per point [s]")
     axes[1].set_xlabel("stroke rate [strokes/min]")
