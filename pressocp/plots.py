@@ -446,6 +446,27 @@ def _key_value(key: str, value: float, column) -> str:
     return f"{key} = {value * factor:g} {unit}"
 
 
+#: A linear panel whose values all lie within this share of their largest says so (`note_narrow_span`).
+NARROW_SPAN = 0.1
+
+
+def note_narrow_span(ax) -> None:
+    """On a linear axis that does not start at 0, write how narrow the drawn values' span is when it
+    is under `NARROW_SPAN` of their largest magnitude: matplotlib fits the axis to the data, so a
+    1 % change fills the panel."""
+    ys = [np.asarray(line.get_ydata(), float) for line in ax.get_lines()]
+    ys = np.concatenate([y[np.isfinite(y)] for y in ys]) if ys else np.zeros(0)
+    if ax.get_yscale() != "linear" or ys.size < 2:
+        return
+    lo, hi = float(ys.min()), float(ys.max())
+    big = max(abs(lo), abs(hi))
+    if big == 0.0 or lo * hi <= 0.0 or (hi - lo) >= NARROW_SPAN * big:
+        return
+    # above the panel, on its right (inside it the text ran over the data)
+    ax.set_title(f"all within {100 * (hi - lo) / big:.2g} % of {big:,.4g} (the axis does not start at 0)",
+                 loc="right", fontsize=7, color="0.35")
+
+
 def plot_sweep(table, keys: Sequence[str], title: str = "") -> "plt.Figure":
     """Peaks against the first varied key of a `pressocp.sweep` table, one colour per combination of
     the other keys: motor torque (with the initial speed's and the rigid floor, for optima), slider
@@ -481,6 +502,8 @@ def plot_sweep(table, keys: Sequence[str], title: str = "") -> "plt.Figure":
         ax.grid(alpha=0.3)
     if "initial_peak_torque_N_m" in data and data["initial_peak_torque_N_m"].max() > 5 * data["peak_torque_N_m"].max():
         axes[0].set_yscale("log")  # an impacting initial speed would flatten the optima against the floor
+    for ax in axes:
+        note_narrow_span(ax)
     axes[0].legend(fontsize=7)
     axes[-1].set_xlabel(key_label(x, data[x]))
     if title:
