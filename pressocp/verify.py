@@ -122,8 +122,8 @@ def screen(model: PressModel, speed: FourierSpeed, reference: float, objective: 
 SETTLE_SCREEN_CYCLES, SETTLE_SCREEN_RTOL, SETTLE_SCREEN_CHANGE = 6, 1e-7, 1e-2
 
 
-def settled_response(problem: SpeedProblem, model: PressModel, speed: FourierSpeed, rtol: float,
-                     reference: float) -> SimResult:
+def settled_response(problem: SpeedProblem, model: PressModel, speed: FourierSpeed, rtol: float = 1e-9,
+                     reference: float | None = None) -> SimResult:
     """The response of `speed` on `model` that a simulation reports: the periodic one (`verify_speed`
     at `rtol`) unless a screen shows there is none to find.
 
@@ -142,9 +142,11 @@ def settled_response(problem: SpeedProblem, model: PressModel, speed: FourierSpe
     rod at press75's optimum, the peak 5e-8 apart. An impacting response's search starts from rest,
     as it always did: its peaks depend on where the search starts (on the rigid rod's impacting rigid
     design, from the screen's state the slider force's peak moved 5 %, both within the search's
-    tolerance)."""
+    tolerance). `reference` defaults to the ideal press's objective (`rigid_reference`)."""
     if model.is_rigid:
         return verify_speed(model, speed, rtol)
+    if reference is None:
+        reference = problem.objective_value(rigid_reference(problem, speed))
     n, screen = SETTLE_SCREEN_CYCLES, Integrator("cvodes", SETTLE_SCREEN_RTOL)
     x, change = np.asarray(model.x0, float), []
     for _ in range(n):  # cycle by cycle: a response that settles stops the screen after 2 (0.25 s at 75 spm)
