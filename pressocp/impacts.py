@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from .design import SpeedDesign, design_speed
 from .model import ModelSpec
 from .series import PEAK_SERIES
-from .verify import is_periodic, rigid_reference, settled_response
+from .verify import is_periodic, settled_response
 from .params import PressParams
 from .problem import SpeedProblem
 from .result import SimResult
@@ -66,7 +66,6 @@ def impact_study(problem: SpeedProblem | None = None, model: ModelSpec | None = 
                          .build(problem.press, problem.n_harmonics))
     d = design_speed(problem)
     const = FourierSpeed.constant(problem.period)
-    rc, rd = (settled_response(problem, m, speed, rtol, problem.objective_value(rigid_reference(problem, speed)))
-              for speed in (const, d.speed))
+    rc, rd = (settled_response(problem, m, speed, rtol) for speed in (const, d.speed))
     return ImpactStudy(d, rc, ideal_response(problem.press, problem.mechanism, const, rc.t), rd,
                        ideal_response(problem.press, problem.mechanism, d.speed, rd.t))
